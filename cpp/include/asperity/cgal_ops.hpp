@@ -1,0 +1,42 @@
+// asperity — geometric measures from CGAL 5.5 on triangle arrays.
+//
+// Garland–Heckbert quadrics (CGAL's GarlandHeckbert_plane_policies), symmetric Hausdorff
+// distance (Polygon_mesh_processing::approximate_symmetric_Hausdorff_distance) and
+// self-intersections. Inputs are xyz triples and index triples; errors throw NativeError.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "asperity/halfedge_mesh.hpp"
+
+namespace asperity {
+
+/// A triangle mesh given by arrays (borrowed).
+struct TriangleArrays {
+  const double* xyz;
+  std::size_t n_coords;
+  const std::uint32_t* tris;
+  std::size_t n_indices;
+};
+
+/// Per-vertex Garland–Heckbert quadrics: for each vertex the 10 upper-triangle entries of the
+/// symmetric 4x4 matrix, row-major (q00 q01 q02 q03 q11 q12 q13 q22 q23 q33). Sum of the
+/// plane quadrics of the incident faces plus `boundary_weight` times the quadric of the
+/// perpendicular plane through each boundary edge (CGAL's discontinuity multiplier).
+std::vector<double> vertex_quadrics(const TriangleArrays& mesh, double boundary_weight);
+
+/// Quadric error v^T Q v of each point (xyz) under the matching quadric (10 values).
+std::vector<double> quadric_errors(const double* quadrics, std::size_t n_quadric_values,
+                                   const double* xyz, std::size_t n_coords);
+
+/// Approximate symmetric Hausdorff distance, sampling `points_per_area_unit` (0: CGAL's
+/// default) with a fixed random seed so the result is reproducible.
+double symmetric_hausdorff(const TriangleArrays& a, const TriangleArrays& b,
+                           double points_per_area_unit, unsigned seed);
+
+/// Pairs of intersecting faces (f0 g0 f1 g1 ..., each pair with f < g, sorted).
+std::vector<std::uint32_t> self_intersections(const TriangleArrays& mesh);
+
+}  // namespace asperity

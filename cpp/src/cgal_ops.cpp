@@ -1,0 +1,136 @@
+// The one CGAL translation unit: quadrics, Hausdorff distance, self-intersections.
+// Kept alone because each CGAL unit costs ~20 s and ~1 GB to compile.
+#include "asperity/cgal_ops.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <sstream>
+#include <utility>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/distance.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
+
+namespace asperity {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using SurfaceMesh = CGAL::Surface_mesh<Point>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+/// Builds a Surface_mesh whose vertex and face indices equal the array indices.
+SurfaceMesh to_surface_mesh(const TriangleArrays& in, const char* which) {
+  if (in.n_coords % 3 != 0 || in.n_indices % 3 != 0)
+    throw NativeError(std::string(which) + ": array lengths are not multiples of 3");
+  const std::size_t nv = in.n_coords / 3, nf = in.n_indices / 3;
+  SurfaceMesh sm;
+  sm.reserve(static_cast<SurfaceMesh::size_type>(nv), static_cast<SurfaceMesh::size_type>(3 * nf),
+             static_cast<SurfaceMesh::size_type>(nf));
+  for (std::size_t i = 0; i < nv; ++i) {
+    const double* p = in.xyz + 3 * i;
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+      std::ostringstream msg;
+      msg << which << ": vertex " << i << " has a non-finite coordinate";
+      throw NativeError(msg.str());
+    }
+    sm.add_vertex(Point(p[0], p[1], p[2]));
+  }
+  for (std::size_t f = 0; f < nf; ++f) {
+    SurfaceMesh::Vertex_index v[3];
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t idx = in.tris[3 * f + k];
+      if (idx >= nv) {
+        std::ostringstream msg;
+        msg << which << ": face " << f << " refers to vertex " << idx << " of " << nv;
+        throw NativeError(msg.str());
+      }
+      v[k] = SurfaceMesh::Vertex_index(idx);
+    }
+    if (sm.add_face(v[0], v[1], v[2]) == SurfaceMesh::null_face()) {
+      std::ostringstream msg;
+      msg << which << ": face " << f << " (" << v[0] << ", " << v[1] << ", " << v[2]
+          << ") is degenerate or non-manifold";
+      throw NativeError(msg.str());
+    }
+  }
+  return sm;
+}
+
+}  // namespace
+
+std::vector<double> vertex_quadrics(const TriangleArrays& mesh, double boundary_weight) {
+  using Policies = CGAL::Surface_mesh_simplification::GarlandHeckbert_plane_policies<SurfaceMesh, Kernel>;
+  SurfaceMesh sm = to_surface_mesh(mesh, "quadrics");
+  Policies policies(sm, boundary_weight);
+  policies.initialize(sm, get(CGAL::vertex_point, sm), Kernel());
+  std::vector<double> out;
+  out.reserve(sm.number_of_vertices() * 10);
+  for (auto v : sm.vertices()) {
+    const auto q = get(policies.vcm(), v);
+    for (int r = 0; r < 4; ++r)
+      for (int c = r; c < 4; ++c) out.push_back(q(r, c));
+  }
+  return out;
+}
+
+std::vector<double> quadric_errors(const double* quadrics, std::size_t n_quadric_values,
+                                   const double* xyz, std::size_t n_coords) {
+  if (n_quadric_values % 10 != 0 || n_coords % 3 != 0 || n_quadric_values / 10 != n_coords / 3)
+    throw NativeError("quadric_errors: need one quadric (10 values) per point (3 values)");
+  const std::size_t n = n_coords / 3;
+  std::vector<double> out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double* q = quadrics + 10 * i;
+    const double h[4] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], 1.0};
+    // Expand the symmetric form from its upper triangle.
+    const double m[4][4] = {{q[0], q[1], q[2], q[3]},
+                            {q[1], q[4], q[5], q[6]},
+                            {q[2], q[5], q[7], q[8]},
+                            {q[3], q[6], q[8], q[9]}};
+    double e = 0.0;
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) e += h[r] * m[r][c] * h[c];
+    out[i] = e;
+  }
+  return out;
+}
+
+double symmetric_hausdorff(const TriangleArrays& a, const TriangleArrays& b,
+                           double points_per_area_unit, unsigned seed) {
+  const SurfaceMesh ma = to_surface_mesh(a, "hausdorff (first mesh)");
+  const SurfaceMesh mb = to_surface_mesh(b, "hausdorff (second mesh)");
+  if (ma.number_of_faces() == 0 || mb.number_of_faces() == 0)
+    throw NativeError("hausdorff: a mesh has no faces");
+  if (points_per_area_unit > 0.0) {
+    return PMP::approximate_symmetric_Hausdorff_distance<CGAL::Sequential_tag>(
+        ma, mb,
+        CGAL::parameters::random_seed(seed).number_of_points_per_area_unit(points_per_area_unit),
+        CGAL::parameters::random_seed(seed).number_of_points_per_area_unit(points_per_area_unit));
+  }
+  return PMP::approximate_symmetric_Hausdorff_distance<CGAL::Sequential_tag>(
+      ma, mb, CGAL::parameters::random_seed(seed), CGAL::parameters::random_seed(seed));
+}
+
+std::vector<std::uint32_t> self_intersections(const TriangleArrays& mesh) {
+  const SurfaceMesh sm = to_surface_mesh(mesh, "self-intersections");
+  std::vector<std::pair<SurfaceMesh::Face_index, SurfaceMesh::Face_index>> pairs;
+  PMP::self_intersections<CGAL::Sequential_tag>(sm, std::back_inserter(pairs));
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> sorted;
+  sorted.reserve(pairs.size());
+  for (const auto& p : pairs) {
+    std::uint32_t f = static_cast<std::uint32_t>(p.first), g = static_cast<std::uint32_t>(p.second);
+    if (f > g) std::swap(f, g);
+    sorted.emplace_back(f, g);
+  }
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<std::uint32_t> out;
+  out.reserve(2 * sorted.size());
+  for (const auto& p : sorted) out.insert(out.end(), {p.first, p.second});
+  return out;
+}
+
+}  // namespace asperity

@@ -1,0 +1,17 @@
+//! asperity — controllable procedural detail on 3D surfaces.
+//!
+//! Two pipelines share this library: fractal terrain generation and adaptive hierarchical
+//! detail mapping on arbitrary meshes (Dembogurski 2014). This crate root wires the
+//! modules together; see `docs/ARCHITECTURE.md` for the data flow.
+#![warn(missing_docs)]
+#![deny(unsafe_code)]
+
+pub mod cli;
+pub mod error;
+#[allow(unsafe_code)]
+pub mod ffi;
+pub mod io;
+pub mod mesh;
+
+pub use error::{Error, Location, Result};
+pub use mesh::{FaceId, Mesh, VertexId};

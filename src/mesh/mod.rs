@@ -1,0 +1,123 @@
+//! The plain mesh exchange type: positions, triangles and optional per-vertex attributes.
+//! Everything reads and writes [`Mesh`]; only connectivity-changing algorithms use the
+//! half-edge store in [`crate::ffi`]. Validation and polygon triangulation live here too.
+
+mod ids;
+pub mod primitives;
+mod triangulate;
+mod validate;
+
+use std::collections::BTreeMap;
+
+use glam::DVec3;
+
+pub use ids::{FaceId, VertexId};
+pub use triangulate::{triangulate_polygon, triangulate_polygons};
+pub use validate::ValidationReport;
+
+use crate::error::{Error, Result};
+
+/// An RGB colour with 8 bits per channel.
+pub type Rgb = [u8; 3];
+
+/// A triangle mesh with optional per-vertex attributes. Attribute vectors, when present,
+/// have one entry per vertex.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Mesh {
+    /// Vertex positions.
+    pub positions: Vec<DVec3>,
+    /// Triangles as vertex indices, counter-clockwise seen from outside.
+    pub triangles: Vec<[u32; 3]>,
+    /// Per-vertex normals.
+    pub normals: Option<Vec<DVec3>>,
+    /// Per-vertex colours.
+    pub colors: Option<Vec<Rgb>>,
+    /// Named per-vertex scalar properties (curvatures, feature classes, ...), in name order.
+    pub scalars: BTreeMap<String, Vec<f64>>,
+}
+
+impl Mesh {
+    /// A mesh from positions and triangles, without attributes.
+    pub fn new(positions: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> Self {
+        Mesh {
+            positions,
+            triangles,
+            ..Default::default()
+        }
+    }
+
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Number of triangles.
+    pub fn face_count(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// Axis-aligned bounding box `(min, max)`; `None` for a mesh without vertices.
+    pub fn bounding_box(&self) -> Option<(DVec3, DVec3)> {
+        let first = *self.positions.first()?;
+        Some(
+            self.positions
+                .iter()
+                .fold((first, first), |(lo, hi), p| (lo.min(*p), hi.max(*p))),
+        )
+    }
+
+    /// The three corner positions of triangle `f`.
+    pub fn triangle_points(&self, f: usize) -> [DVec3; 3] {
+        self.triangles[f].map(|v| self.positions[v as usize])
+    }
+
+    /// Checks that the arrays are consistent: finite coordinates, indices in range,
+    /// attribute vectors of the right length.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] naming the first offending vertex, face or attribute.
+    pub fn check(&self) -> Result<()> {
+        if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
+            return Err(Error::InvalidInput(format!(
+                "vertex {i} has a non-finite coordinate"
+            )));
+        }
+        let n = self.positions.len();
+        if n > u32::MAX as usize {
+            return Err(Error::InvalidInput(format!(
+                "{n} vertices exceed the 32-bit index range"
+            )));
+        }
+        for (f, t) in self.triangles.iter().enumerate() {
+            if let Some(v) = t.iter().find(|&&v| v as usize >= n) {
+                return Err(Error::InvalidInput(format!(
+                    "face {f} refers to vertex {v} but there are {n} vertices"
+                )));
+            }
+        }
+        let check_len = |name: &str, len: usize| {
+            if len == n {
+                Ok(())
+            } else {
+                Err(Error::InvalidInput(format!(
+                    "attribute `{name}` has {len} values for {n} vertices"
+                )))
+            }
+        };
+        if let Some(v) = &self.normals {
+            check_len("normals", v.len())?;
+        }
+        if let Some(v) = &self.colors {
+            check_len("colors", v.len())?;
+        }
+        for (name, v) in &self.scalars {
+            check_len(name, v.len())?;
+        }
+        Ok(())
+    }
+
+    /// The validation report: counts, boundaries, manifoldness, components, genus.
+    pub fn validate(&self) -> ValidationReport {
+        ValidationReport::of(self)
+    }
+}

@@ -1,0 +1,295 @@
+//! The validation report: element counts, boundary loops, manifoldness, connected
+//! components, Euler characteristic and genus (χ = V − E + F = Σ (2 − 2gᵢ − bᵢ)).
+
+use glam::DVec3;
+use serde::Serialize;
+
+use super::Mesh;
+
+/// Facts about a mesh's topology and geometry. Vertex counts in the Euler characteristic
+/// are of *referenced* vertices; faces repeating a vertex count as faces but give no edges.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ValidationReport {
+    /// All vertices, referenced or not.
+    pub vertices: usize,
+    /// Triangles.
+    pub faces: usize,
+    /// Distinct undirected edges.
+    pub edges: usize,
+    /// Closed chains of boundary edges (edges with one face).
+    pub boundary_loops: usize,
+    /// Edges with more than two faces.
+    pub non_manifold_edges: usize,
+    /// Vertices whose faces form more than one fan.
+    pub non_manifold_vertices: usize,
+    /// Edges whose two faces traverse them in the same direction.
+    pub inconsistently_oriented_edges: usize,
+    /// Connected components of the faces.
+    pub components: usize,
+    /// V − E + F over referenced vertices.
+    pub euler: i64,
+    /// Total genus, when the mesh is a manifold (`None` otherwise).
+    pub genus: Option<i64>,
+    /// Faces repeating a vertex or of (near) zero area.
+    pub degenerate_faces: usize,
+    /// Vertices used by no face.
+    pub unreferenced_vertices: usize,
+    /// Bounding box corners (zero for an empty mesh).
+    pub bbox_min: [f64; 3],
+    /// See `bbox_min`.
+    pub bbox_max: [f64; 3],
+}
+
+impl ValidationReport {
+    /// Whether the mesh is an edge- and vertex-manifold surface.
+    pub fn is_manifold(&self) -> bool {
+        self.non_manifold_edges == 0 && self.non_manifold_vertices == 0
+    }
+
+    /// Whether the mesh is a closed manifold (no boundary).
+    pub fn is_closed_manifold(&self) -> bool {
+        self.is_manifold() && self.boundary_loops == 0
+    }
+
+    /// Computes the report for `mesh` (which must pass [`Mesh::check`]).
+    pub fn of(mesh: &Mesh) -> Self {
+        let nv = mesh.positions.len();
+        let edges = EdgeTable::build(&mesh.triangles);
+
+        let mut referenced = vec![false; nv];
+        for t in &mesh.triangles {
+            for &v in t {
+                referenced[v as usize] = true;
+            }
+        }
+        let referenced_count = referenced.iter().filter(|&&r| r).count();
+
+        let mut non_manifold_edges = 0;
+        let mut inconsistent = 0;
+        let mut boundary = Vec::new();
+        for group in edges.groups() {
+            match group.len() {
+                1 => boundary.push(group[0]),
+                2 if group[0].forward == group[1].forward => inconsistent += 1,
+                2 => {}
+                _ => non_manifold_edges += 1,
+            }
+        }
+        let edge_count = edges.groups().count();
+        let boundary_loops = count_boundary_loops(&boundary);
+        let non_manifold_vertices = count_non_manifold_vertices(mesh, &edges);
+        let components = count_face_components(mesh, nv);
+
+        let euler = referenced_count as i64 - edge_count as i64 + mesh.triangles.len() as i64;
+        let genus = (non_manifold_edges == 0 && non_manifold_vertices == 0)
+            .then(|| 2 * components as i64 - boundary_loops as i64 - euler)
+            .filter(|twice| twice % 2 == 0 && *twice >= 0)
+            .map(|twice| twice / 2);
+
+        let (lo, hi) = mesh.bounding_box().unwrap_or((DVec3::ZERO, DVec3::ZERO));
+        ValidationReport {
+            vertices: nv,
+            faces: mesh.triangles.len(),
+            edges: edge_count,
+            boundary_loops,
+            non_manifold_edges,
+            non_manifold_vertices,
+            inconsistently_oriented_edges: inconsistent,
+            components,
+            euler,
+            genus,
+            degenerate_faces: count_degenerate_faces(mesh),
+            unreferenced_vertices: nv - referenced_count,
+            bbox_min: lo.to_array(),
+            bbox_max: hi.to_array(),
+        }
+    }
+}
+
+/// A directed use of an undirected edge by a face.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct HalfEdgeUse {
+    pub lo: u32,
+    pub hi: u32,
+    pub face: u32,
+    /// Whether the face traverses the edge from `lo` to `hi`.
+    pub forward: bool,
+}
+
+impl HalfEdgeUse {
+    pub fn directed(&self) -> (u32, u32) {
+        if self.forward {
+            (self.lo, self.hi)
+        } else {
+            (self.hi, self.lo)
+        }
+    }
+}
+
+/// Every face's half-edges sorted by undirected edge, so that the uses of one edge are
+/// adjacent. Faces repeating a vertex contribute no half-edges.
+pub(crate) struct EdgeTable {
+    uses: Vec<HalfEdgeUse>,
+}
+
+impl EdgeTable {
+    pub fn build(triangles: &[[u32; 3]]) -> Self {
+        let mut uses = Vec::with_capacity(triangles.len() * 3);
+        for (f, t) in triangles.iter().enumerate() {
+            if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                continue;
+            }
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                uses.push(HalfEdgeUse {
+                    lo: a.min(b),
+                    hi: a.max(b),
+                    face: f as u32,
+                    forward: a < b,
+                });
+            }
+        }
+        uses.sort_unstable_by_key(|u| (u.lo, u.hi, u.face));
+        EdgeTable { uses }
+    }
+
+    /// The uses of each undirected edge, one slice per edge.
+    pub fn groups(&self) -> impl Iterator<Item = &[HalfEdgeUse]> {
+        self.uses.chunk_by(|a, b| (a.lo, a.hi) == (b.lo, b.hi))
+    }
+}
+
+/// Follows boundary half-edges head to tail and counts the closed chains.
+fn count_boundary_loops(boundary: &[HalfEdgeUse]) -> usize {
+    let mut by_start: Vec<(u32, u32)> = boundary.iter().map(HalfEdgeUse::directed).collect();
+    by_start.sort_unstable();
+    let mut used = vec![false; by_start.len()];
+    let first_from = |v: u32, list: &[(u32, u32)]| list.partition_point(|&(a, _)| a < v);
+    let mut loops = 0;
+    for start in 0..by_start.len() {
+        if used[start] {
+            continue;
+        }
+        used[start] = true;
+        let origin = by_start[start].0;
+        let mut at = by_start[start].1;
+        while at != origin {
+            let mut i = first_from(at, &by_start);
+            while i < by_start.len() && by_start[i].0 == at && used[i] {
+                i += 1;
+            }
+            if i >= by_start.len() || by_start[i].0 != at {
+                break; // an open chain (only possible on non-manifold input)
+            }
+            used[i] = true;
+            at = by_start[i].1;
+        }
+        loops += 1;
+    }
+    loops
+}
+
+/// A vertex is non-manifold when its face corners split into several fans, i.e. the
+/// corners cannot all be reached from one another across edges incident to the vertex.
+fn count_non_manifold_vertices(mesh: &Mesh, edges: &EdgeTable) -> usize {
+    let corner = |face: u32, v: u32| -> usize {
+        let t = mesh.triangles[face as usize];
+        3 * face as usize + t.iter().position(|&x| x == v).expect("vertex of face")
+    };
+    let mut corners = DisjointSets::new(mesh.triangles.len() * 3);
+    for group in edges.groups() {
+        for u in &group[1..] {
+            corners.union(corner(group[0].face, group[0].lo), corner(u.face, u.lo));
+            corners.union(corner(group[0].face, group[0].hi), corner(u.face, u.hi));
+        }
+    }
+    let mut fan_root = vec![u32::MAX; mesh.positions.len()];
+    let mut non_manifold = vec![false; mesh.positions.len()];
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+            continue;
+        }
+        for (k, &v) in t.iter().enumerate() {
+            let root = corners.find(3 * f + k) as u32;
+            let slot = &mut fan_root[v as usize];
+            if *slot == u32::MAX {
+                *slot = root;
+            } else if *slot != root {
+                non_manifold[v as usize] = true;
+            }
+        }
+    }
+    non_manifold.iter().filter(|&&b| b).count()
+}
+
+fn count_face_components(mesh: &Mesh, nv: usize) -> usize {
+    let mut sets = DisjointSets::new(nv);
+    let mut referenced = vec![false; nv];
+    for t in &mesh.triangles {
+        sets.union(t[0] as usize, t[1] as usize);
+        sets.union(t[1] as usize, t[2] as usize);
+        for &v in t {
+            referenced[v as usize] = true;
+        }
+    }
+    (0..nv)
+        .filter(|&v| referenced[v] && sets.find(v) == v)
+        .count()
+}
+
+/// Faces that repeat a vertex or whose area is below 1e-12 of their longest edge squared.
+fn count_degenerate_faces(mesh: &Mesh) -> usize {
+    (0..mesh.triangles.len())
+        .filter(|&f| is_degenerate_face(mesh, f))
+        .count()
+}
+
+/// Whether face `f` repeats a vertex or has (relatively) zero area.
+pub fn is_degenerate_face(mesh: &Mesh, f: usize) -> bool {
+    let t = mesh.triangles[f];
+    if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+        return true;
+    }
+    let [a, b, c] = mesh.triangle_points(f);
+    let longest = (b - a)
+        .length_squared()
+        .max((c - b).length_squared())
+        .max((a - c).length_squared());
+    (b - a).cross(c - a).length() <= 1e-12 * longest
+}
+
+/// Union–find with path halving and union by size.
+pub(crate) struct DisjointSets {
+    parent: Vec<u32>,
+    size: Vec<u32>,
+}
+
+impl DisjointSets {
+    pub fn new(n: usize) -> Self {
+        DisjointSets {
+            parent: (0..n as u32).collect(),
+            size: vec![1; n],
+        }
+    }
+
+    pub fn find(&mut self, mut x: usize) -> usize {
+        while self.parent[x] as usize != x {
+            let grand = self.parent[self.parent[x] as usize];
+            self.parent[x] = grand;
+            x = grand as usize;
+        }
+        x
+    }
+
+    pub fn union(&mut self, a: usize, b: usize) {
+        let (mut ra, mut rb) = (self.find(a), self.find(b));
+        if ra == rb {
+            return;
+        }
+        if self.size[ra] < self.size[rb] {
+            std::mem::swap(&mut ra, &mut rb);
+        }
+        self.parent[rb] = ra as u32;
+        self.size[ra] += self.size[rb];
+    }
+}
