@@ -5,10 +5,7 @@ use std::path::Path;
 
 /// Files whose absence means a Debian package is missing.
 const REQUIRED: &[(&str, &str)] = &[
-    (
-        "/usr/include/OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh",
-        "libopenmesh-dev",
-    ),
+    ("/usr/include/OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh", "libopenmesh-dev"),
     ("/usr/include/CGAL/version.h", "libcgal-dev"),
     ("/usr/include/eigen3/Eigen/Core", "libeigen3-dev"),
     ("/usr/include/boost/version.hpp", "libboost-dev"),
@@ -16,18 +13,11 @@ const REQUIRED: &[(&str, &str)] = &[
 ];
 
 fn require_system_packages() {
-    let mut missing: Vec<&str> = REQUIRED
+    let mut missing: Vec<&str> =
+        REQUIRED.iter().filter(|(file, _)| !Path::new(file).exists()).map(|(_, pkg)| *pkg).collect();
+    let has_gmp = ["/usr/include/gmp.h", "/usr/include/x86_64-linux-gnu/gmp.h", "/usr/include/aarch64-linux-gnu/gmp.h"]
         .iter()
-        .filter(|(file, _)| !Path::new(file).exists())
-        .map(|(_, pkg)| *pkg)
-        .collect();
-    let has_gmp = [
-        "/usr/include/gmp.h",
-        "/usr/include/x86_64-linux-gnu/gmp.h",
-        "/usr/include/aarch64-linux-gnu/gmp.h",
-    ]
-    .iter()
-    .any(|f| Path::new(f).exists());
+        .any(|f| Path::new(f).exists());
     if !has_gmp {
         missing.push("libgmp-dev");
     }
@@ -53,10 +43,7 @@ fn main() {
     require_system_packages();
 
     // The C++ is always optimised: CGAL and OpenMesh are unusably slow in debug builds.
-    let native = cmake::Config::new("cpp")
-        .profile("Release")
-        .build_target("asperity_native")
-        .build();
+    let native = cmake::Config::new("cpp").profile("Release").build_target("asperity_native").build();
 
     cxx_build::bridge("src/ffi.rs")
         .file("cpp/bridge/bridge.cc")

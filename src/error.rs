@@ -77,29 +77,19 @@ impl Error {
     /// Process exit code for this error: 2 for bad input or usage, 1 for internal failures.
     pub fn exit_code(&self) -> i32 {
         match self {
-            Error::Parse { .. }
-            | Error::InvalidInput(_)
-            | Error::Topology { .. }
-            | Error::Io { .. } => 2,
+            Error::Parse { .. } | Error::InvalidInput(_) | Error::Topology { .. } | Error::Io { .. } => 2,
             Error::Native(_) | Error::Internal(_) => 1,
         }
     }
 
     /// Shorthand for a parse error.
     pub fn parse(path: impl Into<PathBuf>, at: Location, msg: impl Into<String>) -> Self {
-        Error::Parse {
-            path: path.into(),
-            at,
-            msg: msg.into(),
-        }
+        Error::Parse { path: path.into(), at, msg: msg.into() }
     }
 
     /// Shorthand for an I/O error on a path.
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
-        Error::Io {
-            path: path.into(),
-            source,
-        }
+        Error::Io { path: path.into(), source }
     }
 }
 

@@ -48,22 +48,14 @@ mod sys {
         type HalfEdgeMesh;
 
         fn new_halfedge_mesh() -> Result<UniquePtr<HalfEdgeMesh>>;
-        fn add_geometry(
-            mesh: Pin<&mut HalfEdgeMesh>,
-            positions: &[f64],
-            triangles: &[u32],
-        ) -> Result<Vec<u32>>;
+        fn add_geometry(mesh: Pin<&mut HalfEdgeMesh>, positions: &[f64], triangles: &[u32]) -> Result<Vec<u32>>;
         fn mesh_counts(mesh: &HalfEdgeMesh) -> Result<MeshCounts>;
         fn export_arrays(mesh: &HalfEdgeMesh) -> Result<ExportArrays>;
         fn one_rings(mesh: &HalfEdgeMesh, vertices: &[u32]) -> Result<CsrArrays>;
         fn valences(mesh: &HalfEdgeMesh, vertices: &[u32]) -> Result<Vec<u32>>;
         fn boundary_flags(mesh: &HalfEdgeMesh, vertices: &[u32]) -> Result<Vec<u8>>;
         fn flip_edges(mesh: Pin<&mut HalfEdgeMesh>, pairs: &[u32]) -> Result<Vec<u8>>;
-        fn split_edges(
-            mesh: Pin<&mut HalfEdgeMesh>,
-            pairs: &[u32],
-            points: &[f64],
-        ) -> Result<SplitOutcome>;
+        fn split_edges(mesh: Pin<&mut HalfEdgeMesh>, pairs: &[u32], points: &[f64]) -> Result<SplitOutcome>;
         fn collapse_halfedges(
             mesh: Pin<&mut HalfEdgeMesh>,
             pairs: &[u32],
@@ -72,11 +64,7 @@ mod sys {
         ) -> Result<Vec<u8>>;
         fn garbage_collect(mesh: Pin<&mut HalfEdgeMesh>) -> Result<Vec<u32>>;
 
-        fn vertex_quadrics(
-            positions: &[f64],
-            triangles: &[u32],
-            boundary_weight: f64,
-        ) -> Result<Vec<f64>>;
+        fn vertex_quadrics(positions: &[f64], triangles: &[u32], boundary_weight: f64) -> Result<Vec<f64>>;
         fn quadric_errors(quadrics: &[f64], points: &[f64]) -> Result<Vec<f64>>;
         fn symmetric_hausdorff(
             positions_a: &[f64],
@@ -100,9 +88,7 @@ fn flat_positions(positions: &[DVec3]) -> &[f64] {
 }
 
 fn unflatten_positions(flat: &[f64]) -> Vec<DVec3> {
-    flat.chunks_exact(3)
-        .map(|c| DVec3::new(c[0], c[1], c[2]))
-        .collect()
+    flat.chunks_exact(3).map(|c| DVec3::new(c[0], c[1], c[2])).collect()
 }
 
 fn flat_pairs(pairs: &[[u32; 2]]) -> &[u32] {
@@ -139,9 +125,7 @@ impl OpStatus {
             5 => OpStatus::OutOfRange,
             6 => OpStatus::FlipsNormal,
             other => {
-                return Err(Error::Internal(format!(
-                    "unknown native status code {other}"
-                )));
+                return Err(Error::Internal(format!("unknown native status code {other}")));
             }
         })
     }
@@ -206,11 +190,7 @@ pub struct HalfEdgeMesh {
 impl std::fmt::Debug for HalfEdgeMesh {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self.counts() {
-            Ok(c) => write!(
-                f,
-                "HalfEdgeMesh {{ vertices: {}, edges: {}, faces: {} }}",
-                c.vertices, c.edges, c.faces
-            ),
+            Ok(c) => write!(f, "HalfEdgeMesh {{ vertices: {}, edges: {}, faces: {} }}", c.vertices, c.edges, c.faces),
             Err(_) => write!(f, "HalfEdgeMesh {{ .. }}"),
         }
     }
@@ -226,11 +206,8 @@ impl HalfEdgeMesh {
     pub fn from_mesh(mesh: &Mesh) -> Result<Self> {
         mesh.check()?;
         let mut inner = sys::new_halfedge_mesh()?;
-        let rejected = sys::add_geometry(
-            inner.pin_mut(),
-            flat_positions(&mesh.positions),
-            mesh.triangles.as_flattened(),
-        )?;
+        let rejected =
+            sys::add_geometry(inner.pin_mut(), flat_positions(&mesh.positions), mesh.triangles.as_flattened())?;
         if !rejected.is_empty() {
             let shown: Vec<String> = rejected.iter().take(8).map(|f| format!("#{f}")).collect();
             let more = if rejected.len() > 8 { ", ..." } else { "" };
@@ -247,15 +224,11 @@ impl HalfEdgeMesh {
     }
 
     fn store(&self) -> Result<&sys::HalfEdgeMesh> {
-        self.inner
-            .as_ref()
-            .ok_or_else(|| Error::Internal("half-edge mesh is null".into()))
+        self.inner.as_ref().ok_or_else(|| Error::Internal("half-edge mesh is null".into()))
     }
 
     fn store_mut(&mut self) -> Result<std::pin::Pin<&mut sys::HalfEdgeMesh>> {
-        self.inner
-            .as_mut()
-            .ok_or_else(|| Error::Internal("half-edge mesh is null".into()))
+        self.inner.as_mut().ok_or_else(|| Error::Internal("half-edge mesh is null".into()))
     }
 
     /// Live vertex, edge and face counts, and the number of vertex slots.
@@ -272,15 +245,8 @@ impl HalfEdgeMesh {
     /// [`Error::Native`] if the native layer fails.
     pub fn export(&self) -> Result<Exported> {
         let e = sys::export_arrays(self.store()?)?;
-        let triangles = e
-            .triangles
-            .chunks_exact(3)
-            .map(|t| [t[0], t[1], t[2]])
-            .collect();
-        Ok(Exported {
-            mesh: Mesh::new(unflatten_positions(&e.positions), triangles),
-            vertex_remap: e.vertex_remap,
-        })
+        let triangles = e.triangles.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+        Ok(Exported { mesh: Mesh::new(unflatten_positions(&e.positions), triangles), vertex_remap: e.vertex_remap })
     }
 
     /// The 1-rings of `vertices`, counter-clockwise with respect to the face orientation,
@@ -292,10 +258,7 @@ impl HalfEdgeMesh {
     /// [`Error::Native`] naming a vertex that is out of range or deleted.
     pub fn one_rings(&self, vertices: &[VertexId]) -> Result<Csr> {
         let c = sys::one_rings(self.store()?, bytemuck::cast_slice(vertices))?;
-        Ok(Csr {
-            offsets: c.offsets,
-            indices: c.indices,
-        })
+        Ok(Csr { offsets: c.offsets, indices: c.indices })
     }
 
     /// Valence (number of neighbours) of each vertex.
@@ -303,10 +266,7 @@ impl HalfEdgeMesh {
     /// # Errors
     /// [`Error::Native`] naming a vertex that is out of range or deleted.
     pub fn valences(&self, vertices: &[VertexId]) -> Result<Vec<u32>> {
-        Ok(sys::valences(
-            self.store()?,
-            bytemuck::cast_slice(vertices),
-        )?)
+        Ok(sys::valences(self.store()?, bytemuck::cast_slice(vertices))?)
     }
 
     /// Whether each vertex lies on a boundary.
@@ -314,12 +274,7 @@ impl HalfEdgeMesh {
     /// # Errors
     /// [`Error::Native`] naming a vertex that is out of range or deleted.
     pub fn boundary_flags(&self, vertices: &[VertexId]) -> Result<Vec<bool>> {
-        Ok(
-            sys::boundary_flags(self.store()?, bytemuck::cast_slice(vertices))?
-                .into_iter()
-                .map(|b| b != 0)
-                .collect(),
-        )
+        Ok(sys::boundary_flags(self.store()?, bytemuck::cast_slice(vertices))?.into_iter().map(|b| b != 0).collect())
     }
 
     /// Flips the edges `[a, b]`, in order, each checked by OpenMesh's `is_flip_ok`.
@@ -335,17 +290,9 @@ impl HalfEdgeMesh {
     ///
     /// # Errors
     /// [`Error::InvalidInput`] when the counts differ; [`Error::Native`] for a non-finite point.
-    pub fn split_edges(
-        &mut self,
-        edges: &[[u32; 2]],
-        points: &[DVec3],
-    ) -> Result<Vec<(OpStatus, Option<VertexId>)>> {
+    pub fn split_edges(&mut self, edges: &[[u32; 2]], points: &[DVec3]) -> Result<Vec<(OpStatus, Option<VertexId>)>> {
         if edges.len() != points.len() {
-            return Err(Error::InvalidInput(format!(
-                "{} edges to split but {} points",
-                edges.len(),
-                points.len()
-            )));
+            return Err(Error::InvalidInput(format!("{} edges to split but {} points", edges.len(), points.len())));
         }
         let out = sys::split_edges(self.store_mut()?, flat_pairs(edges), flat_positions(points))?;
         let status = OpStatus::decode(&out.status)?;
@@ -361,11 +308,7 @@ impl HalfEdgeMesh {
     ///
     /// # Errors
     /// [`Error::Native`] if the native layer fails; refused collapses are statuses.
-    pub fn collapse_halfedges(
-        &mut self,
-        halfedges: &[[u32; 2]],
-        options: CollapseOptions,
-    ) -> Result<Vec<OpStatus>> {
+    pub fn collapse_halfedges(&mut self, halfedges: &[[u32; 2]], options: CollapseOptions) -> Result<Vec<OpStatus>> {
         let codes = sys::collapse_halfedges(
             self.store_mut()?,
             flat_pairs(halfedges),
@@ -381,13 +324,7 @@ impl HalfEdgeMesh {
     /// # Errors
     /// As [`HalfEdgeMesh::collapse_halfedges`].
     pub fn weld_degree_four(&mut self, welds: &[[u32; 2]]) -> Result<Vec<OpStatus>> {
-        self.collapse_halfedges(
-            welds,
-            CollapseOptions {
-                required_degree: 4,
-                check_normals: true,
-            },
-        )
+        self.collapse_halfedges(welds, CollapseOptions { required_degree: 4, check_normals: true })
     }
 
     /// Removes deleted elements. Returns old vertex index → new index ([`INVALID_INDEX`]
@@ -416,11 +353,7 @@ pub struct Quadric(pub [f64; 10]);
 /// (non-manifold or degenerate faces).
 pub fn vertex_quadrics(mesh: &Mesh, boundary_weight: f64) -> Result<Vec<Quadric>> {
     mesh.check()?;
-    let flat = sys::vertex_quadrics(
-        flat_positions(&mesh.positions),
-        mesh.triangles.as_flattened(),
-        boundary_weight,
-    )?;
+    let flat = sys::vertex_quadrics(flat_positions(&mesh.positions), mesh.triangles.as_flattened(), boundary_weight)?;
     Ok(bytemuck::cast_slice(&flat).to_vec())
 }
 
@@ -430,16 +363,9 @@ pub fn vertex_quadrics(mesh: &Mesh, boundary_weight: f64) -> Result<Vec<Quadric>
 /// [`Error::InvalidInput`] when the counts differ.
 pub fn quadric_errors(quadrics: &[Quadric], points: &[DVec3]) -> Result<Vec<f64>> {
     if quadrics.len() != points.len() {
-        return Err(Error::InvalidInput(format!(
-            "{} quadrics for {} points",
-            quadrics.len(),
-            points.len()
-        )));
+        return Err(Error::InvalidInput(format!("{} quadrics for {} points", quadrics.len(), points.len())));
     }
-    Ok(sys::quadric_errors(
-        bytemuck::cast_slice(quadrics),
-        flat_positions(points),
-    )?)
+    Ok(sys::quadric_errors(bytemuck::cast_slice(quadrics), flat_positions(points))?)
 }
 
 /// Sampling for [`hausdorff_distance`].
@@ -453,10 +379,7 @@ pub struct HausdorffOptions {
 
 impl Default for HausdorffOptions {
     fn default() -> Self {
-        HausdorffOptions {
-            points_per_area_unit: 0.0,
-            seed: 0,
-        }
+        HausdorffOptions { points_per_area_unit: 0.0, seed: 0 }
     }
 }
 
@@ -486,12 +409,6 @@ pub fn hausdorff_distance(a: &Mesh, b: &Mesh, options: HausdorffOptions) -> Resu
 /// [`Error::InvalidInput`] for an inconsistent mesh; [`Error::Native`] when CGAL refuses it.
 pub fn self_intersections(mesh: &Mesh) -> Result<Vec<[FaceId; 2]>> {
     mesh.check()?;
-    let flat = sys::self_intersections(
-        flat_positions(&mesh.positions),
-        mesh.triangles.as_flattened(),
-    )?;
-    Ok(flat
-        .chunks_exact(2)
-        .map(|p| [FaceId(p[0]), FaceId(p[1])])
-        .collect())
+    let flat = sys::self_intersections(flat_positions(&mesh.positions), mesh.triangles.as_flattened())?;
+    Ok(flat.chunks_exact(2).map(|p| [FaceId(p[0]), FaceId(p[1])]).collect())
 }

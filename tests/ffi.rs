@@ -11,26 +11,15 @@ fn all_vertices(mesh: &Mesh) -> Vec<VertexId> {
 
 #[test]
 fn round_trip_through_openmesh_is_exact() {
-    for mesh in [
-        torus(2.0, 0.5, 24, 12),
-        icosphere(1.0, 3),
-        cube(DVec3::ZERO, DVec3::ONE, 3),
-        grid(5),
-    ] {
+    for mesh in [torus(2.0, 0.5, 24, 12), icosphere(1.0, 3), cube(DVec3::ZERO, DVec3::ONE, 3), grid(5)] {
         let he = HalfEdgeMesh::from_mesh(&mesh).unwrap();
         let counts = he.counts().unwrap();
         let report = mesh.validate();
-        assert_eq!(
-            (counts.vertices, counts.edges, counts.faces),
-            (report.vertices, report.edges, report.faces)
-        );
+        assert_eq!((counts.vertices, counts.edges, counts.faces), (report.vertices, report.edges, report.faces));
         let exported = he.export().unwrap();
         assert_eq!(exported.mesh.positions, mesh.positions);
         assert_eq!(exported.mesh.triangles, mesh.triangles);
-        assert_eq!(
-            exported.vertex_remap,
-            (0..mesh.vertex_count() as u32).collect::<Vec<_>>()
-        );
+        assert_eq!(exported.vertex_remap, (0..mesh.vertex_count() as u32).collect::<Vec<_>>());
     }
 }
 
@@ -66,10 +55,7 @@ fn one_rings_are_ccw_and_boundary_rings_open() {
         let pairs = if closed { ring.len() } else { ring.len() - 1 };
         for k in 0..pairs {
             let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
-            let shares = mesh
-                .triangles
-                .iter()
-                .any(|t| t.contains(&(v as u32)) && t.contains(&a) && t.contains(&b));
+            let shares = mesh.triangles.iter().any(|t| t.contains(&(v as u32)) && t.contains(&a) && t.contains(&b));
             assert!(shares, "vertex {v}: {a} and {b} share no face");
             let turn = (mesh.positions[a as usize] - p).cross(mesh.positions[b as usize] - p);
             assert!(turn.z > 0.0, "vertex {v} ring is not counter-clockwise");
@@ -87,20 +73,12 @@ fn flips_splits_and_welds_keep_the_mesh_valid() {
 
     // Flip an edge and flip it back: two flips, same edge count.
     let [a, b, _] = mesh.triangles[0];
-    assert_eq!(
-        he.flip_edges(&[[a, b], [0, 0]]).unwrap(),
-        vec![OpStatus::Done, OpStatus::NotAnEdge]
-    );
+    assert_eq!(he.flip_edges(&[[a, b], [0, 0]]).unwrap(), vec![OpStatus::Done, OpStatus::NotAnEdge]);
 
     // Split two edges at their midpoints.
     let t = mesh.triangles[10];
     let mid = |i: u32, j: u32| (mesh.positions[i as usize] + mesh.positions[j as usize]) / 2.0;
-    let split = he
-        .split_edges(
-            &[[t[0], t[1]], [t[1], t[0]]],
-            &[mid(t[0], t[1]), mid(t[1], t[0])],
-        )
-        .unwrap();
+    let split = he.split_edges(&[[t[0], t[1]], [t[1], t[0]]], &[mid(t[0], t[1]), mid(t[1], t[0])]).unwrap();
     // The second pair no longer names an edge: the first split replaced it.
     assert_eq!(split[1], (OpStatus::NotAnEdge, None));
     assert_eq!(split[0].0, OpStatus::Done);
@@ -109,22 +87,13 @@ fn flips_splits_and_welds_keep_the_mesh_valid() {
 
     // The new vertex has degree 4: weld it back onto a neighbour.
     let ring = he.one_rings(&[new_vertex]).unwrap();
-    let status = he
-        .weld_degree_four(&[[new_vertex.0, ring.row(0)[0]]])
-        .unwrap();
+    let status = he.weld_degree_four(&[[new_vertex.0, ring.row(0)[0]]]).unwrap();
     assert_eq!(status, vec![OpStatus::Done]);
     // A degree-6 vertex is refused by a degree-4 weld.
     let ring0 = he.one_rings(&[VertexId(20)]).unwrap();
     let deg = he.valences(&[VertexId(20)]).unwrap()[0];
     let status = he.weld_degree_four(&[[20, ring0.row(0)[0]]]).unwrap();
-    assert_eq!(
-        status,
-        vec![if deg == 4 {
-            OpStatus::Done
-        } else {
-            OpStatus::WrongDegree
-        }]
-    );
+    assert_eq!(status, vec![if deg == 4 { OpStatus::Done } else { OpStatus::WrongDegree }]);
 
     let remap = he.garbage_collect().unwrap();
     assert_eq!(remap[new_vertex.index()], ffi::INVALID_INDEX);
@@ -133,11 +102,7 @@ fn flips_splits_and_welds_keep_the_mesh_valid() {
     assert_eq!(report.euler, chi);
     assert!(report.is_closed_manifold());
     assert_eq!(report.degenerate_faces, 0);
-    assert_eq!(
-        out.vertex_count(),
-        mesh.vertex_count(),
-        "one split, one weld"
-    );
+    assert_eq!(out.vertex_count(), mesh.vertex_count(), "one split, one weld");
 }
 
 #[test]
@@ -145,25 +110,14 @@ fn collapse_refuses_invalid_and_normal_flipping_collapses() {
     let mesh = torus(2.0, 0.5, 12, 8);
     let mut he = HalfEdgeMesh::from_mesh(&mesh).unwrap();
     let status = he
-        .collapse_halfedges(
-            &[[0, 5000], [0, 0]],
-            CollapseOptions {
-                required_degree: 0,
-                check_normals: true,
-            },
-        )
+        .collapse_halfedges(&[[0, 5000], [0, 0]], CollapseOptions { required_degree: 0, check_normals: true })
         .unwrap();
     assert_eq!(status, vec![OpStatus::OutOfRange, OpStatus::NotAnEdge]);
     // Collapse many edges along one ring: topology is checked every time.
     let pairs: Vec<[u32; 2]> = (0..8).map(|j| [j, (j + 1) % 8]).collect();
-    let status = he
-        .collapse_halfedges(&pairs, CollapseOptions::default())
-        .unwrap();
+    let status = he.collapse_halfedges(&pairs, CollapseOptions::default()).unwrap();
     assert!(status.contains(&OpStatus::Done));
-    assert!(
-        status.iter().any(|s| *s != OpStatus::Done),
-        "collapsing a whole ring must be refused at some point"
-    );
+    assert!(status.iter().any(|s| *s != OpStatus::Done), "collapsing a whole ring must be refused at some point");
     he.garbage_collect().unwrap();
     let report = he.export().unwrap().mesh.validate();
     assert_eq!(report.euler, 0);
@@ -183,10 +137,7 @@ fn hausdorff_to_itself_is_zero_and_to_a_translate_is_the_offset() {
     let dh = ffi::hausdorff_distance(&mesh, &moved, HausdorffOptions::default()).unwrap();
     assert!((dh - d).abs() < 1e-3 * d, "hausdorff {dh} vs offset {d}");
     // Reproducible: same seed, same answer.
-    assert_eq!(
-        dh,
-        ffi::hausdorff_distance(&mesh, &moved, HausdorffOptions::default()).unwrap()
-    );
+    assert_eq!(dh, ffi::hausdorff_distance(&mesh, &moved, HausdorffOptions::default()).unwrap());
 }
 
 #[test]
@@ -198,23 +149,12 @@ fn quadrics_vanish_on_the_surface_and_grow_off_it() {
     assert!(on.iter().all(|e| e.abs() < 1e-12));
     // A cube corner's quadric sums the three face planes: moving by (d,d,d) outwards costs
     // (number of faces per plane) * d² per plane.
-    let corner = mesh
-        .positions
-        .iter()
-        .position(|p| *p == DVec3::ONE)
-        .unwrap();
+    let corner = mesh.positions.iter().position(|p| *p == DVec3::ONE).unwrap();
     let d = 0.1;
     let e = ffi::quadric_errors(&[q[corner]], &[DVec3::splat(1.0 + d)]).unwrap()[0];
-    let faces_at_corner = mesh
-        .triangles
-        .iter()
-        .filter(|t| t.contains(&(corner as u32)))
-        .count() as f64;
+    let faces_at_corner = mesh.triangles.iter().filter(|t| t.contains(&(corner as u32))).count() as f64;
     assert!((e - faces_at_corner * d * d).abs() < 1e-12, "error {e}");
-    assert!(matches!(
-        ffi::quadric_errors(&q[..2], &mesh.positions),
-        Err(Error::InvalidInput(_))
-    ));
+    assert!(matches!(ffi::quadric_errors(&q[..2], &mesh.positions), Err(Error::InvalidInput(_))));
 }
 
 #[test]
@@ -225,10 +165,8 @@ fn self_intersections_are_found_between_crossing_faces_only() {
     let mut a = icosphere(1.0, 1);
     let b = icosphere(1.0, 1);
     let offset = a.vertex_count() as u32;
-    a.positions
-        .extend(b.positions.iter().map(|p| *p + DVec3::new(1.0, 0.0, 0.0)));
-    a.triangles
-        .extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
+    a.positions.extend(b.positions.iter().map(|p| *p + DVec3::new(1.0, 0.0, 0.0)));
+    a.triangles.extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
     let pairs = ffi::self_intersections(&a).unwrap();
     assert!(!pairs.is_empty());
     let nf = b.triangles.len() as u32;
@@ -239,19 +177,10 @@ fn self_intersections_are_found_between_crossing_faces_only() {
 fn native_errors_are_results_not_aborts() {
     // A face CGAL refuses (repeated vertex) surfaces as an error.
     let mesh = Mesh::new(vec![DVec3::ZERO, DVec3::X, DVec3::Y], vec![[0, 1, 1]]);
-    assert!(matches!(
-        ffi::vertex_quadrics(&mesh, 100.0),
-        Err(Error::Native(_))
-    ));
+    assert!(matches!(ffi::vertex_quadrics(&mesh, 100.0), Err(Error::Native(_))));
     let empty = Mesh::new(vec![DVec3::ZERO], vec![]);
-    assert!(matches!(
-        ffi::hausdorff_distance(&empty, &empty, HausdorffOptions::default()),
-        Err(Error::Native(_))
-    ));
+    assert!(matches!(ffi::hausdorff_distance(&empty, &empty, HausdorffOptions::default()), Err(Error::Native(_))));
     // Out-of-range queries are errors from the C++ side too.
     let he = HalfEdgeMesh::from_mesh(&grid(1)).unwrap();
-    assert!(matches!(
-        he.valences(&[VertexId(99)]),
-        Err(Error::Native(_))
-    ));
+    assert!(matches!(he.valences(&[VertexId(99)]), Err(Error::Native(_))));
 }

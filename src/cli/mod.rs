@@ -1,5 +1,102 @@
-//! placeholder
-/// Runs the command line; returns the exit code.
+//! The command line: one subcommand per capability, thin over the library. Errors are
+//! one line on stderr; exit codes are 0 (success), 2 (bad input or usage), 1 (internal).
+
+mod convert;
+mod demo;
+mod info;
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand};
+
+use crate::error::{Error, Result};
+
+/// asperity — procedural detail on 3D surfaces.
+#[derive(Debug, Parser)]
+#[command(name = "asperity", version, about, propagate_version = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Print a mesh's validation report (counts, boundaries, manifoldness, genus).
+    Info(info::InfoArgs),
+    /// Convert a mesh between OBJ, PLY, OFF and STL (format by extension).
+    Convert(convert::ConvertArgs),
+    /// Run the built-in demonstration, writing results under an output folder.
+    Demo(demo::DemoArgs),
+}
+
+/// Parses the arguments, runs the subcommand and returns the process exit code.
+/// Panics are caught and reported as internal errors: no panic text reaches the user.
 pub fn run() -> i32 {
-    0
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+                let _ = e.print();
+                return 0;
+            }
+            let rendered = e.render().to_string();
+            let first = rendered.lines().next().unwrap_or("invalid arguments");
+            eprintln!("asperity: {} (see --help)", first.trim_start_matches("error: "));
+            return 2;
+        }
+    };
+    std::panic::set_hook(Box::new(|_| {}));
+    let outcome = std::panic::catch_unwind(|| dispatch(cli)).unwrap_or_else(|payload| {
+        let msg = payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "panic".to_string());
+        Err(Error::Internal(msg))
+    });
+    match outcome {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("asperity: {}", one_line(&e.to_string()));
+            e.exit_code()
+        }
+    }
+}
+
+fn dispatch(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Info(args) => info::run(args),
+        Command::Convert(args) => convert::run(args),
+        Command::Demo(args) => demo::run(args),
+    }
+}
+
+fn one_line(msg: &str) -> String {
+    msg.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// Refuses to overwrite an input file unless forced.
+pub(crate) fn guard_overwrite(input: &std::path::Path, output: &std::path::Path, force: bool) -> Result<()> {
+    let same = match (std::fs::canonicalize(input), std::fs::canonicalize(output)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if same && !force {
+        return Err(Error::InvalidInput(format!(
+            "{} is both input and output; pass --force to overwrite it",
+            output.display()
+        )));
+    }
+    Ok(())
+}
+
+/// Milliseconds since `start`, for stage reports.
+pub(crate) fn millis(start: std::time::Instant) -> u128 {
+    start.elapsed().as_millis()
+}
+
+/// The default output folder of commands that write several files.
+pub(crate) fn default_out() -> PathBuf {
+    PathBuf::from("out")
 }

@@ -1,1 +1,145 @@
-//! placeholder
+//! Mesh files: one reader and one writer per format behind [`read`] and [`write`], which
+//! pick the format by extension. Readers never panic on bad input: they return
+//! [`Error::Parse`] naming the file and the line, byte or element. Writers are atomic.
+
+mod atomic;
+mod obj;
+mod off;
+mod ply;
+mod stl;
+mod text;
+
+use std::path::Path;
+
+use crate::error::{Error, Location, Result};
+use crate::mesh::Mesh;
+
+pub use atomic::write_atomically;
+
+/// A mesh file format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Wavefront OBJ (read through `tobj`).
+    Obj,
+    /// Stanford PLY, ASCII or binary (either endianness).
+    Ply,
+    /// Object File Format.
+    Off,
+    /// STereoLithography, ASCII or binary.
+    Stl,
+}
+
+impl Format {
+    /// The format named by `path`'s extension (case-insensitive).
+    ///
+    /// # Errors
+    /// [`Error::Parse`] for a missing or unknown extension.
+    pub fn from_path(path: &Path) -> Result<Self> {
+        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("obj") => Ok(Format::Obj),
+            Some("ply") => Ok(Format::Ply),
+            Some("off") => Ok(Format::Off),
+            Some("stl") => Ok(Format::Stl),
+            _ => Err(Error::parse(path, Location::File, "unknown mesh format (expected .obj, .ply, .off or .stl)")),
+        }
+    }
+}
+
+/// A mesh read from a file, with what the reader changed or ignored.
+#[derive(Debug, Clone)]
+pub struct ReadOutcome {
+    /// The mesh (polygons triangulated).
+    pub mesh: Mesh,
+    /// How many polygons with more than three corners were triangulated.
+    pub triangulated_polygons: usize,
+    /// What was ignored or merged ("vertex colours ignored", ...), one note each.
+    pub notes: Vec<String>,
+}
+
+/// Options for [`write`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct WriteOptions {
+    /// Write text instead of binary where the format has both (PLY, STL).
+    pub ascii: bool,
+}
+
+/// Reads a mesh, choosing the format by extension.
+///
+/// # Errors
+/// [`Error::Io`] if the file cannot be read; [`Error::Parse`] naming the file and the line,
+/// byte or element for malformed content.
+pub fn read(path: &Path) -> Result<ReadOutcome> {
+    let format = Format::from_path(path)?;
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    read_bytes(&bytes, format, path)
+}
+
+/// Parses mesh file contents already in memory; `path` is used in messages only.
+///
+/// # Errors
+/// As [`read`].
+pub fn read_bytes(bytes: &[u8], format: Format, path: &Path) -> Result<ReadOutcome> {
+    if bytes.is_empty() {
+        return Err(Error::parse(path, Location::File, "the file is empty"));
+    }
+    let outcome = match format {
+        Format::Obj => obj::parse(bytes, path)?,
+        Format::Ply => ply::parse(bytes, path)?,
+        Format::Off => off::parse(bytes, path)?,
+        Format::Stl => stl::parse(bytes, path)?,
+    };
+    outcome.mesh.check().map_err(|e| Error::parse(path, Location::File, e.to_string()))?;
+    Ok(outcome)
+}
+
+/// Writes a mesh, choosing the format by extension; the file appears complete or not at all.
+///
+/// # Errors
+/// [`Error::InvalidInput`] for an inconsistent mesh; [`Error::Io`] if writing fails.
+pub fn write(mesh: &Mesh, path: &Path, options: WriteOptions) -> Result<()> {
+    let format = Format::from_path(path)?;
+    mesh.check()?;
+    write_atomically(path, |w| match format {
+        Format::Obj => obj::write(mesh, w),
+        Format::Ply => ply::write(mesh, w, options.ascii),
+        Format::Off => off::write(mesh, w),
+        Format::Stl => stl::write(mesh, w, options.ascii),
+    })
+}
+
+/// Bit pattern of a position for welding duplicates; adding 0.0 turns -0.0 into 0.0 so
+/// both weld together.
+pub(crate) fn weld_key(p: glam::DVec3) -> [u64; 3] {
+    [(p.x + 0.0).to_bits(), (p.y + 0.0).to_bits(), (p.z + 0.0).to_bits()]
+}
+
+/// Checks a face's indices against the vertex count and for repeated vertices.
+pub(crate) fn check_polygon(polygon: &[u32], vertex_count: usize) -> std::result::Result<(), String> {
+    if polygon.len() < 3 {
+        return Err(format!("a face needs at least 3 vertices, this one has {}", polygon.len()));
+    }
+    if let Some(v) = polygon.iter().find(|&&v| v as usize >= vertex_count) {
+        return Err(format!("vertex index {v} is out of range (there are {vertex_count} vertices)"));
+    }
+    for (i, a) in polygon.iter().enumerate() {
+        if polygon[i + 1..].contains(a) {
+            return Err(format!("the face repeats vertex {a}"));
+        }
+    }
+    Ok(())
+}
+
+/// Largest element count a file of `remaining` bytes can hold at `min_bytes` per element;
+/// used to refuse absurd header counts before allocating.
+pub(crate) fn check_count_fits(
+    count: usize,
+    min_bytes: usize,
+    remaining: usize,
+    what: &str,
+) -> std::result::Result<(), String> {
+    match count.checked_mul(min_bytes.max(1)) {
+        Some(need) if need <= remaining => Ok(()),
+        _ => Err(format!("the header declares {count} {what} but only {remaining} bytes follow")),
+    }
+}

@@ -39,11 +39,7 @@ pub struct Mesh {
 impl Mesh {
     /// A mesh from positions and triangles, without attributes.
     pub fn new(positions: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> Self {
-        Mesh {
-            positions,
-            triangles,
-            ..Default::default()
-        }
+        Mesh { positions, triangles, ..Default::default() }
     }
 
     /// Number of vertices.
@@ -59,11 +55,7 @@ impl Mesh {
     /// Axis-aligned bounding box `(min, max)`; `None` for a mesh without vertices.
     pub fn bounding_box(&self) -> Option<(DVec3, DVec3)> {
         let first = *self.positions.first()?;
-        Some(
-            self.positions
-                .iter()
-                .fold((first, first), |(lo, hi), p| (lo.min(*p), hi.max(*p))),
-        )
+        Some(self.positions.iter().fold((first, first), |(lo, hi), p| (lo.min(*p), hi.max(*p))))
     }
 
     /// The three corner positions of triangle `f`.
@@ -78,30 +70,22 @@ impl Mesh {
     /// [`Error::InvalidInput`] naming the first offending vertex, face or attribute.
     pub fn check(&self) -> Result<()> {
         if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
-            return Err(Error::InvalidInput(format!(
-                "vertex {i} has a non-finite coordinate"
-            )));
+            return Err(Error::InvalidInput(format!("vertex {i} has a non-finite coordinate")));
         }
         let n = self.positions.len();
         if n > u32::MAX as usize {
-            return Err(Error::InvalidInput(format!(
-                "{n} vertices exceed the 32-bit index range"
-            )));
+            return Err(Error::InvalidInput(format!("{n} vertices exceed the 32-bit index range")));
         }
         for (f, t) in self.triangles.iter().enumerate() {
             if let Some(v) = t.iter().find(|&&v| v as usize >= n) {
-                return Err(Error::InvalidInput(format!(
-                    "face {f} refers to vertex {v} but there are {n} vertices"
-                )));
+                return Err(Error::InvalidInput(format!("face {f} refers to vertex {v} but there are {n} vertices")));
             }
         }
         let check_len = |name: &str, len: usize| {
             if len == n {
                 Ok(())
             } else {
-                Err(Error::InvalidInput(format!(
-                    "attribute `{name}` has {len} values for {n} vertices"
-                )))
+                Err(Error::InvalidInput(format!("attribute `{name}` has {len} values for {n} vertices")))
             }
         };
         if let Some(v) = &self.normals {

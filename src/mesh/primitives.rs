@@ -115,14 +115,7 @@ pub fn cube(min: DVec3, max: DVec3, n: u32) -> Mesh {
     let n = i64::from(n);
     // Each side: the fixed axis, its grid value, and two in-plane axes ordered so the
     // side's outward normal is u × v.
-    for (axis, at, u, v) in [
-        (0, 0, 2, 1),
-        (0, n, 1, 2),
-        (1, 0, 0, 2),
-        (1, n, 2, 0),
-        (2, 0, 1, 0),
-        (2, n, 0, 1),
-    ] {
+    for (axis, at, u, v) in [(0, 0, 2, 1), (0, n, 1, 2), (1, 0, 0, 2), (1, n, 2, 0), (2, 0, 1, 0), (2, n, 0, 1)] {
         for i in 0..n {
             for j in 0..n {
                 let corner = |di: i64, dj: i64| {
@@ -150,11 +143,7 @@ pub fn grid(n: u32) -> Mesh {
     let mut positions = Vec::with_capacity(((n + 1) * (n + 1)) as usize);
     for j in 0..=n {
         for i in 0..=n {
-            positions.push(DVec3::new(
-                f64::from(i) / f64::from(n),
-                f64::from(j) / f64::from(n),
-                0.0,
-            ));
+            positions.push(DVec3::new(f64::from(i) / f64::from(n), f64::from(j) / f64::from(n), 0.0));
         }
     }
     let id = |i: u32, j: u32| j * (n + 1) + i;

@@ -23,11 +23,7 @@ pub fn triangulate_polygon(positions: &[DVec3], polygon: &[u32], out: &mut Vec<[
         match find_ear(&flat, &ring) {
             Some(i) => {
                 let m = ring.len();
-                out.push([
-                    polygon[ring[(i + m - 1) % m]],
-                    polygon[ring[i]],
-                    polygon[ring[(i + 1) % m]],
-                ]);
+                out.push([polygon[ring[(i + m - 1) % m]], polygon[ring[i]], polygon[ring[(i + 1) % m]]]);
                 ring.remove(i);
             }
             None => break, // self-intersecting or degenerate: fan what is left
@@ -69,11 +65,7 @@ fn project_to_plane(positions: &[DVec3], polygon: &[u32]) -> Vec<DVec2> {
     let mut normal = DVec3::ZERO;
     for (i, a) in pts.iter().enumerate() {
         let b = pts[(i + 1) % pts.len()];
-        normal += DVec3::new(
-            (a.y - b.y) * (a.z + b.z),
-            (a.z - b.z) * (a.x + b.x),
-            (a.x - b.x) * (a.y + b.y),
-        );
+        normal += DVec3::new((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
     }
     let abs = normal.abs();
     let (axis_u, axis_v, sign) = if abs.x >= abs.y && abs.x >= abs.z {
@@ -83,9 +75,7 @@ fn project_to_plane(positions: &[DVec3], polygon: &[u32]) -> Vec<DVec2> {
     } else {
         (0, 1, normal.z.signum())
     };
-    pts.iter()
-        .map(|p| DVec2::new(sign * p[axis_u], p[axis_v]))
-        .collect()
+    pts.iter().map(|p| DVec2::new(sign * p[axis_u], p[axis_v])).collect()
 }
 
 fn cross2(o: DVec2, a: DVec2, b: DVec2) -> f64 {
@@ -96,11 +86,7 @@ fn cross2(o: DVec2, a: DVec2, b: DVec2) -> f64 {
 fn find_ear(flat: &[DVec2], ring: &[usize]) -> Option<usize> {
     let m = ring.len();
     (0..m).find(|&i| {
-        let (a, b, c) = (
-            flat[ring[(i + m - 1) % m]],
-            flat[ring[i]],
-            flat[ring[(i + 1) % m]],
-        );
+        let (a, b, c) = (flat[ring[(i + m - 1) % m]], flat[ring[i]], flat[ring[(i + 1) % m]]);
         if cross2(a, b, c) <= 0.0 {
             return false;
         }

@@ -118,11 +118,7 @@ pub(crate) struct HalfEdgeUse {
 
 impl HalfEdgeUse {
     pub fn directed(&self) -> (u32, u32) {
-        if self.forward {
-            (self.lo, self.hi)
-        } else {
-            (self.hi, self.lo)
-        }
+        if self.forward { (self.lo, self.hi) } else { (self.hi, self.lo) }
     }
 }
 
@@ -141,12 +137,7 @@ impl EdgeTable {
             }
             for k in 0..3 {
                 let (a, b) = (t[k], t[(k + 1) % 3]);
-                uses.push(HalfEdgeUse {
-                    lo: a.min(b),
-                    hi: a.max(b),
-                    face: f as u32,
-                    forward: a < b,
-                });
+                uses.push(HalfEdgeUse { lo: a.min(b), hi: a.max(b), face: f as u32, forward: a < b });
             }
         }
         uses.sort_unstable_by_key(|u| (u.lo, u.hi, u.face));
@@ -232,16 +223,12 @@ fn count_face_components(mesh: &Mesh, nv: usize) -> usize {
             referenced[v as usize] = true;
         }
     }
-    (0..nv)
-        .filter(|&v| referenced[v] && sets.find(v) == v)
-        .count()
+    (0..nv).filter(|&v| referenced[v] && sets.find(v) == v).count()
 }
 
 /// Faces that repeat a vertex or whose area is below 1e-12 of their longest edge squared.
 fn count_degenerate_faces(mesh: &Mesh) -> usize {
-    (0..mesh.triangles.len())
-        .filter(|&f| is_degenerate_face(mesh, f))
-        .count()
+    (0..mesh.triangles.len()).filter(|&f| is_degenerate_face(mesh, f)).count()
 }
 
 /// Whether face `f` repeats a vertex or has (relatively) zero area.
@@ -251,10 +238,7 @@ pub fn is_degenerate_face(mesh: &Mesh, f: usize) -> bool {
         return true;
     }
     let [a, b, c] = mesh.triangle_points(f);
-    let longest = (b - a)
-        .length_squared()
-        .max((c - b).length_squared())
-        .max((a - c).length_squared());
+    let longest = (b - a).length_squared().max((c - b).length_squared()).max((a - c).length_squared());
     (b - a).cross(c - a).length() <= 1e-12 * longest
 }
 
@@ -266,10 +250,7 @@ pub(crate) struct DisjointSets {
 
 impl DisjointSets {
     pub fn new(n: usize) -> Self {
-        DisjointSets {
-            parent: (0..n as u32).collect(),
-            size: vec![1; n],
-        }
+        DisjointSets { parent: (0..n as u32).collect(), size: vec![1; n] }
     }
 
     pub fn find(&mut self, mut x: usize) -> usize {

@@ -1,0 +1,48 @@
+//! `asperity convert IN OUT [--ascii] [--force]`: mesh format conversion.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+
+use crate::error::Result;
+use crate::io::{self, WriteOptions};
+
+#[derive(Debug, Args)]
+pub struct ConvertArgs {
+    /// Input mesh (.obj, .ply, .off, .stl).
+    input: PathBuf,
+    /// Output mesh; the format follows the extension.
+    output: PathBuf,
+    /// Write text PLY/STL instead of binary.
+    #[arg(long)]
+    ascii: bool,
+    /// Allow the output to overwrite the input.
+    #[arg(long)]
+    force: bool,
+}
+
+pub fn run(args: ConvertArgs) -> Result<()> {
+    let start = Instant::now();
+    io::Format::from_path(&args.output)?;
+    super::guard_overwrite(&args.input, &args.output, args.force)?;
+    let outcome = io::read(&args.input)?;
+    io::write(&outcome.mesh, &args.output, WriteOptions { ascii: args.ascii })?;
+    let m = &outcome.mesh;
+    let polygons = match outcome.triangulated_polygons {
+        0 => String::new(),
+        n => format!(", {n} polygons triangulated"),
+    };
+    println!(
+        "convert: {} ({} vertices, {} tris{polygons}) => {} in {} ms",
+        args.input.display(),
+        m.vertex_count(),
+        m.face_count(),
+        args.output.display(),
+        super::millis(start)
+    );
+    for note in &outcome.notes {
+        eprintln!("note: {note}");
+    }
+    Ok(())
+}

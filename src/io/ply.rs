@@ -1,0 +1,554 @@
+//! Stanford PLY: ASCII, binary little- and big-endian. Reads positions, normals
+//! (`nx ny nz`), colours (`red green blue`, 8-bit or float) and every other scalar vertex
+//! property (kept by name); faces from `vertex_indices` / `vertex_index`; other elements
+//! are skipped. Writes binary little-endian by default, with all attributes.
+
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::Path;
+
+use glam::DVec3;
+
+use super::text::{numbered_lines, shorten};
+use super::{ReadOutcome, check_count_fits, check_polygon};
+use crate::error::{Error, Location, Result};
+use crate::mesh::{Mesh, triangulate_polygon};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Encoding {
+    Ascii,
+    LittleEndian,
+    BigEndian,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum ScalarType {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    F32,
+    F64,
+}
+
+impl ScalarType {
+    fn parse(name: &str) -> Option<Self> {
+        Some(match name {
+            "char" | "int8" => ScalarType::I8,
+            "uchar" | "uint8" => ScalarType::U8,
+            "short" | "int16" => ScalarType::I16,
+            "ushort" | "uint16" => ScalarType::U16,
+            "int" | "int32" => ScalarType::I32,
+            "uint" | "uint32" => ScalarType::U32,
+            "float" | "float32" => ScalarType::F32,
+            "double" | "float64" => ScalarType::F64,
+            _ => return None,
+        })
+    }
+
+    fn size(self) -> usize {
+        match self {
+            ScalarType::I8 | ScalarType::U8 => 1,
+            ScalarType::I16 | ScalarType::U16 => 2,
+            ScalarType::I32 | ScalarType::U32 | ScalarType::F32 => 4,
+            ScalarType::F64 => 8,
+        }
+    }
+
+    fn is_integer(self) -> bool {
+        !matches!(self, ScalarType::F32 | ScalarType::F64)
+    }
+}
+
+#[derive(Debug, Clone)]
+enum Property {
+    Scalar { name: String, ty: ScalarType },
+    List { name: String, count: ScalarType, item: ScalarType },
+}
+
+impl Property {
+    fn name(&self) -> &str {
+        match self {
+            Property::Scalar { name, .. } | Property::List { name, .. } => name,
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+struct Element {
+    name: String,
+    count: usize,
+    properties: Vec<Property>,
+    line: usize,
+}
+
+impl Element {
+    /// Smallest encoding of one element: every scalar and every list count (lists may be empty).
+    fn min_bytes(&self, encoding: Encoding) -> usize {
+        self.properties
+            .iter()
+            .map(|p| match (encoding, p) {
+                (Encoding::Ascii, _) => 2,
+                (_, Property::Scalar { ty, .. }) => ty.size(),
+                (_, Property::List { count, .. }) => count.size(),
+            })
+            .sum()
+    }
+}
+
+struct Header {
+    encoding: Encoding,
+    elements: Vec<Element>,
+    /// Byte offset of the body.
+    body: usize,
+    /// Number of header lines (ASCII body lines are numbered after them).
+    lines: usize,
+}
+
+/// Longest header we look for `end_header` in.
+const MAX_HEADER_BYTES: usize = 1 << 20;
+
+fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
+    let err = |line: usize, msg: String| Error::parse(path, Location::Line(line), msg);
+    let window = &bytes[..bytes.len().min(MAX_HEADER_BYTES)];
+    let end = find_subslice(window, b"end_header").ok_or_else(|| {
+        Error::parse(path, Location::File, "no `end_header` line: not a PLY file or truncated header")
+    })?;
+    let mut body = end + b"end_header".len();
+    match (bytes.get(body), bytes.get(body + 1)) {
+        (Some(b'\r'), Some(b'\n')) => body += 2,
+        (Some(b'\n' | b'\r'), _) => body += 1,
+        (None, _) => {}
+        _ => return Err(Error::parse(path, Location::File, "`end_header` is not followed by a line break")),
+    }
+    let text = std::str::from_utf8(&bytes[..end])
+        .map_err(|e| Error::parse(path, Location::Byte(e.valid_up_to() as u64), "the PLY header is not text"))?;
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+
+    let mut encoding = None;
+    let mut elements: Vec<Element> = Vec::new();
+    let mut line_count = 0;
+    for (n, line) in numbered_lines(text) {
+        line_count = n;
+        let tokens: Vec<&str> = line.split_whitespace().collect();
+        match tokens.as_slice() {
+            [] => {}
+            ["ply"] if n == 1 => {}
+            _ if n == 1 => return Err(err(1, "not a PLY file (the first line is not `ply`)".into())),
+            ["format", kind, version] => {
+                if *version != "1.0" {
+                    return Err(err(n, format!("unsupported PLY version `{}`", shorten(version))));
+                }
+                encoding = Some(match *kind {
+                    "ascii" => Encoding::Ascii,
+                    "binary_little_endian" => Encoding::LittleEndian,
+                    "binary_big_endian" => Encoding::BigEndian,
+                    other => return Err(err(n, format!("unknown PLY format `{}`", shorten(other)))),
+                });
+            }
+            ["comment", ..] | ["obj_info", ..] => {}
+            ["element", name, count] => {
+                let count =
+                    count.parse::<usize>().map_err(|_| err(n, format!("bad element count `{}`", shorten(count))))?;
+                elements.push(Element { name: name.to_string(), count, properties: Vec::new(), line: n });
+            }
+            ["property", "list", count, item, name] => {
+                let element = elements.last_mut().ok_or_else(|| err(n, "property before any element".into()))?;
+                let count =
+                    ScalarType::parse(count).ok_or_else(|| err(n, format!("unknown PLY type `{}`", shorten(count))))?;
+                let item =
+                    ScalarType::parse(item).ok_or_else(|| err(n, format!("unknown PLY type `{}`", shorten(item))))?;
+                if !count.is_integer() {
+                    return Err(err(n, "a list count must have an integer type".into()));
+                }
+                element.properties.push(Property::List { name: name.to_string(), count, item });
+            }
+            ["property", ty, name] => {
+                let element = elements.last_mut().ok_or_else(|| err(n, "property before any element".into()))?;
+                let ty = ScalarType::parse(ty).ok_or_else(|| err(n, format!("unknown PLY type `{}`", shorten(ty))))?;
+                element.properties.push(Property::Scalar { name: name.to_string(), ty });
+            }
+            _ => return Err(err(n, format!("malformed header line `{}`", shorten(line)))),
+        }
+    }
+    let encoding = encoding.ok_or_else(|| Error::parse(path, Location::File, "the PLY header has no `format` line"))?;
+    Ok(Header { encoding, elements, body, lines: line_count + 1 })
+}
+
+fn find_subslice(haystack: &[u8], needle: &[u8]) -> Option<usize> {
+    haystack.windows(needle.len()).position(|w| w == needle)
+}
+
+/// Where values come from: ASCII tokens with line numbers, or binary with byte offsets.
+enum Body<'a> {
+    Ascii { tokens: Box<dyn Iterator<Item = (usize, &'a str)> + 'a>, line: usize },
+    Binary { bytes: &'a [u8], pos: usize, base: usize, big_endian: bool },
+}
+
+impl<'a> Body<'a> {
+    fn location(&self) -> Location {
+        match self {
+            Body::Ascii { line, .. } => Location::Line(*line),
+            Body::Binary { pos, base, .. } => Location::Byte((base + pos) as u64),
+        }
+    }
+
+    fn read(&mut self, ty: ScalarType) -> std::result::Result<f64, String> {
+        match self {
+            Body::Ascii { tokens, line } => {
+                let (n, token) = tokens.next().ok_or("the file ends early")?;
+                *line = n;
+                let value = if ty.is_integer() {
+                    token
+                        .parse::<i64>()
+                        .map(|v| v as f64)
+                        .map_err(|_| format!("`{}` is not an integer", shorten(token)))?
+                } else {
+                    token.parse::<f64>().map_err(|_| format!("`{}` is not a number", shorten(token)))?
+                };
+                let (lo, hi) = match ty {
+                    ScalarType::I8 => (i8::MIN as f64, i8::MAX as f64),
+                    ScalarType::U8 => (0.0, u8::MAX as f64),
+                    ScalarType::I16 => (i16::MIN as f64, i16::MAX as f64),
+                    ScalarType::U16 => (0.0, u16::MAX as f64),
+                    ScalarType::I32 => (i32::MIN as f64, i32::MAX as f64),
+                    ScalarType::U32 => (0.0, u32::MAX as f64),
+                    ScalarType::F32 | ScalarType::F64 => (f64::NEG_INFINITY, f64::INFINITY),
+                };
+                if ty.is_integer() && !(lo..=hi).contains(&value) {
+                    return Err(format!("{value} is out of range for its type"));
+                }
+                Ok(value)
+            }
+            Body::Binary { bytes, pos, big_endian, .. } => {
+                let size = ty.size();
+                let raw = bytes.get(*pos..*pos + size).ok_or("the file ends early")?;
+                *pos += size;
+                let mut buf = [0u8; 8];
+                buf[..size].copy_from_slice(raw);
+                if *big_endian {
+                    buf[..size].reverse();
+                }
+                Ok(match ty {
+                    ScalarType::I8 => buf[0] as i8 as f64,
+                    ScalarType::U8 => buf[0] as f64,
+                    ScalarType::I16 => i16::from_le_bytes([buf[0], buf[1]]) as f64,
+                    ScalarType::U16 => u16::from_le_bytes([buf[0], buf[1]]) as f64,
+                    ScalarType::I32 => i32::from_le_bytes([buf[0], buf[1], buf[2], buf[3]]) as f64,
+                    ScalarType::U32 => u32::from_le_bytes([buf[0], buf[1], buf[2], buf[3]]) as f64,
+                    ScalarType::F32 => f32::from_le_bytes([buf[0], buf[1], buf[2], buf[3]]) as f64,
+                    ScalarType::F64 => f64::from_le_bytes(buf),
+                })
+            }
+        }
+    }
+
+    fn remaining_bytes(&self, total: usize) -> usize {
+        match self {
+            Body::Ascii { .. } => total,
+            Body::Binary { bytes, pos, .. } => bytes.len() - pos,
+        }
+    }
+}
+
+/// What a vertex property feeds.
+enum VertexSlot {
+    Position(usize),
+    Normal(usize),
+    Color(usize, ScalarType),
+    Scalar(usize),
+    Ignored,
+}
+
+/// Parses a PLY file.
+pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
+    let header = parse_header(bytes, path)?;
+    let mut body = match header.encoding {
+        Encoding::Ascii => {
+            let text = std::str::from_utf8(&bytes[header.body..]).map_err(|e| {
+                Error::parse(path, Location::Byte((header.body + e.valid_up_to()) as u64), "the ASCII body is not text")
+            })?;
+            let offset = header.lines;
+            let tokens =
+                numbered_lines(text).flat_map(move |(n, l)| l.split_whitespace().map(move |t| (n + offset, t)));
+            Body::Ascii { tokens: Box::new(tokens), line: header.lines }
+        }
+        enc => Body::Binary {
+            bytes: &bytes[header.body..],
+            pos: 0,
+            base: header.body,
+            big_endian: enc == Encoding::BigEndian,
+        },
+    };
+
+    let mut positions: Vec<DVec3> = Vec::new();
+    let mut normals: Option<Vec<DVec3>> = None;
+    let mut colors: Option<Vec<[u8; 3]>> = None;
+    let mut scalars: BTreeMap<String, Vec<f64>> = BTreeMap::new();
+    let mut polygons: Vec<u32> = Vec::new();
+    let mut polygon_starts: Vec<usize> = Vec::new();
+    let mut notes = Vec::new();
+    let mut vertex_count = None;
+
+    for element in &header.elements {
+        let remaining = body.remaining_bytes(bytes.len() - header.body);
+        check_count_fits(element.count, element.min_bytes(header.encoding), remaining, &element.name)
+            .map_err(|m| Error::parse(path, Location::Line(element.line), m))?;
+        match element.name.as_str() {
+            "vertex" => {
+                let n = element.count;
+                let slots = vertex_slots(element, path, &mut notes)?;
+                positions = vec![DVec3::ZERO; n];
+                if slots.iter().any(|s| matches!(s, VertexSlot::Normal(_))) {
+                    normals = Some(vec![DVec3::ZERO; n]);
+                }
+                if slots.iter().any(|s| matches!(s, VertexSlot::Color(..))) {
+                    colors = Some(vec![[0, 0, 0]; n]);
+                }
+                let scalar_names: Vec<&str> = element
+                    .properties
+                    .iter()
+                    .zip(&slots)
+                    .filter(|(_, s)| matches!(s, VertexSlot::Scalar(_)))
+                    .map(|(p, _)| p.name())
+                    .collect();
+                let mut scalar_values = vec![vec![0.0; n]; scalar_names.len()];
+                for i in 0..n {
+                    let at = |body: &Body, m: String| Error::parse(path, body.location(), format!("vertex {i}: {m}"));
+                    for (property, slot) in element.properties.iter().zip(&slots) {
+                        let value = match property {
+                            Property::Scalar { ty, .. } => body.read(*ty).map_err(|m| at(&body, m))?,
+                            Property::List { count, item, .. } => {
+                                skip_list(&mut body, *count, *item).map_err(|m| at(&body, m))?;
+                                continue;
+                            }
+                        };
+                        match *slot {
+                            VertexSlot::Position(k) => {
+                                if !value.is_finite() {
+                                    return Err(at(&body, format!("coordinate {value} is not finite")));
+                                }
+                                positions[i][k] = value;
+                            }
+                            VertexSlot::Normal(k) => normals.as_mut().expect("normals allocated")[i][k] = value,
+                            VertexSlot::Color(k, ty) => {
+                                let c = if ty.is_integer() { value } else { value * 255.0 };
+                                colors.as_mut().expect("colours allocated")[i][k] = c.round().clamp(0.0, 255.0) as u8;
+                            }
+                            VertexSlot::Scalar(k) => scalar_values[k][i] = value,
+                            VertexSlot::Ignored => {}
+                        }
+                    }
+                }
+                for (name, values) in scalar_names.into_iter().zip(scalar_values) {
+                    scalars.insert(name.to_string(), values);
+                }
+                vertex_count = Some(n);
+            }
+            "face" => {
+                let nv = vertex_count.ok_or_else(|| {
+                    Error::parse(path, Location::Line(element.line), "the face element comes before the vertex element")
+                })?;
+                let index_property = element
+                    .properties
+                    .iter()
+                    .position(|p| matches!(p, Property::List { name, .. } if name == "vertex_indices" || name == "vertex_index"))
+                    .ok_or_else(|| Error::parse(path, Location::Line(element.line), "faces have no `vertex_indices` list"))?;
+                if element.properties.len() > 1 {
+                    notes.push("PLY face properties other than vertex_indices ignored".to_string());
+                }
+                polygon_starts.reserve(element.count.min(remaining));
+                for f in 0..element.count {
+                    let at = |body: &Body, m: String| Error::parse(path, body.location(), format!("face {f}: {m}"));
+                    for (k, property) in element.properties.iter().enumerate() {
+                        match property {
+                            Property::Scalar { ty, .. } => {
+                                body.read(*ty).map_err(|m| at(&body, m))?;
+                            }
+                            Property::List { count, item, .. } if k == index_property => {
+                                let len = body.read(*count).map_err(|m| at(&body, m))?;
+                                let len = list_length(len, &body, bytes.len(), *item).map_err(|m| at(&body, m))?;
+                                let start = polygons.len();
+                                polygon_starts.push(start);
+                                for _ in 0..len {
+                                    let v = body.read(*item).map_err(|m| at(&body, m))?;
+                                    if v < 0.0 || v.fract() != 0.0 || v > u32::MAX as f64 {
+                                        return Err(at(&body, format!("bad vertex index {v}")));
+                                    }
+                                    polygons.push(v as u32);
+                                }
+                                check_polygon(&polygons[start..], nv).map_err(|m| at(&body, m))?;
+                            }
+                            Property::List { count, item, .. } => {
+                                skip_list(&mut body, *count, *item).map_err(|m| at(&body, m))?;
+                            }
+                        }
+                    }
+                }
+            }
+            other => {
+                notes.push(format!("PLY element `{other}` skipped"));
+                for i in 0..element.count {
+                    for property in &element.properties {
+                        let r = match property {
+                            Property::Scalar { ty, .. } => body.read(*ty).map(|_| ()),
+                            Property::List { count, item, .. } => skip_list(&mut body, *count, *item),
+                        };
+                        r.map_err(|m| Error::parse(path, body.location(), format!("{other} {i}: {m}")))?;
+                    }
+                }
+            }
+        }
+    }
+    if vertex_count.is_none() {
+        return Err(Error::parse(path, Location::File, "the PLY file has no vertex element"));
+    }
+
+    let mut triangles = Vec::with_capacity(polygon_starts.len());
+    let mut triangulated = 0;
+    for (k, &start) in polygon_starts.iter().enumerate() {
+        let end = polygon_starts.get(k + 1).copied().unwrap_or(polygons.len());
+        if end - start > 3 {
+            triangulated += 1;
+        }
+        triangulate_polygon(&positions, &polygons[start..end], &mut triangles);
+    }
+    let mesh = Mesh { positions, triangles, normals, colors, scalars };
+    Ok(ReadOutcome { mesh, triangulated_polygons: triangulated, notes })
+}
+
+fn vertex_slots(element: &Element, path: &Path, notes: &mut Vec<String>) -> Result<Vec<VertexSlot>> {
+    let mut slots = Vec::with_capacity(element.properties.len());
+    let mut found = [false; 3];
+    for p in &element.properties {
+        let slot = match p {
+            Property::Scalar { name, ty } => match name.as_str() {
+                "x" | "y" | "z" => {
+                    let k = (name.as_bytes()[0] - b'x') as usize;
+                    found[k] = true;
+                    VertexSlot::Position(k)
+                }
+                "nx" | "ny" | "nz" => VertexSlot::Normal((name.as_bytes()[1] - b'x') as usize),
+                "red" | "diffuse_red" => VertexSlot::Color(0, *ty),
+                "green" | "diffuse_green" => VertexSlot::Color(1, *ty),
+                "blue" | "diffuse_blue" => VertexSlot::Color(2, *ty),
+                _ => VertexSlot::Scalar(0),
+            },
+            Property::List { name, .. } => {
+                notes.push(format!("PLY vertex list property `{name}` ignored"));
+                VertexSlot::Ignored
+            }
+        };
+        slots.push(slot);
+    }
+    if found != [true; 3] {
+        return Err(Error::parse(path, Location::Line(element.line), "vertices lack x, y and z properties"));
+    }
+    let mut next = 0;
+    for s in &mut slots {
+        if let VertexSlot::Scalar(k) = s {
+            *k = next;
+            next += 1;
+        }
+    }
+    Ok(slots)
+}
+
+/// Validates a list length against what the rest of the file can hold.
+fn list_length(len: f64, body: &Body, total: usize, item: ScalarType) -> std::result::Result<usize, String> {
+    let len = integral_length(len)?;
+    let min = match body {
+        Body::Ascii { .. } => 2,
+        Body::Binary { .. } => item.size(),
+    };
+    check_count_fits(len, min, body.remaining_bytes(total), "list items")?;
+    Ok(len)
+}
+
+/// A list length read as a number: a non-negative integer (NaN fails `fract`).
+fn integral_length(len: f64) -> std::result::Result<usize, String> {
+    if len < 0.0 || len.fract() != 0.0 {
+        return Err(format!("bad list length {len}"));
+    }
+    Ok(len as usize)
+}
+
+fn skip_list(body: &mut Body, count: ScalarType, item: ScalarType) -> std::result::Result<(), String> {
+    let len = integral_length(body.read(count)?)?;
+    for _ in 0..len {
+        body.read(item)?;
+    }
+    Ok(())
+}
+
+/// Writes a PLY file: binary little-endian, or ASCII with `ascii`.
+pub fn write(mesh: &Mesh, w: &mut dyn Write, ascii: bool) -> std::io::Result<()> {
+    if mesh.positions.len() > i32::MAX as usize {
+        return Err(std::io::Error::new(std::io::ErrorKind::InvalidInput, "too many vertices for PLY int indices"));
+    }
+    writeln!(w, "ply")?;
+    writeln!(w, "format {} 1.0", if ascii { "ascii" } else { "binary_little_endian" })?;
+    writeln!(w, "comment written by asperity {}", env!("CARGO_PKG_VERSION"))?;
+    writeln!(w, "element vertex {}", mesh.positions.len())?;
+    for axis in ["x", "y", "z"] {
+        writeln!(w, "property double {axis}")?;
+    }
+    if mesh.normals.is_some() {
+        for axis in ["nx", "ny", "nz"] {
+            writeln!(w, "property double {axis}")?;
+        }
+    }
+    if mesh.colors.is_some() {
+        for c in ["red", "green", "blue"] {
+            writeln!(w, "property uchar {c}")?;
+        }
+    }
+    let names: Vec<String> = mesh.scalars.keys().map(|k| k.split_whitespace().collect::<Vec<_>>().join("_")).collect();
+    for name in &names {
+        writeln!(w, "property double {name}")?;
+    }
+    writeln!(w, "element face {}", mesh.triangles.len())?;
+    writeln!(w, "property list uchar int vertex_indices")?;
+    writeln!(w, "end_header")?;
+
+    let scalar_columns: Vec<&Vec<f64>> = mesh.scalars.values().collect();
+    for (i, p) in mesh.positions.iter().enumerate() {
+        let mut doubles: Vec<f64> = p.to_array().to_vec();
+        if let Some(n) = &mesh.normals {
+            doubles.extend(n[i].to_array());
+        }
+        let color = mesh.colors.as_ref().map(|c| c[i]);
+        let extra: Vec<f64> = scalar_columns.iter().map(|c| c[i]).collect();
+        if ascii {
+            let mut fields: Vec<String> = doubles.iter().map(|v| v.to_string()).collect();
+            if let Some(c) = color {
+                fields.extend(c.iter().map(|v| v.to_string()));
+            }
+            fields.extend(extra.iter().map(|v| v.to_string()));
+            writeln!(w, "{}", fields.join(" "))?;
+        } else {
+            for v in &doubles {
+                w.write_all(&v.to_le_bytes())?;
+            }
+            if let Some(c) = color {
+                w.write_all(&c)?;
+            }
+            for v in &extra {
+                w.write_all(&v.to_le_bytes())?;
+            }
+        }
+    }
+    for t in &mesh.triangles {
+        if ascii {
+            writeln!(w, "3 {} {} {}", t[0], t[1], t[2])?;
+        } else {
+            w.write_all(&[3u8])?;
+            for v in t {
+                w.write_all(&(*v as i32).to_le_bytes())?;
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,66 @@
+//! Text input helpers: UTF-8 decoding with a clear error, BOM removal, and lines numbered
+//! from 1 whatever the line ending (`\n`, `\r\n` or a lone `\r`).
+
+use std::path::Path;
+
+use crate::error::{Error, Location, Result};
+
+/// The file as text, without a UTF-8 byte order mark.
+pub fn decode<'a>(bytes: &'a [u8], path: &Path) -> Result<&'a str> {
+    let text = std::str::from_utf8(bytes)
+        .map_err(|e| Error::parse(path, Location::Byte(e.valid_up_to() as u64), "not a text file (invalid UTF-8)"))?;
+    Ok(text.strip_prefix('\u{feff}').unwrap_or(text))
+}
+
+/// Numbered lines, any line ending.
+pub fn numbered_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    let mut rest = text;
+    let mut number = 0;
+    std::iter::from_fn(move || {
+        if rest.is_empty() {
+            return None;
+        }
+        number += 1;
+        let end = rest.find(['\n', '\r']).unwrap_or(rest.len());
+        let line = &rest[..end];
+        let skip = match rest.as_bytes().get(end) {
+            Some(b'\r') if rest.as_bytes().get(end + 1) == Some(&b'\n') => 2,
+            Some(_) => 1,
+            None => 0,
+        };
+        rest = &rest[end + skip..];
+        Some((number, line))
+    })
+}
+
+/// Numbered lines with `#` comments removed, blank lines skipped, split into tokens.
+pub fn significant_lines(text: &str) -> impl Iterator<Item = (usize, Vec<&str>)> {
+    numbered_lines(text).filter_map(|(n, line)| {
+        let content = line.split('#').next().unwrap_or("");
+        let tokens: Vec<&str> = content.split_whitespace().collect();
+        (!tokens.is_empty()).then_some((n, tokens))
+    })
+}
+
+/// Parses a finite coordinate.
+pub fn coordinate(token: &str) -> std::result::Result<f64, String> {
+    match token.parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        Ok(_) => Err(format!("coordinate `{token}` is not finite")),
+        Err(_) => Err(format!("`{}` is not a number", shorten(token))),
+    }
+}
+
+/// Parses a non-negative integer (count or index).
+pub fn unsigned(token: &str, what: &str) -> std::result::Result<usize, String> {
+    token.parse::<usize>().map_err(|_| format!("{what} `{}` is not a non-negative integer", shorten(token)))
+}
+
+/// A token cut to a printable length for messages.
+pub fn shorten(token: &str) -> String {
+    if token.chars().count() > 32 {
+        format!("{}...", token.chars().take(32).collect::<String>())
+    } else {
+        token.to_string()
+    }
+}
