@@ -1,4 +1,8 @@
 //! asperity's integration tests, in one binary so the C++ libraries are linked once.
 
+mod bad_input;
+mod cli;
 mod common;
 mod ffi;
+mod io_roundtrip;
+mod validation;

@@ -45,7 +45,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
             let p = DVec3::new(c[0], c[1], c[2]);
             if !p.is_finite() {
                 let at = first_nonfinite_vertex_line(text).map_or(Location::File, Location::Line);
-                return Err(Error::parse(path, at, format!("vertex {} has a non-finite coordinate", base + i)));
+                return Err(Error::parse(path, at, format!("vertex {}: a coordinate is not finite", base + i)));
             }
             let global = match earlier.get(&weld_key(p)) {
                 Some(&g) => g,

@@ -7,7 +7,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::text::{coordinate, decode, significant_lines, unsigned};
-use super::{ReadOutcome, check_count_fits, check_polygon};
+use super::{ReadOutcome, check_polygon};
 use crate::error::{Error, Location, Result};
 use crate::mesh::{Mesh, triangulate_polygon};
 
@@ -42,12 +42,14 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     }
     let nv = unsigned(counts[0], "vertex count").map_err(|m| err(count_line, m))?;
     let nf = unsigned(counts[1], "face count").map_err(|m| err(count_line, m))?;
-    check_count_fits(nv, MIN_VERTEX_BYTES, bytes.len(), "vertices").map_err(|m| err(count_line, m))?;
-    check_count_fits(nf, MIN_FACE_BYTES, bytes.len(), "faces").map_err(|m| err(count_line, m))?;
+    // Counts come from the file: reserve no more than the file could hold, so an absurd
+    // count costs nothing and is reported where the data runs out.
+    let vertex_capacity = nv.min(bytes.len() / MIN_VERTEX_BYTES);
+    let face_capacity = nf.min(bytes.len() / MIN_FACE_BYTES);
 
     let mut notes = Vec::new();
     let mut last_line = count_line;
-    let mut positions = Vec::with_capacity(nv);
+    let mut positions = Vec::with_capacity(vertex_capacity);
     let mut extra_vertex_values = false;
     for i in 0..nv {
         let (n, tokens) =
@@ -64,7 +66,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
         notes.push("OFF vertex colours/normals ignored".to_string());
     }
 
-    let mut triangles = Vec::with_capacity(nf);
+    let mut triangles = Vec::with_capacity(face_capacity);
     let mut triangulated = 0;
     let mut face_colours = false;
     let mut polygon = Vec::new();

@@ -293,19 +293,25 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     let mut vertex_count = None;
 
     for element in &header.elements {
+        // Binary sizes are exact: refuse counts the rest of the file cannot hold. Text is
+        // checked as it is read; either way capacity is capped by what the file could hold.
         let remaining = body.remaining_bytes(bytes.len() - header.body);
-        check_count_fits(element.count, element.min_bytes(header.encoding), remaining, &element.name)
-            .map_err(|m| Error::parse(path, Location::Line(element.line), m))?;
+        let min_bytes = element.min_bytes(header.encoding);
+        if header.encoding != Encoding::Ascii {
+            check_count_fits(element.count, min_bytes, remaining, &format!("{} elements", element.name))
+                .map_err(|m| Error::parse(path, Location::Line(element.line), m))?;
+        }
+        let capacity = element.count.min(remaining / min_bytes.max(1));
         match element.name.as_str() {
             "vertex" => {
                 let n = element.count;
                 let slots = vertex_slots(element, path, &mut notes)?;
-                positions = vec![DVec3::ZERO; n];
+                positions = Vec::with_capacity(capacity);
                 if slots.iter().any(|s| matches!(s, VertexSlot::Normal(_))) {
-                    normals = Some(vec![DVec3::ZERO; n]);
+                    normals = Some(Vec::with_capacity(capacity));
                 }
                 if slots.iter().any(|s| matches!(s, VertexSlot::Color(..))) {
-                    colors = Some(vec![[0, 0, 0]; n]);
+                    colors = Some(Vec::with_capacity(capacity));
                 }
                 let scalar_names: Vec<&str> = element
                     .properties
@@ -314,8 +320,9 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
                     .filter(|(_, s)| matches!(s, VertexSlot::Scalar(_)))
                     .map(|(p, _)| p.name())
                     .collect();
-                let mut scalar_values = vec![vec![0.0; n]; scalar_names.len()];
+                let mut scalar_values = vec![Vec::with_capacity(capacity); scalar_names.len()];
                 for i in 0..n {
+                    let (mut position, mut normal, mut color) = (DVec3::ZERO, DVec3::ZERO, [0u8; 3]);
                     let at = |body: &Body, m: String| Error::parse(path, body.location(), format!("vertex {i}: {m}"));
                     for (property, slot) in element.properties.iter().zip(&slots) {
                         let value = match property {
@@ -330,16 +337,23 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
                                 if !value.is_finite() {
                                     return Err(at(&body, format!("coordinate {value} is not finite")));
                                 }
-                                positions[i][k] = value;
+                                position[k] = value;
                             }
-                            VertexSlot::Normal(k) => normals.as_mut().expect("normals allocated")[i][k] = value,
+                            VertexSlot::Normal(k) => normal[k] = value,
                             VertexSlot::Color(k, ty) => {
                                 let c = if ty.is_integer() { value } else { value * 255.0 };
-                                colors.as_mut().expect("colours allocated")[i][k] = c.round().clamp(0.0, 255.0) as u8;
+                                color[k] = c.round().clamp(0.0, 255.0) as u8;
                             }
-                            VertexSlot::Scalar(k) => scalar_values[k][i] = value,
+                            VertexSlot::Scalar(k) => scalar_values[k].push(value),
                             VertexSlot::Ignored => {}
                         }
+                    }
+                    positions.push(position);
+                    if let Some(normals) = &mut normals {
+                        normals.push(normal);
+                    }
+                    if let Some(colors) = &mut colors {
+                        colors.push(color);
                     }
                 }
                 for (name, values) in scalar_names.into_iter().zip(scalar_values) {
@@ -359,7 +373,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
                 if element.properties.len() > 1 {
                     notes.push("PLY face properties other than vertex_indices ignored".to_string());
                 }
-                polygon_starts.reserve(element.count.min(remaining));
+                polygon_starts.reserve(capacity);
                 for f in 0..element.count {
                     let at = |body: &Body, m: String| Error::parse(path, body.location(), format!("face {f}: {m}"));
                     for (k, property) in element.properties.iter().enumerate() {

@@ -27,3 +27,38 @@ pub fn shared_mesh_files() -> Vec<PathBuf> {
     files.sort();
     files
 }
+
+use asperity::Mesh;
+
+/// The mesh renumbered so vertices appear in order of first use by the triangles
+/// (unreferenced vertices dropped): formats that store corners (STL) or reindex by use
+/// (OBJ through tobj) compare equal to the original in this form.
+pub fn canonical(mesh: &Mesh) -> Mesh {
+    let mut new_index = vec![u32::MAX; mesh.vertex_count()];
+    let mut positions = Vec::new();
+    let mut order = Vec::new();
+    let triangles = mesh
+        .triangles
+        .iter()
+        .map(|t| {
+            t.map(|v| {
+                let slot = &mut new_index[v as usize];
+                if *slot == u32::MAX {
+                    *slot = positions.len() as u32;
+                    positions.push(mesh.positions[v as usize]);
+                    order.push(v as usize);
+                }
+                *slot
+            })
+        })
+        .collect();
+    let mut out = Mesh::new(positions, triangles);
+    out.normals = mesh.normals.as_ref().map(|n| order.iter().map(|&v| n[v]).collect());
+    out.colors = mesh.colors.as_ref().map(|c| order.iter().map(|&v| c[v]).collect());
+    out
+}
+
+/// A temporary folder for a test's files.
+pub fn temp_dir() -> tempfile::TempDir {
+    tempfile::tempdir().expect("temporary folder")
+}

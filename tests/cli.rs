@@ -1,0 +1,104 @@
+//! The command line as a user meets it: exit codes, one-line errors, no partial output.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use crate::common::{shared_meshes, temp_dir};
+
+fn asperity(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_asperity")).args(args).current_dir(cwd).output().expect("run asperity")
+}
+
+fn assert_one_line_error(out: &Output, code: i32, phrases: &[&str]) {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(code), "stderr: {stderr}");
+    assert_eq!(stderr.lines().count(), 1, "one line: {stderr}");
+    assert!(!stderr.contains("panicked") && !stderr.contains("RUST_BACKTRACE"), "{stderr}");
+    for p in phrases {
+        assert!(stderr.contains(p), "`{stderr}` should contain `{p}`");
+    }
+}
+
+#[test]
+fn info_json_reports_the_required_keys() {
+    let Some(dir) = shared_meshes() else { return };
+    let tmp = temp_dir();
+    let out = asperity(&["info", dir.join("3torus.off").to_str().unwrap(), "--json"], tmp.path());
+    assert!(out.status.success());
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for key in [
+        "vertices",
+        "faces",
+        "edges",
+        "boundary_loops",
+        "non_manifold_edges",
+        "non_manifold_vertices",
+        "components",
+        "euler",
+        "genus",
+        "degenerate_faces",
+        "unreferenced_vertices",
+        "triangulated_polygons",
+        "bbox_min",
+        "bbox_max",
+    ] {
+        assert!(json.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(json["genus"], 3);
+    assert_eq!(json["triangulated_polygons"], 23);
+}
+
+#[test]
+fn a_truncated_file_exits_2_with_one_line_naming_file_and_line() {
+    let tmp = temp_dir();
+    std::fs::write(tmp.path().join("cut.off"), "OFF\n4 2 0\n0 0 0\n1 0 0\n").unwrap();
+    let out = asperity(&["info", "cut.off"], tmp.path());
+    assert_one_line_error(&out, 2, &["cut.off", "line 4"]);
+}
+
+#[test]
+fn convert_writes_the_output_and_nothing_on_failure() {
+    let tmp = temp_dir();
+    std::fs::write(tmp.path().join("tri.off"), "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").unwrap();
+    let out = asperity(&["convert", "tri.off", "tri.ply"], tmp.path());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("convert: tri.off (3 vertices, 1 tris)"));
+    assert!(tmp.path().join("tri.ply").is_file());
+
+    std::fs::write(tmp.path().join("bad.off"), "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n").unwrap();
+    let out = asperity(&["convert", "bad.off", "bad.stl"], tmp.path());
+    assert_one_line_error(&out, 2, &["bad.off", "line 6"]);
+    let files: Vec<_> = std::fs::read_dir(tmp.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(files.len(), 3, "no output, no temporary file: {files:?}");
+}
+
+#[test]
+fn convert_refuses_to_overwrite_its_input() {
+    let tmp = temp_dir();
+    let original = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    std::fs::write(tmp.path().join("tri.off"), original).unwrap();
+    let out = asperity(&["convert", "tri.off", "tri.off"], tmp.path());
+    assert_one_line_error(&out, 2, &["--force"]);
+    assert_eq!(std::fs::read_to_string(tmp.path().join("tri.off")).unwrap(), original);
+}
+
+#[test]
+fn usage_errors_exit_2_with_one_line() {
+    let tmp = temp_dir();
+    assert_one_line_error(&asperity(&["frobnicate"], tmp.path()), 2, &["frobnicate"]);
+    assert_one_line_error(&asperity(&["info"], tmp.path()), 2, &["required"]);
+    assert_one_line_error(&asperity(&["convert", "a.off", "b.xyz"], tmp.path()), 2, &["b.xyz", "unknown mesh format"]);
+    assert!(asperity(&["--help"], tmp.path()).status.success());
+}
+
+#[test]
+fn demo_writes_its_meshes() {
+    let tmp = temp_dir();
+    let out = asperity(&["demo", "--out", "results"], tmp.path());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    for file in ["torus.ply", "icosphere.obj", "icosphere-coarse.off"] {
+        assert!(tmp.path().join("results").join(file).is_file(), "{file}");
+    }
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("round trip exact") && stdout.contains("hausdorff"), "{stdout}");
+}

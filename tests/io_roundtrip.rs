@@ -1,0 +1,159 @@
+//! Every format written and read back: exactly for PLY/OFF, up to vertex order for OBJ
+//! and STL (which reindex by use), and up to f32 rounding for binary STL.
+
+use asperity::Mesh;
+use asperity::io::{self, WriteOptions};
+use asperity::mesh::primitives::{cube, grid, icosphere, torus};
+use glam::DVec3;
+
+use crate::common::{canonical, shared_mesh_files, temp_dir};
+
+fn code_meshes() -> Vec<(&'static str, Mesh)> {
+    vec![
+        ("torus", torus(2.0, 0.5, 24, 12)),
+        ("icosphere", icosphere(1.3, 2)),
+        ("cube", cube(DVec3::splat(-1.0), DVec3::new(2.0, 1.0, 0.5), 2)),
+        ("grid", grid(6)),
+    ]
+}
+
+fn with_attributes(mut mesh: Mesh) -> Mesh {
+    let n = mesh.vertex_count();
+    mesh.normals = Some(mesh.positions.iter().map(|p| p.normalize_or_zero()).collect());
+    mesh.colors = Some((0..n).map(|i| [(i % 256) as u8, (i * 7 % 256) as u8, 200]).collect());
+    mesh.scalars.insert("mean_curvature".into(), (0..n).map(|i| i as f64 * 0.25 - 3.0).collect());
+    mesh.scalars.insert("feature_class".into(), (0..n).map(|i| (i % 4) as f64).collect());
+    mesh
+}
+
+fn round_trip(mesh: &Mesh, file: &str, ascii: bool) -> Mesh {
+    let dir = temp_dir();
+    let path = dir.path().join(file);
+    io::write(mesh, &path, WriteOptions { ascii }).unwrap();
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(leftovers.len(), 1, "only the output file remains: {leftovers:?}");
+    io::read(&path).unwrap().mesh
+}
+
+#[test]
+fn ply_round_trip_is_exact_with_every_attribute() {
+    for (name, mesh) in code_meshes() {
+        let mesh = with_attributes(mesh);
+        for ascii in [false, true] {
+            assert_eq!(round_trip(&mesh, "m.ply", ascii), mesh, "{name}, ascii {ascii}");
+        }
+    }
+}
+
+#[test]
+fn off_round_trip_is_exact() {
+    for (name, mesh) in code_meshes() {
+        assert_eq!(round_trip(&mesh, "m.off", false), mesh, "{name}");
+    }
+}
+
+#[test]
+fn obj_round_trip_keeps_geometry_colours_and_normals() {
+    for (name, mesh) in code_meshes() {
+        let mut mesh = with_attributes(mesh);
+        mesh.scalars.clear(); // OBJ has no scalar properties
+        assert_eq!(canonical(&round_trip(&mesh, "m.obj", false)), canonical(&mesh), "{name}");
+    }
+}
+
+#[test]
+fn stl_round_trip_welds_corners_back_into_vertices() {
+    for (name, mesh) in code_meshes() {
+        assert_eq!(canonical(&round_trip(&mesh, "m.stl", true)), canonical(&mesh), "{name} ascii");
+        let mut rounded = mesh.clone();
+        for p in &mut rounded.positions {
+            *p = p.as_vec3().as_dvec3();
+        }
+        assert_eq!(canonical(&round_trip(&mesh, "m.stl", false)), canonical(&rounded), "{name} binary");
+    }
+}
+
+#[test]
+fn shared_meshes_survive_every_format() {
+    for file in shared_mesh_files() {
+        let original = io::read(&file).unwrap().mesh;
+        assert_eq!(original.validate().unreferenced_vertices, 0);
+        for (ext, ascii) in [("ply", false), ("ply", true), ("off", false)] {
+            assert_eq!(round_trip(&original, &format!("m.{ext}"), ascii), original, "{} as {ext}", file.display());
+        }
+        assert_eq!(
+            canonical(&round_trip(&original, "m.obj", false)),
+            canonical(&original),
+            "{} as obj",
+            file.display()
+        );
+        assert_eq!(canonical(&round_trip(&original, "m.stl", true)), canonical(&original), "{} as stl", file.display());
+    }
+}
+
+#[test]
+fn polygons_are_triangulated_and_counted() {
+    let dir = temp_dir();
+    let path = dir.path().join("l.off");
+    // An L-shaped (non-convex) hexagon: a fan from vertex 0 would cover the notch.
+    std::fs::write(&path, "OFF\n6 1 0\n0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n6 0 1 2 3 4 5\n").unwrap();
+    let outcome = io::read(&path).unwrap();
+    assert_eq!(outcome.triangulated_polygons, 1);
+    let mesh = outcome.mesh;
+    assert_eq!(mesh.face_count(), 4);
+    let area: f64 = (0..4)
+        .map(|f| {
+            let [a, b, c] = mesh.triangle_points(f);
+            let z = (b - a).cross(c - a).z;
+            assert!(z > 0.0, "triangle {f} keeps the polygon's orientation");
+            z / 2.0
+        })
+        .sum();
+    assert!((area - 3.0).abs() < 1e-12, "area {area}");
+}
+
+#[test]
+fn obj_groups_are_merged_with_shared_vertices() {
+    let dir = temp_dir();
+    let path = dir.path().join("groups.obj");
+    std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\ng first\nf 1 2 3\ng second\nf 1 3 4\n").unwrap();
+    let outcome = io::read(&path).unwrap();
+    assert_eq!(outcome.mesh.vertex_count(), 4);
+    assert_eq!(outcome.mesh.validate().boundary_loops, 1);
+    assert!(outcome.notes.iter().any(|n| n.contains("merged")), "{:?}", outcome.notes);
+}
+
+#[test]
+fn files_with_bom_crlf_and_comments_read() {
+    let dir = temp_dir();
+    let path = dir.path().join("crlf.off");
+    std::fs::write(&path, "\u{feff}OFF\r\n# a comment\r\n3 1 0\r\n0 0 0\r1 0 0\n0 1 0 # trailing\r\n3 0 1 2\r\n")
+        .unwrap();
+    let mesh = io::read(&path).unwrap().mesh;
+    assert_eq!((mesh.vertex_count(), mesh.face_count()), (3, 1));
+}
+
+#[test]
+fn big_endian_ply_and_other_elements_read() {
+    let dir = temp_dir();
+    let path = dir.path().join("be.ply");
+    let mut bytes = b"ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nproperty uchar quality\nelement face 1\nproperty list uchar uint vertex_indices\nelement edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n".to_vec();
+    for (i, p) in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.]].iter().enumerate() {
+        for c in p {
+            bytes.extend(c.to_be_bytes());
+        }
+        bytes.push(i as u8 * 10);
+    }
+    bytes.push(3);
+    for v in [0u32, 1, 2] {
+        bytes.extend(v.to_be_bytes());
+    }
+    bytes.extend(0i32.to_be_bytes());
+    bytes.extend(1i32.to_be_bytes());
+    std::fs::write(&path, bytes).unwrap();
+    let outcome = io::read(&path).unwrap();
+    assert_eq!(outcome.mesh.positions[1], DVec3::X);
+    assert_eq!(outcome.mesh.triangles, vec![[0, 1, 2]]);
+    assert_eq!(outcome.mesh.scalars["quality"], vec![0.0, 10.0, 20.0]);
+    assert!(outcome.notes.iter().any(|n| n.contains("edge")));
+}
