@@ -12,6 +12,7 @@ pub mod error;
 pub mod ffi;
 pub mod io;
 pub mod mesh;
+pub mod noise;
 
 pub use error::{Error, Location, Result};
 pub use mesh::{FaceId, Mesh, VertexId};

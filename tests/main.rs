@@ -5,4 +5,5 @@ mod cli;
 mod common;
 mod ffi;
 mod io_roundtrip;
+mod noise;
 mod validation;

@@ -4,6 +4,7 @@
 mod convert;
 mod demo;
 mod info;
+mod noise;
 
 use std::path::PathBuf;
 
@@ -27,6 +28,8 @@ enum Command {
     Convert(convert::ConvertArgs),
     /// Run the built-in demonstration, writing results under an output folder.
     Demo(demo::DemoArgs),
+    /// Write a noise image (Perlin family or Gabor) as 16-bit PNG or raw f32.
+    Noise(noise::NoiseArgs),
 }
 
 /// Parses the arguments, runs the subcommand and returns the process exit code.
@@ -69,6 +72,7 @@ fn dispatch(cli: Cli) -> Result<()> {
         Command::Info(args) => info::run(args),
         Command::Convert(args) => convert::run(args),
         Command::Demo(args) => demo::run(args),
+        Command::Noise(args) => noise::run(args),
     }
 }
 

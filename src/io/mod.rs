@@ -3,6 +3,7 @@
 //! [`Error::Parse`] naming the file and the line, byte or element. Writers are atomic.
 
 mod atomic;
+pub mod image;
 mod obj;
 mod off;
 mod ply;

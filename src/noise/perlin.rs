@@ -1,0 +1,171 @@
+//! Perlin's improved noise (Perlin 2002; thesis §3.3.1.1, eq. 3.14): quintic fade
+//! 6t⁵ − 15t⁴ + 10t³, the 12 cube-edge gradients (16 entries, four repeated), trilinear
+//! blending of the eight corner contributions.
+//!
+//! Two lattices: Perlin's reference permutation (period 256, reproduces his Java
+//! reference implementation) and a seeded counter-based hash of the integer corner
+//! coordinates (no period: coordinates up to 1e6 and beyond stay non-repeating).
+
+use glam::DVec3;
+
+use super::hash::{derive_seed, mix64};
+
+/// Perlin's published permutation of 0..=255.
+#[rustfmt::skip]
+const REFERENCE_PERMUTATION: [u8; 256] = [
+    151,160,137,91,90,15,131,13,201,95,96,53,194,233,7,225,140,36,103,30,69,142,8,99,37,240,21,10,23,
+    190,6,148,247,120,234,75,0,26,197,62,94,252,219,203,117,35,11,32,57,177,33,88,237,149,56,87,174,
+    20,125,136,171,168,68,175,74,165,71,134,139,48,27,166,77,146,158,231,83,111,229,122,60,211,133,
+    230,220,105,92,41,55,46,245,40,244,102,143,54,65,25,63,161,1,216,80,73,209,76,132,187,208,89,18,
+    169,200,196,135,130,116,188,159,86,164,100,109,198,173,186,3,64,52,217,226,250,124,123,5,202,38,
+    147,118,126,255,82,85,212,207,206,59,227,47,16,58,17,182,189,28,42,223,183,170,213,119,248,152,2,
+    44,154,163,70,221,153,101,155,167,43,172,9,129,22,39,253,19,98,108,110,79,113,224,232,178,185,112,
+    104,218,246,97,228,251,34,242,193,238,210,144,12,191,179,162,241,81,51,145,235,249,14,239,107,49,
+    192,214,31,181,199,106,157,184,84,204,176,115,121,50,45,127,4,150,254,138,236,205,93,222,114,67,
+    29,24,72,243,141,128,195,78,66,215,61,156,180,
+];
+
+/// The gradients of Perlin's `grad(hash, x, y, z)` indexed by `hash & 15`: the 12 cube-edge
+/// directions, with (1,1,0), (−1,1,0), (0,−1,1), (0,−1,−1) repeated to fill 16 slots.
+#[rustfmt::skip]
+const GRADIENTS: [[f64; 3]; 16] = [
+    [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0], [1.0, -1.0, 0.0], [-1.0, -1.0, 0.0],
+    [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0], [1.0, 0.0, -1.0], [-1.0, 0.0, -1.0],
+    [0.0, 1.0, 1.0], [0.0, -1.0, 1.0], [0.0, 1.0, -1.0], [0.0, -1.0, -1.0],
+    [1.0, 1.0, 0.0], [0.0, -1.0, 1.0], [-1.0, 1.0, 0.0], [0.0, -1.0, -1.0],
+];
+
+/// Which hash selects the corner gradients.
+#[derive(Clone)]
+enum Lattice {
+    /// Perlin's permutation, doubled to 512 entries.
+    Reference(Box<[u8; 512]>),
+    /// Counter-based hash of (seed, corner).
+    Hashed(u64),
+}
+
+/// Perlin improved noise in 2D and 3D; values lie in about [−1, 1].
+#[derive(Clone)]
+pub struct Perlin {
+    lattice: Lattice,
+}
+
+impl std::fmt::Debug for Perlin {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.lattice {
+            Lattice::Reference(_) => write!(f, "Perlin(reference)"),
+            Lattice::Hashed(seed) => write!(f, "Perlin(hashed {seed:#x})"),
+        }
+    }
+}
+
+#[inline(always)]
+fn fade(t: f64) -> f64 {
+    t * t * t * (t * (t * 6.0 - 15.0) + 10.0)
+}
+
+#[inline(always)]
+fn lerp(t: f64, a: f64, b: f64) -> f64 {
+    a + t * (b - a)
+}
+
+#[inline(always)]
+fn grad(hash: usize, x: f64, y: f64, z: f64) -> f64 {
+    let g = GRADIENTS[hash & 15];
+    g[0] * x + g[1] * y + g[2] * z
+}
+
+/// Floor as an integer without calling libm (valid for |x| < 2⁶³).
+#[inline(always)]
+fn floor_i64(x: f64) -> i64 {
+    let i = x as i64;
+    if (i as f64) > x { i - 1 } else { i }
+}
+
+/// Gradient hash of one lattice corner.
+trait CornerHash {
+    fn corner(&self, x: i64, y: i64, z: i64) -> usize;
+}
+
+struct Permutation<'a>(&'a [u8; 512]);
+
+impl CornerHash for Permutation<'_> {
+    #[inline(always)]
+    fn corner(&self, x: i64, y: i64, z: i64) -> usize {
+        let p = self.0;
+        let a = p[(x & 255) as usize] as usize + (y & 255) as usize;
+        let b = p[a] as usize + (z & 255) as usize;
+        p[b] as usize
+    }
+}
+
+struct Hashed(u64);
+
+impl CornerHash for Hashed {
+    #[inline(always)]
+    fn corner(&self, x: i64, y: i64, z: i64) -> usize {
+        let h = self.0
+            ^ (x as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15)
+            ^ (y as u64).wrapping_mul(0xc2b2_ae3d_27d4_eb4f)
+            ^ (z as u64).wrapping_mul(0x1656_67b1_9e37_79f9);
+        (mix64(h) >> 60) as usize
+    }
+}
+
+#[inline(always)]
+fn noise3<H: CornerHash>(h: &H, x: f64, y: f64, z: f64) -> f64 {
+    let (xi, yi, zi) = (floor_i64(x), floor_i64(y), floor_i64(z));
+    let (x, y, z) = (x - xi as f64, y - yi as f64, z - zi as f64);
+    let (u, v, w) = (fade(x), fade(y), fade(z));
+    let c = |dx: i64, dy: i64, dz: i64| {
+        grad(h.corner(xi + dx, yi + dy, zi + dz), x - dx as f64, y - dy as f64, z - dz as f64)
+    };
+    lerp(
+        w,
+        lerp(v, lerp(u, c(0, 0, 0), c(1, 0, 0)), lerp(u, c(0, 1, 0), c(1, 1, 0))),
+        lerp(v, lerp(u, c(0, 0, 1), c(1, 0, 1)), lerp(u, c(0, 1, 1), c(1, 1, 1))),
+    )
+}
+
+/// The z = 0 slice of [`noise3`]: the fade weight of z is 0, so only four corners count.
+#[inline(always)]
+fn noise2<H: CornerHash>(h: &H, x: f64, y: f64) -> f64 {
+    let (xi, yi) = (floor_i64(x), floor_i64(y));
+    let (x, y) = (x - xi as f64, y - yi as f64);
+    let (u, v) = (fade(x), fade(y));
+    let c = |dx: i64, dy: i64| grad(h.corner(xi + dx, yi + dy, 0), x - dx as f64, y - dy as f64, 0.0);
+    lerp(v, lerp(u, c(0, 0), c(1, 0)), lerp(u, c(0, 1), c(1, 1)))
+}
+
+impl Perlin {
+    /// Seeded noise on the counter-based lattice.
+    pub fn new(seed: u64) -> Self {
+        Perlin { lattice: Lattice::Hashed(derive_seed(seed, "perlin")) }
+    }
+
+    /// Noise on Perlin's reference permutation: equal to his Java reference implementation.
+    pub fn reference() -> Self {
+        let mut p = [0u8; 512];
+        p[..256].copy_from_slice(&REFERENCE_PERMUTATION);
+        p[256..].copy_from_slice(&REFERENCE_PERMUTATION);
+        Perlin { lattice: Lattice::Reference(Box::new(p)) }
+    }
+
+    /// 3D noise at `p`.
+    #[inline]
+    pub fn sample3(&self, p: DVec3) -> f64 {
+        match &self.lattice {
+            Lattice::Reference(perm) => noise3(&Permutation(perm), p.x, p.y, p.z),
+            Lattice::Hashed(seed) => noise3(&Hashed(*seed), p.x, p.y, p.z),
+        }
+    }
+
+    /// 2D noise at (x, y): the 3D noise on the plane z = 0.
+    #[inline]
+    pub fn sample2(&self, x: f64, y: f64) -> f64 {
+        match &self.lattice {
+            Lattice::Reference(perm) => noise2(&Permutation(perm), x, y),
+            Lattice::Hashed(seed) => noise2(&Hashed(*seed), x, y),
+        }
+    }
+}

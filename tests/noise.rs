@@ -1,0 +1,285 @@
+//! Noise: Perlin's reference values, continuity, ranges, Gabor spectra and variance,
+//! determinism across thread counts.
+
+use std::f64::consts::PI;
+
+use asperity::noise::{
+    Fractal, FractalKind, Frame, Gabor, GaborParams, NoiseField, NoiseKind, NoiseSpec, Perlin, hash::Stream,
+};
+use glam::DVec3;
+use rustfft::{FftPlanner, num_complex::Complex};
+
+/// Values of Perlin's Java reference implementation (ImprovedNoise.noise), computed by
+/// running it; pinned here.
+const REFERENCE: [([f64; 3], f64); 10] = [
+    ([3.14, 42.0, 7.0], 0.13691995878400012),
+    ([0.5, 0.5, 0.5], -0.25),
+    ([1.25, -2.75, 3.5], 0.12009716033935547),
+    ([-7.3, 0.01, 12.9], -0.3855792111813221),
+    ([100.123, 200.456, -300.789], -0.16139695712834895),
+    ([0.1, 0.2, 0.0], 0.04510399999999999),
+    ([5.5, -1.25, 0.0], -0.185302734375),
+    ([17.77, 3.3, 0.42], 0.17787886387614504),
+    ([-0.999, -0.001, 0.333], -0.14144905553222412),
+    ([255.5, 256.5, 257.5], 0.0),
+];
+
+#[test]
+fn reference_permutation_reproduces_perlins_implementation() {
+    let perlin = Perlin::reference();
+    for ([x, y, z], expected) in REFERENCE {
+        let got = perlin.sample3(DVec3::new(x, y, z));
+        assert!((got - expected).abs() <= 1e-12, "noise({x}, {y}, {z}) = {got}, reference {expected}");
+        if z == 0.0 {
+            assert_eq!(perlin.sample2(x, y), got, "2D is the z = 0 slice");
+        }
+    }
+}
+
+fn random_points(n: usize, scale: f64, seed: u64) -> Vec<DVec3> {
+    let mut rng = Stream::new(seed);
+    (0..n)
+        .map(|_| DVec3::new(rng.uniform(-scale, scale), rng.uniform(-scale, scale), rng.uniform(-scale, scale)))
+        .collect()
+}
+
+#[test]
+fn seeded_perlin_is_bounded_aperiodic_and_seed_dependent() {
+    let a = Perlin::new(7);
+    let b = Perlin::new(8);
+    let points = random_points(50_000, 100.0, 1);
+    let mut differs = 0;
+    for p in &points {
+        let v = a.sample3(*p);
+        assert!(v.abs() <= 1.1, "3D value {v} at {p}");
+        assert!(a.sample2(p.x, p.y).abs() <= 1.05);
+        if (v - b.sample3(*p)).abs() > 1e-3 {
+            differs += 1;
+        }
+    }
+    assert!(differs > points.len() * 9 / 10, "seeds must give different noise");
+    // The reference lattice repeats every 256 units; the hashed one must not.
+    let reference = Perlin::reference();
+    let p = points[0];
+    assert_eq!(reference.sample3(p), reference.sample3(p + DVec3::X * 256.0));
+    let period_matches =
+        points.iter().filter(|p| (a.sample3(**p) - a.sample3(**p + DVec3::X * 256.0)).abs() < 1e-12).count();
+    assert!(period_matches < points.len() / 100, "{period_matches} values repeat with period 256");
+}
+
+#[test]
+fn far_coordinates_still_give_full_noise() {
+    let perlin = Perlin::new(3);
+    let values: Vec<f64> =
+        random_points(20_000, 0.5, 2).iter().map(|p| perlin.sample3(*p * 200.0 + DVec3::splat(1e6))).collect();
+    let mean = values.iter().sum::<f64>() / values.len() as f64;
+    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / values.len() as f64;
+    assert!(var > 0.02, "variance {var} at 1e6");
+}
+
+#[test]
+fn value_and_gradient_are_continuous_across_cells() {
+    let perlin = Perlin::new(11);
+    let eps = 1e-7;
+    let h = 1e-4;
+    let mut rng = Stream::new(5);
+    for _ in 0..2000 {
+        let axis = [DVec3::X, DVec3::Y, DVec3::Z][(rng.next_u64() % 3) as usize];
+        let base = DVec3::new(rng.uniform(-50.0, 50.0), rng.uniform(-50.0, 50.0), rng.uniform(-50.0, 50.0));
+        // Put the point on a lattice plane of the chosen axis.
+        let on = base - axis * base.dot(axis) + axis * base.dot(axis).round();
+        let left = perlin.sample3(on - axis * eps);
+        let right = perlin.sample3(on + axis * eps);
+        assert!((left - right).abs() < 1e-5, "value jump {} at {on}", (left - right).abs());
+        // One-sided derivatives agree: the noise is C¹ (the quintic fade makes it C²).
+        let d_left = (perlin.sample3(on) - perlin.sample3(on - axis * h)) / h;
+        let d_right = (perlin.sample3(on + axis * h) - perlin.sample3(on)) / h;
+        assert!((d_left - d_right).abs() < 1e-2, "derivative jump {d_left} vs {d_right} at {on}");
+    }
+}
+
+#[test]
+fn fractal_sums_have_their_ranges_and_identities() {
+    let basis = Perlin::new(4);
+    let points = random_points(5_000, 20.0, 9);
+    let eval = |kind: FractalKind, octaves: u32, p: DVec3| {
+        Fractal { kind, octaves, ..Fractal::default() }.eval(p.x, |s| basis.sample3(p * s))
+    };
+    for p in &points {
+        assert_eq!(eval(FractalKind::Fbm, 1, *p), basis.sample3(*p));
+        let fbm = eval(FractalKind::Fbm, 8, *p);
+        assert!(fbm.abs() <= 2.2);
+        let turbulence = eval(FractalKind::Turbulence, 8, *p);
+        assert!((0.0..=2.2).contains(&turbulence));
+        assert!((0.0..=1.0).contains(&eval(FractalKind::Marble, 6, *p)));
+        assert!((0.0..1.0).contains(&eval(FractalKind::Wood, 4, *p)));
+        assert!(eval(FractalKind::Multifractal, 6, *p) >= 0.0);
+    }
+    let level = Fractal::default().for_level(3);
+    assert!((level.lacunarity - 1.5).abs() < 1e-15 && (level.gain - 0.2).abs() < 1e-15);
+}
+
+/// Power spectrum of a square image (|FFT|², DC removed), indexed [row][col] with
+/// frequencies centred: bin (u, v) is at fx = u/n, fy = v/n for u, v in −n/2..n/2.
+fn power_spectrum(image: &[f64], n: usize) -> Vec<f64> {
+    let mut data: Vec<Complex<f64>> = image.iter().map(|&v| Complex::new(v, 0.0)).collect();
+    let fft = FftPlanner::new().plan_fft_forward(n);
+    for row in data.chunks_mut(n) {
+        fft.process(row);
+    }
+    let mut column = vec![Complex::new(0.0, 0.0); n];
+    for c in 0..n {
+        for r in 0..n {
+            column[r] = data[r * n + c];
+        }
+        fft.process(&mut column);
+        for r in 0..n {
+            data[r * n + c] = column[r];
+        }
+    }
+    let mut power: Vec<f64> = data.iter().map(|z| z.norm_sqr()).collect();
+    power[0] = 0.0;
+    power
+}
+
+fn frequency(bin: usize, n: usize) -> f64 {
+    if bin < n / 2 { bin as f64 / n as f64 } else { bin as f64 / n as f64 - 1.0 }
+}
+
+fn gabor_image(params: GaborParams, seed: u64, n: usize) -> Vec<f64> {
+    let spec = NoiseSpec { kind: NoiseKind::Gabor, gabor: params, seed, ..NoiseSpec::default() };
+    NoiseField::new(&spec).unwrap().grid2(0.0, 0.0, 1.0, n, n)
+}
+
+#[test]
+fn anisotropic_gabor_spectrum_peaks_at_f0_and_omega0() {
+    let n = 512;
+    let params = GaborParams::default();
+    let power = power_spectrum(&gabor_image(params, 1, n), n);
+    // Centroid of the lobe on the half-plane facing ω0 (the spectrum is symmetric).
+    let dir = (params.omega0.cos(), params.omega0.sin());
+    let (mut sx, mut sy, mut total) = (0.0, 0.0, 0.0);
+    for r in 0..n {
+        for c in 0..n {
+            let (fx, fy) = (frequency(c, n), frequency(r, n));
+            if fx * dir.0 + fy * dir.1 > 0.0 {
+                let p = power[r * n + c];
+                sx += p * fx;
+                sy += p * fy;
+                total += p;
+            }
+        }
+    }
+    let (cx, cy) = (sx / total, sy / total);
+    let radius = cx.hypot(cy);
+    let angle = cy.atan2(cx);
+    assert!((radius - params.f0).abs() <= 0.05 * params.f0, "peak radius {radius} vs F0 {}", params.f0);
+    assert!((angle - params.omega0).abs() <= 3f64.to_radians(), "peak angle {}°", angle.to_degrees());
+}
+
+#[test]
+fn isotropic_gabor_spectrum_is_a_ring() {
+    let n = 512;
+    let params = GaborParams { isotropic: true, ..GaborParams::default() };
+    let power = power_spectrum(&gabor_image(params, 2, n), n);
+    let sectors = 8;
+    let mut energy = vec![0.0; sectors];
+    let mut radial = (0.0, 0.0);
+    for r in 0..n {
+        for c in 0..n {
+            let (fx, fy) = (frequency(c, n), frequency(r, n));
+            let p = power[r * n + c];
+            // Angles modulo 180°: the spectrum of a real image is symmetric.
+            let theta = fy.atan2(fx).rem_euclid(PI);
+            energy[((theta / PI * sectors as f64) as usize).min(sectors - 1)] += p;
+            radial.0 += p * fx.hypot(fy);
+            radial.1 += p;
+        }
+    }
+    let mean = energy.iter().sum::<f64>() / sectors as f64;
+    for (k, e) in energy.iter().enumerate() {
+        assert!((e / mean - 1.0).abs() <= 0.2, "sector {k} holds {:.2} of the mean", e / mean);
+    }
+    let mean_radius = radial.0 / radial.1;
+    assert!((mean_radius - params.f0).abs() <= 0.1 * params.f0, "ring radius {mean_radius}");
+}
+
+#[test]
+fn gabor_is_centred_with_the_analytic_variance() {
+    for isotropic in [false, true] {
+        let params = GaborParams { isotropic, ..GaborParams::default() };
+        let values: Vec<f64> = (0..8).flat_map(|seed| gabor_image(params, 100 + seed, 512)).collect();
+        let mean = values.iter().sum::<f64>() / values.len() as f64;
+        let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / values.len() as f64;
+        assert!(mean.abs() < 0.05, "mean {mean}");
+        assert!((var - 1.0).abs() < 0.1, "variance {var} (isotropic {isotropic}), analytic 1");
+    }
+}
+
+#[test]
+fn gabor_3d_on_surfaces_has_unit_variance_and_follows_the_frame() {
+    let gabor = Gabor::new(GaborParams::default(), 5).unwrap();
+    let frame = Frame { tangent: DVec3::X, bitangent: DVec3::Y };
+    let points: Vec<DVec3> =
+        (0..40_000).map(|k| DVec3::new((k % 200) as f64 * 3.0, (k / 200) as f64 * 3.0, 0.5)).collect();
+    let values: Vec<f64> = points.iter().map(|p| gabor.sample3(*p, frame)).collect();
+    let mean = values.iter().sum::<f64>() / values.len() as f64;
+    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / values.len() as f64;
+    assert!(mean.abs() < 0.1 && (var - 1.0).abs() < 0.15, "mean {mean}, variance {var}");
+    // Along the stripes (perpendicular to ω0 in the frame) the noise varies slowly; across
+    // them it oscillates with period 1/F0.
+    let omega = GaborParams::default().omega0;
+    let across = DVec3::new(omega.cos(), omega.sin(), 0.0);
+    let along = DVec3::new(-omega.sin(), omega.cos(), 0.0);
+    let step = 0.25 / 0.0625; // a quarter period
+    let (mut d_across, mut d_along) = (0.0, 0.0);
+    for p in points.iter().take(2000) {
+        let v = gabor.sample3(*p, frame);
+        d_across += (gabor.sample3(*p + across * step, frame) - v).abs();
+        d_along += (gabor.sample3(*p + along * step, frame) - v).abs();
+    }
+    assert!(d_across > 2.0 * d_along, "across {d_across} vs along {d_along}");
+}
+
+#[test]
+fn batches_equal_scalars_at_any_thread_count() {
+    let specs = [
+        NoiseSpec { kind: NoiseKind::Perlin, seed: 1, ..NoiseSpec::default() },
+        NoiseSpec { kind: NoiseKind::Turbulence, seed: 2, ..NoiseSpec::default() },
+        NoiseSpec { kind: NoiseKind::Gabor, seed: 3, ..NoiseSpec::default() },
+        NoiseSpec {
+            kind: NoiseKind::Gabor,
+            seed: 3,
+            gabor: GaborParams { isotropic: true, ..GaborParams::default() },
+            ..NoiseSpec::default()
+        },
+    ];
+    let pool = |threads| rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    for spec in specs {
+        let field = NoiseField::new(&spec).unwrap();
+        let (n, x0, y0, step) = (97, -31.5, 12.25, 0.7);
+        let one = pool(1).install(|| field.grid2(x0, y0, step, n, n));
+        let two = pool(2).install(|| field.grid2(x0, y0, step, n, n));
+        assert_eq!(one, two, "{:?}", spec.kind);
+        for (k, v) in one.iter().enumerate().step_by(13) {
+            let (i, j) = (k % n, k / n);
+            assert_eq!(*v, field.sample2(x0 + i as f64 * step, y0 + j as f64 * step), "{:?} at {i},{j}", spec.kind);
+        }
+        let points = random_points(3000, 50.0, 4);
+        let a = pool(1).install(|| field.sample3_batch(&points, &[]));
+        let b = pool(2).install(|| field.sample3_batch(&points, &[]));
+        assert_eq!(a, b);
+    }
+}
+
+#[test]
+fn invalid_gabor_parameters_are_errors() {
+    for params in [
+        GaborParams { a: 0.0, ..GaborParams::default() },
+        GaborParams { k: f64::NAN, ..GaborParams::default() },
+        GaborParams { impulses_per_kernel: -1.0, ..GaborParams::default() },
+        GaborParams { f0: f64::INFINITY, ..GaborParams::default() },
+    ] {
+        assert!(Gabor::new(params, 0).is_err(), "{params:?}");
+    }
+}
