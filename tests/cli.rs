@@ -102,3 +102,33 @@ fn demo_writes_its_meshes() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("round trip exact") && stdout.contains("hausdorff"), "{stdout}");
 }
+
+#[test]
+fn noise_writes_png16_and_raw_f32_deterministically() {
+    let tmp = temp_dir();
+    let run = |args: &[&str], threads: &str| {
+        Command::new(env!("CARGO_BIN_EXE_asperity"))
+            .args(args)
+            .env("RAYON_NUM_THREADS", threads)
+            .current_dir(tmp.path())
+            .output()
+            .expect("run asperity")
+    };
+    for kind in ["perlin", "fbm", "turbulence", "marble", "multifractal", "wood", "gabor"] {
+        let out = run(&["noise", "--kind", kind, "--size", "64", "--seed", "5", "-o", "a.png"], "1");
+        assert!(out.status.success(), "{kind}: {}", String::from_utf8_lossy(&out.stderr));
+        let out = run(&["noise", "--kind", kind, "--size", "64", "--seed", "5", "-o", "b.png"], "2");
+        assert!(out.status.success());
+        let a = std::fs::read(tmp.path().join("a.png")).unwrap();
+        assert_eq!(a, std::fs::read(tmp.path().join("b.png")).unwrap(), "{kind}: 1 vs 2 threads");
+        let decoder = png::Decoder::new(std::io::Cursor::new(a));
+        let info = decoder.read_info().unwrap().info().clone();
+        assert_eq!((info.width, info.height, info.bit_depth), (64, 64, png::BitDepth::Sixteen));
+    }
+    let out = run(&["noise", "--kind", "gabor", "--size", "32", "-o", "g.f32"], "2");
+    assert!(out.status.success());
+    assert_eq!(std::fs::metadata(tmp.path().join("g.f32")).unwrap().len(), 32 * 32 * 4);
+    assert_one_line_error(&run(&["noise", "--size", "8", "-o", "x.jpg"], "1"), 2, &["x.jpg", ".png or .f32"]);
+    assert_one_line_error(&run(&["noise", "--kind", "gabor", "--a", "0", "-o", "x.png"], "1"), 2, &["gabor"]);
+    assert!(!tmp.path().join("x.png").exists());
+}

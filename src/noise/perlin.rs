@@ -8,7 +8,7 @@
 
 use glam::DVec3;
 
-use super::hash::{derive_seed, mix64};
+use super::hash::derive_seed;
 
 /// Perlin's published permutation of 0..=255.
 #[rustfmt::skip]
@@ -82,33 +82,55 @@ fn floor_i64(x: f64) -> i64 {
     if (i as f64) > x { i - 1 } else { i }
 }
 
-/// Gradient hash of one lattice corner.
+/// Gradient hashes of lattice corners, built axis by axis: per-axis values for the two
+/// lattice planes of each axis, combined per corner.
 trait CornerHash {
-    fn corner(&self, x: i64, y: i64, z: i64) -> usize;
+    /// Per-axis state of the two lattice coordinates `i` and `i + 1` along `axis`.
+    fn axis(&self, axis: usize, i: i64) -> [u64; 2];
+    /// Combines the x, then y, then z parts into a gradient index.
+    fn combine_xy(&self, hx: u64, hy: u64) -> u64;
+    fn corner(&self, hxy: u64, hz: u64) -> usize;
 }
 
 struct Permutation<'a>(&'a [u8; 512]);
 
 impl CornerHash for Permutation<'_> {
     #[inline(always)]
-    fn corner(&self, x: i64, y: i64, z: i64) -> usize {
-        let p = self.0;
-        let a = p[(x & 255) as usize] as usize + (y & 255) as usize;
-        let b = p[a] as usize + (z & 255) as usize;
-        p[b] as usize
+    fn axis(&self, _: usize, i: i64) -> [u64; 2] {
+        let i = (i & 255) as u64;
+        [i, i + 1]
+    }
+    #[inline(always)]
+    fn combine_xy(&self, hx: u64, hy: u64) -> u64 {
+        self.0[hx as usize] as u64 + hy
+    }
+    #[inline(always)]
+    fn corner(&self, hxy: u64, hz: u64) -> usize {
+        self.0[self.0[hxy as usize] as usize + hz as usize] as usize
     }
 }
 
+/// Seeded lattice hash: per-axis odd multiples xor-combined, then one multiply-xorshift;
+/// the top four bits pick the gradient (the top bits of a product depend on all input bits).
 struct Hashed(u64);
+
+const HASH_AXES: [u64; 3] = [0x9e37_79b9_7f4a_7c15, 0xc2b2_ae3d_27d4_eb4f, 0x1656_67b1_9e37_79f9];
+const HASH_M: u64 = 0xd6e8_feb8_6659_fd93;
 
 impl CornerHash for Hashed {
     #[inline(always)]
-    fn corner(&self, x: i64, y: i64, z: i64) -> usize {
-        let h = self.0
-            ^ (x as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15)
-            ^ (y as u64).wrapping_mul(0xc2b2_ae3d_27d4_eb4f)
-            ^ (z as u64).wrapping_mul(0x1656_67b1_9e37_79f9);
-        (mix64(h) >> 60) as usize
+    fn axis(&self, axis: usize, i: i64) -> [u64; 2] {
+        let a = (i as u64).wrapping_mul(HASH_AXES[axis]);
+        [a, a.wrapping_add(HASH_AXES[axis])]
+    }
+    #[inline(always)]
+    fn combine_xy(&self, hx: u64, hy: u64) -> u64 {
+        self.0 ^ hx ^ hy
+    }
+    #[inline(always)]
+    fn corner(&self, hxy: u64, hz: u64) -> usize {
+        let h = hxy ^ hz;
+        ((h ^ (h >> 32)).wrapping_mul(HASH_M) >> 60) as usize
     }
 }
 
@@ -117,8 +139,10 @@ fn noise3<H: CornerHash>(h: &H, x: f64, y: f64, z: f64) -> f64 {
     let (xi, yi, zi) = (floor_i64(x), floor_i64(y), floor_i64(z));
     let (x, y, z) = (x - xi as f64, y - yi as f64, z - zi as f64);
     let (u, v, w) = (fade(x), fade(y), fade(z));
-    let c = |dx: i64, dy: i64, dz: i64| {
-        grad(h.corner(xi + dx, yi + dy, zi + dz), x - dx as f64, y - dy as f64, z - dz as f64)
+    let (hx, hy, hz) = (h.axis(0, xi), h.axis(1, yi), h.axis(2, zi));
+    let c = |dx: usize, dy: usize, dz: usize| {
+        let corner = h.corner(h.combine_xy(hx[dx], hy[dy]), hz[dz]);
+        grad(corner, x - dx as f64, y - dy as f64, z - dz as f64)
     };
     lerp(
         w,
@@ -133,7 +157,9 @@ fn noise2<H: CornerHash>(h: &H, x: f64, y: f64) -> f64 {
     let (xi, yi) = (floor_i64(x), floor_i64(y));
     let (x, y) = (x - xi as f64, y - yi as f64);
     let (u, v) = (fade(x), fade(y));
-    let c = |dx: i64, dy: i64| grad(h.corner(xi + dx, yi + dy, 0), x - dx as f64, y - dy as f64, 0.0);
+    let (hx, hy, hz) = (h.axis(0, xi), h.axis(1, yi), h.axis(2, 0));
+    let c =
+        |dx: usize, dy: usize| grad(h.corner(h.combine_xy(hx[dx], hy[dy]), hz[0]), x - dx as f64, y - dy as f64, 0.0);
     lerp(v, lerp(u, c(0, 0), c(1, 0)), lerp(u, c(0, 1), c(1, 1)))
 }
 
