@@ -128,8 +128,9 @@ impl Gabor {
         (v / self.radius).floor() as i64
     }
 
-    /// The impulses of a 2D cell, appended to `out` in generation order.
+    /// The impulses of a 2D cell, appended to `out` sorted by x.
     fn cell_impulses_2d(&self, cx: i64, cy: i64, out: &mut Vec<Impulse2>) {
+        let first = out.len();
         let mut rng = Stream::new(hash_coords(self.seed, &[cx, cy]));
         let count = rng.poisson(self.mean_per_cell_2d);
         let p = &self.params;
@@ -143,6 +144,9 @@ impl Gabor {
             let phase = fx * x + fy * y;
             out.push(Impulse2 { x, y, weight, fx, fy, cos_phase: phase.cos(), sin_phase: phase.sin() });
         }
+        // Canonical order: by x (stable, so generation order on ties). A point can then skip
+        // the impulses of its side columns that lie a radius or more away horizontally.
+        out[first..].sort_by(|a, b| a.x.total_cmp(&b.x));
     }
 
     /// (cos ψ, sin ψ) of the point's phase ψ = 2π F0 (p · dir) (anisotropic mode).
@@ -171,19 +175,20 @@ impl Gabor {
         self.sum_at(&row, &cells, x, y) * self.inv_sigma_2d
     }
 
-    /// The canonical sum at (x, y) over the given cells of a row set, cell by cell in order.
+    /// The canonical sum at (x, y) over the 3×3 cells of a row set (row-major, so cell n
+    /// lies in column n mod 3 − 1 relative to the point's), cell by cell in order.
     /// Per impulse: term = w·K·e^(−g dy²)·e^(−g dx²)·cos(...), kept when dx² + dy² < R²
     /// (a select, not a branch, in the anisotropic case). Batch and scalar paths both
     /// come here, so they agree bit for bit.
     #[inline(always)]
-    fn sum_at(&self, row: &RowImpulses, cells: &[usize], x: f64, y: f64) -> f64 {
+    fn sum_at(&self, row: &RowImpulses, cells: &[usize; 9], x: f64, y: f64) -> f64 {
         let r2_max = self.radius * self.radius;
         let g = self.gauss;
         let mut total = 0.0;
         if self.params.isotropic {
-            for &c in cells {
+            for (n, &c) in cells.iter().enumerate() {
                 let mut sum = 0.0;
-                for k in row.range(c) {
+                for k in row.window(c, n as i32 % 3 - 1, x, self.radius) {
                     let dx = x - row.x[k];
                     let dx2 = dx * dx;
                     if dx2 + row.dy2[k] < r2_max {
@@ -195,17 +200,19 @@ impl Gabor {
             }
         } else {
             let (cos_psi, sin_psi) = self.point_phase(x, y);
-            for &c in cells {
-                let range = row.range(c);
-                let (xs, dy2, weighted) =
-                    (&row.x[range.clone()], &row.dy2[range.clone()], &row.weighted[range.clone()]);
-                let (cp, sp) = (&row.cos_phase[range.clone()], &row.sin_phase[range]);
+            for (n, &c) in cells.iter().enumerate() {
+                let range = row.window(c, n as i32 % 3 - 1, x, self.radius);
+                let columns = row.x[range.clone()]
+                    .iter()
+                    .zip(&row.dy2[range.clone()])
+                    .zip(&row.weighted[range.clone()])
+                    .zip(row.cos_phase[range.clone()].iter().zip(&row.sin_phase[range]));
                 let mut sum = 0.0;
-                for k in 0..xs.len() {
-                    let dx = x - xs[k];
+                for (((xi, dy2), weighted), (cp, sp)) in columns {
+                    let dx = x - xi;
                     let dx2 = dx * dx;
-                    let term = weighted[k] * exp_kernel(-g * dx2) * (cos_psi * cp[k] + sin_psi * sp[k]);
-                    sum += if dx2 + dy2[k] < r2_max { term } else { 0.0 };
+                    let term = weighted * exp_kernel(-g * dx2) * (cos_psi * cp + sin_psi * sp);
+                    sum += if dx2 + dy2 < r2_max { term } else { 0.0 };
                 }
                 total += sum;
             }
@@ -321,7 +328,7 @@ impl RowImpulses {
         }
     }
 
-    /// Appends one cell (its impulses filtered by dy² < R² at row `y`) as the next cell index.
+    /// Appends one cell (its impulses with dy² < R² at row `y`, keeping their x order) as the next cell.
     fn push_cell(&mut self, g: &Gabor, impulses: &[Impulse2], y: f64) {
         if self.offsets.is_empty() {
             self.offsets.push(0);
@@ -348,6 +355,20 @@ impl RowImpulses {
     #[inline(always)]
     fn range(&self, cell: usize) -> std::ops::Range<usize> {
         self.offsets[cell]..self.offsets[cell + 1]
+    }
+
+    /// The part of a cell's range that can reach `x`: impulses with x − xᵢ ≥ R (cells to
+    /// the left) or x − xᵢ ≤ −R (cells to the right) have dx² ≥ R², so their term is zero
+    /// and skipping them leaves the sum unchanged.
+    #[inline(always)]
+    fn window(&self, cell: usize, side: i32, x: f64, radius: f64) -> std::ops::Range<usize> {
+        let range = self.range(cell);
+        let xs = &self.x[range.clone()];
+        match side {
+            -1 => range.start + xs.partition_point(|&xi| x - xi >= radius)..range.end,
+            1 => range.start..range.start + xs.partition_point(|&xi| x - xi > -radius),
+            _ => range,
+        }
     }
 }
 
