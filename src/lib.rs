@@ -6,6 +6,7 @@
 #![warn(missing_docs)]
 #![deny(unsafe_code)]
 
+pub mod analysis;
 pub mod cli;
 pub mod error;
 #[allow(unsafe_code)]

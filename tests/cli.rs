@@ -132,3 +132,31 @@ fn noise_writes_png16_and_raw_f32_deterministically() {
     assert_one_line_error(&run(&["noise", "--kind", "gabor", "--a", "0", "-o", "x.png"], "1"), 2, &["gabor"]);
     assert!(!tmp.path().join("x.png").exists());
 }
+
+#[test]
+fn analyze_writes_every_property_and_a_json_report() {
+    let Some(dir) = shared_meshes() else { return };
+    let tmp = temp_dir();
+    let input = dir.join("fandisk.off");
+    let out = asperity(&["analyze", input.to_str().unwrap(), "-o", "f.ply", "--json"], tmp.path());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let classes = &json["classes"];
+    let total: u64 = ["face", "weak", "strong_edge", "corner"].iter().map(|k| classes[k].as_u64().unwrap()).sum();
+    assert_eq!(total, 6475);
+    assert!(classes["corner"].as_u64().unwrap() > 0);
+    let mesh = asperity::io::read(&tmp.path().join("f.ply")).unwrap().mesh;
+    for key in [
+        "mean_curvature",
+        "gaussian_curvature",
+        "k1",
+        "k2",
+        "feature_class",
+        "diffusion_x",
+        "diffusion_y",
+        "diffusion_z",
+    ] {
+        assert_eq!(mesh.scalars[key].len(), 6475, "{key}");
+    }
+    assert!(mesh.colors.is_some() && mesh.normals.is_some());
+}

@@ -1,5 +1,6 @@
 //! asperity's integration tests, in one binary so the C++ libraries are linked once.
 
+mod analysis;
 mod bad_input;
 mod cli;
 mod common;

@@ -1,6 +1,7 @@
 //! The command line: one subcommand per capability, thin over the library. Errors are
 //! one line on stderr; exit codes are 0 (success), 2 (bad input or usage), 1 (internal).
 
+mod analyze;
 mod convert;
 mod demo;
 mod info;
@@ -22,6 +23,8 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Curvatures and feature classes of a mesh, written as PLY properties and colours.
+    Analyze(analyze::AnalyzeArgs),
     /// Print a mesh's validation report (counts, boundaries, manifoldness, genus).
     Info(info::InfoArgs),
     /// Convert a mesh between OBJ, PLY, OFF and STL (format by extension).
@@ -69,6 +72,7 @@ pub fn run() -> i32 {
 
 fn dispatch(cli: Cli) -> Result<()> {
     match cli.command {
+        Command::Analyze(args) => analyze::run(args),
         Command::Info(args) => info::run(args),
         Command::Convert(args) => convert::run(args),
         Command::Demo(args) => demo::run(args),

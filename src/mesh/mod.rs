@@ -2,6 +2,7 @@
 //! Everything reads and writes [`Mesh`]; only connectivity-changing algorithms use the
 //! half-edge store in [`crate::ffi`]. Validation and polygon triangulation live here too.
 
+mod adjacency;
 mod ids;
 pub mod primitives;
 mod triangulate;
@@ -11,6 +12,7 @@ use std::collections::BTreeMap;
 
 use glam::DVec3;
 
+pub use adjacency::Adjacency;
 pub use ids::{FaceId, VertexId};
 pub use triangulate::{triangulate_polygon, triangulate_polygons};
 pub use validate::ValidationReport;

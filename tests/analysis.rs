@@ -1,0 +1,206 @@
+//! Surface analysis: closed-form curvatures, Gauss–Bonnet, feature classes on a box and
+//! on fandisk against dihedral-angle ground truth, analytic normals.
+
+use std::f64::consts::{PI, TAU};
+
+use asperity::analysis::{
+    AnalysisOptions, FaceGeometry, FeatureClass, NormalWeighting, analyze, angle_deficits, face_gradients,
+    face_normals, propagate_features, vertex_normals,
+};
+use asperity::io;
+use asperity::mesh::primitives::{cube, grid, icosphere, torus};
+use asperity::mesh::{Adjacency, Mesh};
+use glam::DVec3;
+
+use crate::common::shared_meshes;
+
+#[test]
+fn sphere_curvatures_match_the_closed_form() {
+    let r = 2.0;
+    let sphere = icosphere(r, 5);
+    assert!(sphere.vertex_count() >= 10_000);
+    let a = analyze(&sphere, &AnalysisOptions::default()).unwrap();
+    let c = &a.curvatures;
+    for v in 0..sphere.vertex_count() {
+        assert!((c.mean[v] * r - 1.0).abs() < 0.01, "H = {} at {v}", c.mean[v]);
+        assert!((c.gaussian[v] * r * r - 1.0).abs() < 0.01, "K = {} at {v}", c.gaussian[v]);
+        assert!((c.k1[v] - c.k2[v]).abs() * r < 0.05);
+    }
+}
+
+#[test]
+fn angle_deficits_sum_to_two_pi_chi() {
+    let mut cases: Vec<(String, Mesh)> = vec![
+        ("torus".into(), torus(2.0, 0.7, 40, 20)),
+        ("icosphere".into(), icosphere(1.0, 3)),
+        ("cube".into(), cube(DVec3::ZERO, DVec3::ONE, 3)),
+        ("grid".into(), grid(5)),
+    ];
+    if let Some(dir) = shared_meshes() {
+        for name in ["eight.off", "3torus.off", "double-torus-3-holes.off", "mushroom.off"] {
+            cases.push((name.into(), io::read(&dir.join(name)).unwrap().mesh));
+        }
+    }
+    for (name, mesh) in cases {
+        let chi = mesh.validate().euler as f64;
+        let total: f64 = angle_deficits(&mesh, &Adjacency::of(&mesh)).iter().sum();
+        assert!((total - TAU * chi).abs() < 1e-9, "{name}: Σ deficits {total} vs 2πχ {}", TAU * chi);
+        if name == "eight.off" {
+            assert!((total + 4.0 * PI).abs() < 1e-9);
+        }
+    }
+}
+
+#[test]
+fn flat_grids_have_zero_curvature_even_on_the_boundary() {
+    let mesh = grid(8);
+    let a = analyze(&mesh, &AnalysisOptions::default()).unwrap();
+    for v in 0..mesh.vertex_count() {
+        assert!(a.curvatures.mean[v].abs() < 1e-12 && a.curvatures.gaussian[v].abs() < 1e-9, "vertex {v}");
+        assert_eq!(a.classes[v], FeatureClass::Face);
+    }
+}
+
+#[test]
+fn box_corners_edges_and_faces_are_classified_exactly() {
+    let n = 4;
+    let mesh = cube(DVec3::ZERO, DVec3::ONE, n);
+    let a = analyze(&mesh, &AnalysisOptions::default()).unwrap();
+    for (v, p) in mesh.positions.iter().enumerate() {
+        let on_sides = p.to_array().iter().filter(|&&c| c == 0.0 || c == 1.0).count();
+        let expected = match on_sides {
+            3 => FeatureClass::Corner,
+            2 => FeatureClass::StrongEdge,
+            _ => FeatureClass::Face,
+        };
+        assert_eq!(a.classes[v], expected, "vertex {v} at {p}");
+    }
+    let counts = a.class_counts();
+    assert_eq!(counts[FeatureClass::Corner as usize], 8);
+    assert_eq!(counts[FeatureClass::StrongEdge as usize], 12 * (n as usize - 1));
+}
+
+#[test]
+fn fandisk_sharp_vertices_match_dihedral_ground_truth() {
+    let Some(dir) = shared_meshes() else { return };
+    let mesh = io::read(&dir.join("fandisk.off")).unwrap().mesh;
+    let normals = face_normals(&mesh);
+    // Ground truth: vertices on an edge whose faces meet at more than 40°.
+    let mut truth = vec![false; mesh.vertex_count()];
+    let mut edges: std::collections::HashMap<(u32, u32), Vec<usize>> = std::collections::HashMap::new();
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            edges.entry((a.min(b), a.max(b))).or_default().push(f);
+        }
+    }
+    for ((a, b), faces) in &edges {
+        if faces.len() == 2 && normals[faces[0]].angle_between(normals[faces[1]]) > 40f64.to_radians() {
+            truth[*a as usize] = true;
+            truth[*b as usize] = true;
+        }
+    }
+    let classes = analyze(&mesh, &AnalysisOptions::default()).unwrap().classes;
+    let predicted: Vec<bool> = classes.iter().map(|c| c.is_sharp()).collect();
+    let hits = predicted.iter().zip(&truth).filter(|(p, t)| **p && **t).count() as f64;
+    let precision = hits / predicted.iter().filter(|&&p| p).count() as f64;
+    let recall = hits / truth.iter().filter(|&&t| t).count() as f64;
+    eprintln!("fandisk: precision {precision:.3}, recall {recall:.3}");
+    assert!(precision >= 0.9 && recall >= 0.9, "precision {precision:.3}, recall {recall:.3}");
+}
+
+#[test]
+fn vertex_normals_match_analytic_normals() {
+    let sphere = icosphere(1.5, 4);
+    let adjacency = Adjacency::of(&sphere);
+    let faces = FaceGeometry::of(&sphere);
+    for weighting in [NormalWeighting::Uniform, NormalWeighting::Area, NormalWeighting::Angle] {
+        let normals = vertex_normals(&sphere, &adjacency, &faces, weighting);
+        for (p, n) in sphere.positions.iter().zip(&normals) {
+            assert!(n.angle_between(p.normalize()).to_degrees() < 0.5, "{weighting:?}");
+        }
+    }
+    let (major, minor) = (2.0, 0.6);
+    let t = torus(major, minor, 96, 48);
+    let normals = analyze(&t, &AnalysisOptions::default()).unwrap().normals;
+    for (p, n) in t.positions.iter().zip(&normals) {
+        let centre = DVec3::new(p.x, p.y, 0.0).normalize() * major;
+        assert!(n.angle_between((*p - centre).normalize()).to_degrees() < 0.5);
+    }
+}
+
+#[test]
+fn gradients_of_linear_functions_are_exact() {
+    let sphere = icosphere(1.0, 2);
+    let a = DVec3::new(0.3, -1.2, 2.0);
+    let values: Vec<f64> = sphere.positions.iter().map(|p| a.dot(*p) + 5.0).collect();
+    let gradients = face_gradients(&sphere, &values).unwrap();
+    for (g, n) in gradients.iter().zip(face_normals(&sphere)) {
+        let tangential = a - n * a.dot(n);
+        assert!((*g - tangential).length() < 1e-12, "{g} vs {tangential}");
+    }
+    assert!(face_gradients(&sphere, &values[1..]).is_err());
+}
+
+#[test]
+fn feature_propagation_grows_lines_and_protects_neighbours() {
+    let mesh = grid(6);
+    let adjacency = Adjacency::of(&mesh);
+    // Vertices of the middle row are features.
+    let features: Vec<bool> = mesh.positions.iter().map(|p| (p.y - 0.5).abs() < 1e-9).collect();
+    let (grown, removable) = propagate_features(&adjacency, &features, 1);
+    for v in 0..mesh.vertex_count() {
+        if features[v] {
+            assert!(grown[v] && !removable[v]);
+        }
+        let feature_neighbours = adjacency.neighbours(v).iter().filter(|&&w| features[w as usize]).count();
+        assert_eq!(grown[v], features[v] || feature_neighbours >= 2, "vertex {v}");
+        if removable[v] {
+            assert!(adjacency.neighbours(v).iter().all(|&w| !grown[w as usize]));
+        }
+    }
+}
+
+#[test]
+fn analysis_is_identical_at_one_and_two_threads() {
+    let mesh = torus(2.0, 0.5, 64, 32);
+    let run = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| analyze(&mesh, &AnalysisOptions::default()).unwrap())
+    };
+    let (a, b) = (run(1), run(2));
+    assert_eq!(a.normals, b.normals);
+    assert_eq!(a.curvatures.mean, b.curvatures.mean);
+    assert_eq!(a.curvatures.gaussian, b.curvatures.gaussian);
+    assert_eq!(a.classes, b.classes);
+    assert_eq!(a.tensors, b.tensors);
+}
+
+#[test]
+fn closed_form_eigen_agrees_with_nalgebra() {
+    use asperity::analysis::symmetric_eigen3;
+    use asperity::noise::hash::Stream;
+    let mut rng = Stream::new(8);
+    for _ in 0..2000 {
+        // Random positive semi-definite tensors built like voting tensors: Σ w n nᵀ.
+        let mut m = glam::DMat3::ZERO;
+        for _ in 0..(1 + rng.next_u64() % 6) {
+            let n = DVec3::new(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0)).normalize();
+            m += glam::DMat3::from_cols(n * n.x, n * n.y, n * n.z) * rng.uniform(0.1, 1.0);
+        }
+        let (values, e3) = symmetric_eigen3(m);
+        let reference = nalgebra::Matrix3::from_column_slice(&m.to_cols_array()).symmetric_eigen();
+        let mut expected: Vec<f64> = reference.eigenvalues.iter().copied().collect();
+        expected.sort_by(|a, b| b.total_cmp(a));
+        let scale = expected[0].abs();
+        for k in 0..3 {
+            assert!((values[k] - expected[k]).abs() < 1e-12 * scale, "{values:?} vs {expected:?}");
+        }
+        // e₃ is an eigenvector of λ₃: m e₃ = λ₃ e₃.
+        assert!((m * e3 - e3 * values[2]).length() < 1e-7 * scale, "residual for {m:?}");
+        assert!((e3.length() - 1.0).abs() < 1e-12);
+    }
+}
