@@ -1,16 +1,20 @@
-//! `asperity demo [--out DIR]`: the main job on built-in inputs. For now it builds a torus
-//! and an icosphere in code, round-trips them through OpenMesh, measures them with CGAL,
-//! and writes the meshes under `DIR`; later stages (terrain, detail) extend it.
+//! `asperity demo [--out DIR]`: the main job on built-in inputs. It builds a torus and an
+//! icosphere in code, round-trips them through OpenMesh, measures them with CGAL, writes a
+//! panel of noise images and the feature analysis of fandisk (or of the torus when the
+//! shared meshes are absent) under `DIR`; later stages (terrain, detail) extend it.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Args;
 
+use crate::analysis::{AnalysisOptions, analyze};
 use crate::error::{Error, Result};
 use crate::ffi::{self, HalfEdgeMesh, HausdorffOptions};
+use crate::io::image::{value_range, write_png16};
 use crate::io::{self, WriteOptions};
 use crate::mesh::{Mesh, primitives};
+use crate::noise::{NoiseField, NoiseKind, NoiseSpec};
 
 #[derive(Debug, Args)]
 pub struct DemoArgs {
@@ -58,6 +62,8 @@ pub fn run(args: DemoArgs) -> Result<()> {
     write_result(&sphere, &args.out.join("icosphere.obj"))?;
     write_result(&coarse, &args.out.join("icosphere-coarse.off"))?;
 
+    write_noise_panel(&args.out)?;
+
     if let Some(fandisk) = shared_mesh("fandisk.off") {
         let start = Instant::now();
         let outcome = io::read(&fandisk)?;
@@ -71,7 +77,9 @@ pub fn run(args: DemoArgs) -> Result<()> {
             super::millis(start)
         );
         openmesh_round_trip("fandisk", &outcome.mesh)?;
-        write_result(&outcome.mesh, &args.out.join("fandisk.ply"))?;
+        write_features(&outcome.mesh, &args.out.join("fandisk-features.ply"))?;
+    } else {
+        write_features(&torus, &args.out.join("torus-features.ply"))?;
     }
     println!("demo: results in {}", args.out.display());
     Ok(())
@@ -90,6 +98,45 @@ fn openmesh_round_trip(name: &str, mesh: &Mesh) -> Result<()> {
         counts.vertices,
         counts.edges,
         counts.faces,
+        super::millis(start)
+    );
+    Ok(())
+}
+
+/// One 256×256 image per noise kind, seed 7.
+fn write_noise_panel(out: &Path) -> Result<()> {
+    let start = Instant::now();
+    let kinds = [
+        ("perlin", NoiseKind::Perlin, 1.0 / 32.0),
+        ("fbm", NoiseKind::Fbm, 1.0 / 32.0),
+        ("turbulence", NoiseKind::Turbulence, 1.0 / 32.0),
+        ("marble", NoiseKind::Marble, 1.0 / 32.0),
+        ("multifractal", NoiseKind::Multifractal, 1.0 / 32.0),
+        ("wood", NoiseKind::Wood, 1.0 / 64.0),
+        ("gabor", NoiseKind::Gabor, 1.0),
+    ];
+    for (name, kind, scale) in kinds {
+        let field = NoiseField::new(&NoiseSpec { kind, seed: 7, ..NoiseSpec::default() })?;
+        let values = field.grid2(0.0, 0.0, scale, 256, 256);
+        let range = value_range(&values).ok_or_else(|| Error::Internal(format!("{name} noise has no finite value")))?;
+        write_png16(&out.join(format!("noise-{name}.png")), &values, 256, range)?;
+    }
+    println!("noise: {} images 256x256 => {}/noise-*.png in {} ms", kinds.len(), out.display(), super::millis(start));
+    Ok(())
+}
+
+/// Curvatures and feature classes, written as PLY properties and class colours.
+fn write_features(mesh: &Mesh, path: &Path) -> Result<()> {
+    let start = Instant::now();
+    let analysis = analyze(mesh, &AnalysisOptions::default())?;
+    let [face, weak, strong, corner] = analysis.class_counts();
+    let mut coloured = mesh.clone();
+    analysis.attach_to(&mut coloured);
+    io::write(&coloured, path, WriteOptions::default())?;
+    println!(
+        "analyze: {} vertices => {corner} corners, {strong} strong edge, {weak} weak, {face} face => {} in {} ms",
+        mesh.vertex_count(),
+        path.display(),
         super::millis(start)
     );
     Ok(())
