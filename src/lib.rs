@@ -14,6 +14,7 @@ pub mod ffi;
 pub mod io;
 pub mod mesh;
 pub mod noise;
+pub mod terrain;
 
 pub use error::{Error, Location, Result};
 pub use mesh::{FaceId, Mesh, VertexId};

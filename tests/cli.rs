@@ -160,3 +160,33 @@ fn analyze_writes_every_property_and_a_json_report() {
     }
     assert!(mesh.colors.is_some() && mesh.normals.is_some());
 }
+
+#[test]
+fn terrain_streams_tiles_and_refuses_bad_sizes() {
+    let tmp = temp_dir();
+    let run = |args: &[&str]| asperity(args, tmp.path());
+    let out = run(&["terrain", "--size", "129", "--seed", "3", "--sea-level", "0", "-o", "a.ply"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        run(&["terrain", "--size", "129", "--seed", "3", "--sea-level", "0", "--stream", "--band", "9", "-o", "b.ply"])
+            .status
+            .success()
+    );
+    assert_eq!(std::fs::read(tmp.path().join("a.ply")).unwrap(), std::fs::read(tmp.path().join("b.ply")).unwrap());
+    for ext in ["png", "raw16", "f32", "obj"] {
+        let out = run(&["terrain", "--size", "65", "-o", &format!("t.{ext}")]);
+        assert!(out.status.success(), "{ext}: {}", String::from_utf8_lossy(&out.stderr));
+    }
+    assert_eq!(std::fs::metadata(tmp.path().join("t.raw16")).unwrap().len(), 65 * 65 * 2);
+    let out = run(&["terrain", "--size", "129", "--tile", "1,2", "--tile-size", "33", "-o", "tile.ply"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(asperity::io::read(&tmp.path().join("tile.ply")).unwrap().mesh.vertex_count(), 33 * 33);
+    assert_one_line_error(&run(&["terrain", "--size", "100", "-o", "x.ply"]), 2, &["2^n + 1"]);
+    assert_one_line_error(
+        &run(&["terrain", "--size", "129", "--tile", "9,9", "--tile-size", "33", "-o", "x.ply"]),
+        2,
+        &["tile 9,9"],
+    );
+    assert_one_line_error(&run(&["terrain", "--stream", "-o", "x.obj"]), 2, &[".obj"]);
+    assert!(!tmp.path().join("x.ply").exists() && !tmp.path().join("x.obj").exists());
+}

@@ -7,4 +7,5 @@ mod common;
 mod ffi;
 mod io_roundtrip;
 mod noise;
+mod terrain;
 mod validation;

@@ -6,6 +6,7 @@ mod convert;
 mod demo;
 mod info;
 mod noise;
+mod terrain;
 
 use std::path::PathBuf;
 
@@ -33,6 +34,8 @@ enum Command {
     Demo(demo::DemoArgs),
     /// Write a noise image (Perlin family or Gabor) as 16-bit PNG or raw f32.
     Noise(noise::NoiseArgs),
+    /// Generate a fractal terrain: mesh or heightmap, whole, tiled or streamed.
+    Terrain(terrain::TerrainArgs),
 }
 
 /// Parses the arguments, runs the subcommand and returns the process exit code.
@@ -77,6 +80,7 @@ fn dispatch(cli: Cli) -> Result<()> {
         Command::Convert(args) => convert::run(args),
         Command::Demo(args) => demo::run(args),
         Command::Noise(args) => noise::run(args),
+        Command::Terrain(args) => terrain::run(args),
     }
 }
 

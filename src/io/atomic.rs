@@ -7,10 +7,19 @@ use crate::error::{Error, Result};
 
 /// Writes through `fill` into a temporary file beside `path` and renames it over `path`
 /// once complete, so readers never see a partial file and a failure leaves nothing.
+/// Devices and pipes (which cannot be renamed over) are written directly.
 ///
 /// # Errors
 /// [`Error::Io`] naming `path` if creating, writing or renaming fails.
 pub fn write_atomically(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
+    // A device or pipe (/dev/null, /dev/stdout, a FIFO) cannot be replaced by a rename:
+    // write to it directly.
+    if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+        let file = std::fs::OpenOptions::new().write(true).open(path).map_err(|e| Error::io(path, e))?;
+        let mut w = BufWriter::new(file);
+        fill(&mut w).map_err(|e| Error::io(path, e))?;
+        return w.flush().map_err(|e| Error::io(path, e));
+    }
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),

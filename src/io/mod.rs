@@ -6,7 +6,7 @@ mod atomic;
 pub mod image;
 mod obj;
 mod off;
-mod ply;
+pub mod ply;
 mod stl;
 mod text;
 

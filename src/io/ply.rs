@@ -497,72 +497,124 @@ fn skip_list(body: &mut Body, count: ScalarType, item: ScalarType) -> std::resul
     Ok(())
 }
 
-/// Writes a PLY file: binary little-endian, or ASCII with `ascii`.
-pub fn write(mesh: &Mesh, w: &mut dyn Write, ascii: bool) -> std::io::Result<()> {
-    if mesh.positions.len() > i32::MAX as usize {
+/// What a PLY file written by asperity holds per vertex, for [`write_header`].
+#[derive(Debug, Clone)]
+pub struct PlyLayout {
+    /// Vertex count.
+    pub vertices: usize,
+    /// Triangle count.
+    pub faces: usize,
+    /// Whether `nx ny nz` follow the position.
+    pub normals: bool,
+    /// Whether `red green blue` follow.
+    pub colors: bool,
+    /// Names of the double scalar properties that follow, in order.
+    pub scalars: Vec<String>,
+    /// Text instead of binary little-endian.
+    pub ascii: bool,
+}
+
+/// Writes the header of a PLY file with `layout`.
+pub fn write_header(w: &mut dyn Write, layout: &PlyLayout) -> std::io::Result<()> {
+    if layout.vertices > i32::MAX as usize {
         return Err(std::io::Error::new(std::io::ErrorKind::InvalidInput, "too many vertices for PLY int indices"));
     }
     writeln!(w, "ply")?;
-    writeln!(w, "format {} 1.0", if ascii { "ascii" } else { "binary_little_endian" })?;
+    writeln!(w, "format {} 1.0", if layout.ascii { "ascii" } else { "binary_little_endian" })?;
     writeln!(w, "comment written by asperity {}", env!("CARGO_PKG_VERSION"))?;
-    writeln!(w, "element vertex {}", mesh.positions.len())?;
+    writeln!(w, "element vertex {}", layout.vertices)?;
     for axis in ["x", "y", "z"] {
         writeln!(w, "property double {axis}")?;
     }
-    if mesh.normals.is_some() {
+    if layout.normals {
         for axis in ["nx", "ny", "nz"] {
             writeln!(w, "property double {axis}")?;
         }
     }
-    if mesh.colors.is_some() {
+    if layout.colors {
         for c in ["red", "green", "blue"] {
             writeln!(w, "property uchar {c}")?;
         }
     }
-    let names: Vec<String> = mesh.scalars.keys().map(|k| k.split_whitespace().collect::<Vec<_>>().join("_")).collect();
-    for name in &names {
-        writeln!(w, "property double {name}")?;
+    for name in &layout.scalars {
+        writeln!(w, "property double {}", name.split_whitespace().collect::<Vec<_>>().join("_"))?;
     }
-    writeln!(w, "element face {}", mesh.triangles.len())?;
+    writeln!(w, "element face {}", layout.faces)?;
     writeln!(w, "property list uchar int vertex_indices")?;
-    writeln!(w, "end_header")?;
+    writeln!(w, "end_header")
+}
 
+/// Writes one vertex record matching a [`PlyLayout`].
+pub fn write_vertex(
+    w: &mut dyn Write,
+    ascii: bool,
+    position: DVec3,
+    normal: Option<DVec3>,
+    color: Option<[u8; 3]>,
+    scalars: &[f64],
+) -> std::io::Result<()> {
+    if ascii {
+        let mut fields: Vec<String> = position.to_array().iter().map(|v| v.to_string()).collect();
+        if let Some(n) = normal {
+            fields.extend(n.to_array().iter().map(|v| v.to_string()));
+        }
+        if let Some(c) = color {
+            fields.extend(c.iter().map(|v| v.to_string()));
+        }
+        fields.extend(scalars.iter().map(|v| v.to_string()));
+        return writeln!(w, "{}", fields.join(" "));
+    }
+    let mut record = [0u8; 8 * 6 + 3];
+    let mut len = 0;
+    for v in position.to_array().into_iter().chain(normal.map(|n| n.to_array()).into_iter().flatten()) {
+        record[len..len + 8].copy_from_slice(&v.to_le_bytes());
+        len += 8;
+    }
+    if let Some(c) = color {
+        record[len..len + 3].copy_from_slice(&c);
+        len += 3;
+    }
+    w.write_all(&record[..len])?;
+    for v in scalars {
+        w.write_all(&v.to_le_bytes())?;
+    }
+    Ok(())
+}
+
+/// Writes one triangle record.
+pub fn write_triangle(w: &mut dyn Write, ascii: bool, t: [u32; 3]) -> std::io::Result<()> {
+    if ascii {
+        return writeln!(w, "3 {} {} {}", t[0], t[1], t[2]);
+    }
+    let mut record = [3u8; 13];
+    for (k, v) in t.iter().enumerate() {
+        record[1 + 4 * k..5 + 4 * k].copy_from_slice(&(*v as i32).to_le_bytes());
+    }
+    w.write_all(&record)
+}
+
+/// Writes a PLY file: binary little-endian, or ASCII with `ascii`.
+pub fn write(mesh: &Mesh, w: &mut dyn Write, ascii: bool) -> std::io::Result<()> {
+    let layout = PlyLayout {
+        vertices: mesh.positions.len(),
+        faces: mesh.triangles.len(),
+        normals: mesh.normals.is_some(),
+        colors: mesh.colors.is_some(),
+        scalars: mesh.scalars.keys().cloned().collect(),
+        ascii,
+    };
+    write_header(w, &layout)?;
     let scalar_columns: Vec<&Vec<f64>> = mesh.scalars.values().collect();
+    let mut extra = Vec::with_capacity(scalar_columns.len());
     for (i, p) in mesh.positions.iter().enumerate() {
-        let mut doubles: Vec<f64> = p.to_array().to_vec();
-        if let Some(n) = &mesh.normals {
-            doubles.extend(n[i].to_array());
-        }
+        extra.clear();
+        extra.extend(scalar_columns.iter().map(|c| c[i]));
+        let normal = mesh.normals.as_ref().map(|n| n[i]);
         let color = mesh.colors.as_ref().map(|c| c[i]);
-        let extra: Vec<f64> = scalar_columns.iter().map(|c| c[i]).collect();
-        if ascii {
-            let mut fields: Vec<String> = doubles.iter().map(|v| v.to_string()).collect();
-            if let Some(c) = color {
-                fields.extend(c.iter().map(|v| v.to_string()));
-            }
-            fields.extend(extra.iter().map(|v| v.to_string()));
-            writeln!(w, "{}", fields.join(" "))?;
-        } else {
-            for v in &doubles {
-                w.write_all(&v.to_le_bytes())?;
-            }
-            if let Some(c) = color {
-                w.write_all(&c)?;
-            }
-            for v in &extra {
-                w.write_all(&v.to_le_bytes())?;
-            }
-        }
+        write_vertex(w, ascii, *p, normal, color, &extra)?;
     }
     for t in &mesh.triangles {
-        if ascii {
-            writeln!(w, "3 {} {} {}", t[0], t[1], t[2])?;
-        } else {
-            w.write_all(&[3u8])?;
-            for v in t {
-                w.write_all(&(*v as i32).to_le_bytes())?;
-            }
-        }
+        write_triangle(w, ascii, *t)?;
     }
     Ok(())
 }

@@ -1,0 +1,193 @@
+//! Classic midpoint displacement / diamond-square on a (2ⁿ + 1)² grid (Fournier, Fussell &
+//! Carpenter 1982; seed 001): at level l (spacing d = 2ⁿ⁻ˡ) every square centre gets the
+//! mean of its four corners plus a displacement, then every diamond point the mean of its
+//! (three or four) neighbours at distance d plus a displacement; the displacement scale is
+//! σ·2^(−H·l). Seed 001's applet variant keeps the scale constant and draws a random sign.
+//!
+//! The generator works on any grid-aligned rectangle: level l on a rectangle needs level
+//! l − 1 on the rectangle grown by 2d, so a whole grid, a tile or a band of rows are the same
+//! computation and agree bit for bit. Rows of a level are computed in parallel.
+
+use rayon::prelude::*;
+
+use super::random::Displacements;
+
+/// Parameters of the classic generator.
+#[derive(Debug, Clone, Copy)]
+pub struct DiamondSquare {
+    /// n: the grid has 2ⁿ + 1 points per side.
+    pub levels: u32,
+    /// Roughness H: the displacement scale is multiplied by 2^(−H) per level.
+    pub hurst: f64,
+    /// Displacement scale σ at level 0.
+    pub sigma: f64,
+    /// Heights of the four corners (x0y0, xNy0, x0yN, xNyN) before their displacement.
+    pub corners: [f64; 4],
+    /// Seed 001's applet: constant scale, random sign.
+    pub applet: bool,
+    /// Random numbers.
+    pub random: Displacements,
+}
+
+/// A rectangle of grid points (inclusive bounds, fine-grid coordinates).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Rect {
+    /// First column.
+    pub x0: u64,
+    /// First row.
+    pub y0: u64,
+    /// Last column.
+    pub x1: u64,
+    /// Last row.
+    pub y1: u64,
+}
+
+impl Rect {
+    /// Number of columns.
+    pub fn width(&self) -> usize {
+        (self.x1 - self.x0 + 1) as usize
+    }
+    /// Number of rows.
+    pub fn height(&self) -> usize {
+        (self.y1 - self.y0 + 1) as usize
+    }
+}
+
+/// Heights of one level on a rectangle aligned to the level's spacing `d`: value (i, j) is
+/// the height at (x0 + i·d, y0 + j·d).
+struct LevelGrid {
+    /// log₂ of the spacing d.
+    shift: u32,
+    x0: u64,
+    y0: u64,
+    cols: usize,
+    rows: usize,
+    values: Vec<f64>,
+}
+
+impl LevelGrid {
+    #[inline(always)]
+    fn get(&self, x: u64, y: u64) -> f64 {
+        let i = ((x - self.x0) >> self.shift) as usize;
+        let j = ((y - self.y0) >> self.shift) as usize;
+        debug_assert!(i < self.cols && j < self.rows);
+        self.values[j * self.cols + i]
+    }
+}
+
+impl DiamondSquare {
+    /// Points per side, 2ⁿ + 1.
+    pub fn side(&self) -> u64 {
+        (1u64 << self.levels) + 1
+    }
+
+    fn scale(&self, level: u32) -> f64 {
+        if self.applet { self.sigma } else { self.sigma * (-self.hurst * f64::from(level)).exp2() }
+    }
+
+    #[inline(always)]
+    fn displacement(&self, level: u32, scale: f64, x: u64, y: u64) -> f64 {
+        let r = self.random.sample(level, x, y);
+        if self.applet { r.abs() * self.random.sign(level, x, y) * scale } else { r * scale }
+    }
+
+    /// The finished heights on `rect` (row-major, `rect.width()` per row).
+    pub fn heights(&self, rect: Rect) -> Vec<f64> {
+        self.level(self.levels, rect).values
+    }
+
+    /// Level `level` on `rect` (snapped outward to the level's lattice and clipped to the grid).
+    fn level(&self, level: u32, rect: Rect) -> LevelGrid {
+        let last = self.side() - 1;
+        let shift = self.levels - level;
+        let d = 1u64 << shift;
+        let snap = |r: Rect| Rect {
+            x0: r.x0 / d * d,
+            y0: r.y0 / d * d,
+            x1: (r.x1.div_ceil(d) * d).min(last),
+            y1: (r.y1.div_ceil(d) * d).min(last),
+        };
+        let r = snap(rect);
+        let (cols, rows) = (((r.x1 - r.x0) / d + 1) as usize, ((r.y1 - r.y0) / d + 1) as usize);
+        if level == 0 {
+            let values = (0..rows * cols)
+                .map(|k| {
+                    let (x, y) = (r.x0 + (k % cols) as u64 * d, r.y0 + (k / cols) as u64 * d);
+                    let corner = usize::from(x == last) + 2 * usize::from(y == last);
+                    self.corners[corner] + self.displacement(0, self.scale(0), x, y)
+                })
+                .collect();
+            return LevelGrid { shift, x0: r.x0, y0: r.y0, cols, rows, values };
+        }
+        let two_d = 2 * d;
+        let grown = Rect {
+            x0: r.x0.saturating_sub(two_d),
+            y0: r.y0.saturating_sub(two_d),
+            x1: (r.x1 + two_d).min(last),
+            y1: (r.y1 + two_d).min(last),
+        };
+        let coarse = self.level(level - 1, grown);
+        let scale = self.scale(level);
+        // Square centres ((2a + 1)·d, (2b + 1)·d) within d of the rectangle: the mean of the
+        // four coarse corners plus a displacement. Computed once; diamonds reuse them.
+        let (a0, a1) = (r.x0.saturating_sub(two_d).div_ceil(two_d), (r.x1 / two_d).min(last / two_d - 1));
+        let (b0, b1) = (r.y0.saturating_sub(two_d).div_ceil(two_d), (r.y1 / two_d).min(last / two_d - 1));
+        let centre_cols = (a1 + 1 - a0) as usize;
+        let mut centres = vec![0.0; centre_cols * (b1 + 1 - b0) as usize];
+        centres.par_chunks_mut(centre_cols).enumerate().for_each(|(jb, row)| {
+            let y = (2 * (b0 + jb as u64) + 1) * d;
+            for (ia, value) in row.iter_mut().enumerate() {
+                let x = (2 * (a0 + ia as u64) + 1) * d;
+                let mean = (coarse.get(x - d, y - d)
+                    + coarse.get(x + d, y - d)
+                    + coarse.get(x - d, y + d)
+                    + coarse.get(x + d, y + d))
+                    * 0.25;
+                *value = mean + self.displacement(level, scale, x, y);
+            }
+        });
+        let square = |x: u64, y: u64| {
+            centres[((y >> (shift + 1)) - b0) as usize * centre_cols + ((x >> (shift + 1)) - a0) as usize]
+        };
+        let mut values = vec![0.0; rows * cols];
+        values.par_chunks_mut(cols).enumerate().for_each(|(j, row)| {
+            let y = r.y0 + j as u64 * d;
+            let y_odd = (y >> shift) & 1 == 1;
+            for (i, value) in row.iter_mut().enumerate() {
+                let x = r.x0 + i as u64 * d;
+                let x_odd = (x >> shift) & 1 == 1;
+                *value = match (x_odd, y_odd) {
+                    (false, false) => coarse.get(x, y),
+                    (true, true) => square(x, y),
+                    _ => {
+                        // Diamond point: its neighbours at distance d along each axis are
+                        // coarse points (along its even axis) and square centres.
+                        let neighbour = |nx: u64, ny: u64| {
+                            if ((nx | ny) >> shift) & 1 == 0 { coarse.get(nx, ny) } else { square(nx, ny) }
+                        };
+                        let mut sum = 0.0;
+                        let mut count = 0.0;
+                        if x >= d {
+                            sum += neighbour(x - d, y);
+                            count += 1.0;
+                        }
+                        if x + d <= last {
+                            sum += neighbour(x + d, y);
+                            count += 1.0;
+                        }
+                        if y >= d {
+                            sum += neighbour(x, y - d);
+                            count += 1.0;
+                        }
+                        if y + d <= last {
+                            sum += neighbour(x, y + d);
+                            count += 1.0;
+                        }
+                        sum / count + self.displacement(level, scale, x, y)
+                    }
+                };
+            }
+        });
+        LevelGrid { shift, x0: r.x0, y0: r.y0, cols, rows, values }
+    }
+}

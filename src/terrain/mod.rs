@@ -1,0 +1,250 @@
+//! Fractal terrain (seeds 000–003): the classic diamond-square generator on any region of
+//! a (2ⁿ + 1)² grid, sea level, colour ramp, normals by central differences, meshes, tiles
+//! and streaming in bounded memory. Heights are a pure function of (seed, level, grid
+//! point), so a tile or a streamed band equals the matching part of the whole grid.
+
+mod diamond_square;
+mod random;
+pub mod stream;
+
+use glam::DVec3;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+pub use diamond_square::{DiamondSquare, Rect};
+pub use random::{Displacements, Distribution};
+
+use crate::error::{Error, Result};
+use crate::mesh::{Mesh, Rgb};
+
+/// Parameters of a classic terrain.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TerrainParams {
+    /// Points per side, 2ⁿ + 1.
+    pub size: u64,
+    /// Roughness H (seed 001): the displacement scale is multiplied by 2^(−H) per level.
+    pub hurst: f64,
+    /// Displacement scale at the first level.
+    pub sigma: f64,
+    /// Seed.
+    pub seed: u64,
+    /// Distribution of the displacements.
+    pub distribution: Distribution,
+    /// Mean of the displacements (before scaling).
+    pub mean: f64,
+    /// Variance of the displacements (before scaling).
+    pub variance: f64,
+    /// Initial corner heights (x0y0, xNy0, x0yN, xNyN).
+    pub corners: [f64; 4],
+    /// Seed 001's applet variant: scale not decreasing, random sign.
+    pub applet: bool,
+    /// World extent along x.
+    pub width: f64,
+    /// World extent along y.
+    pub depth: f64,
+    /// Heights below this are raised to it (the sea plane), when set.
+    pub sea_level: Option<f64>,
+}
+
+impl Default for TerrainParams {
+    fn default() -> Self {
+        TerrainParams {
+            size: 257,
+            hurst: 0.8,
+            sigma: 1.0,
+            seed: 0,
+            distribution: Distribution::Normal,
+            mean: 0.0,
+            variance: 1.0,
+            corners: [0.0; 4],
+            applet: false,
+            width: 10.0,
+            depth: 10.0,
+            sea_level: None,
+        }
+    }
+}
+
+impl TerrainParams {
+    /// The generator, after checking the parameters.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] when the size is not 2ⁿ + 1 (n from 1 to 31) or a number is
+    /// not finite.
+    pub fn generator(&self) -> Result<DiamondSquare> {
+        let n = self.size.checked_sub(1).filter(|m| m.is_power_of_two()).map(|m| m.trailing_zeros());
+        let Some(levels) = n.filter(|&l| (1..=31).contains(&l)) else {
+            return Err(Error::InvalidInput(format!(
+                "terrain size {} must be 2^n + 1 (3, 5, 9, ... 2147483649)",
+                self.size
+            )));
+        };
+        let numbers = [self.hurst, self.sigma, self.mean, self.variance, self.width, self.depth];
+        if numbers.iter().chain(&self.corners).any(|v| !v.is_finite()) || self.sea_level.is_some_and(|s| !s.is_finite())
+        {
+            return Err(Error::InvalidInput("terrain parameters must be finite numbers".into()));
+        }
+        if self.variance < 0.0 || self.width <= 0.0 || self.depth <= 0.0 {
+            return Err(Error::InvalidInput("variance must be ≥ 0 and width, depth > 0".into()));
+        }
+        Ok(DiamondSquare {
+            levels,
+            hurst: self.hurst,
+            sigma: self.sigma,
+            corners: self.corners,
+            applet: self.applet,
+            random: Displacements::new(self.seed, self.distribution, self.mean, self.variance),
+        })
+    }
+
+    /// A height scale independent of the data (so tiles agree): four times the standard
+    /// deviation of the summed displacements, σ·√(Σ 4^(−H·l)).
+    pub fn height_scale(&self) -> f64 {
+        let levels = (self.size.max(2) - 1).trailing_zeros();
+        let sum: f64 =
+            (0..=levels).map(|l| if self.applet { 1.0 } else { (-2.0 * self.hurst * f64::from(l)).exp2() }).sum();
+        4.0 * self.sigma * (self.variance.max(1e-12) * sum).sqrt()
+    }
+
+    /// World position of grid point (x, y) with height h (z up).
+    pub fn position(&self, x: u64, y: u64, h: f64) -> DVec3 {
+        let last = (self.size - 1) as f64;
+        DVec3::new(x as f64 * self.width / last, y as f64 * self.depth / last, h)
+    }
+
+    /// The colour of a height: blue at or below the sea (or 0 without a sea), then green,
+    /// brown and white towards [`TerrainParams::height_scale`].
+    pub fn color(&self, h: f64) -> Rgb {
+        let sea = self.sea_level.unwrap_or(0.0);
+        if h <= sea {
+            return [30, 70, 160];
+        }
+        let t = ((h - sea) / (self.height_scale() * 0.5).max(1e-12)).clamp(0.0, 1.0);
+        let stops: [(f64, [f64; 3]); 4] = [
+            (0.0, [60.0, 140.0, 60.0]),
+            (0.45, [110.0, 150.0, 70.0]),
+            (0.7, [130.0, 100.0, 70.0]),
+            (1.0, [250.0, 250.0, 250.0]),
+        ];
+        let k = stops.windows(2).position(|w| t <= w[1].0).unwrap_or(2);
+        let ((t0, c0), (t1, c1)) = (stops[k], stops[k + 1]);
+        let s = (t - t0) / (t1 - t0);
+        [0, 1, 2].map(|i| (c0[i] + s * (c1[i] - c0[i])).round() as u8)
+    }
+}
+
+/// Heights on a rectangle of the grid, after the sea clamp.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Heightfield {
+    /// The rectangle (grid coordinates).
+    pub rect: Rect,
+    /// Row-major heights, `rect.width()` per row.
+    pub heights: Vec<f64>,
+}
+
+impl Heightfield {
+    /// Height at grid point (x, y), which must lie in the rectangle.
+    pub fn at(&self, x: u64, y: u64) -> f64 {
+        self.heights[(y - self.rect.y0) as usize * self.rect.width() + (x - self.rect.x0) as usize]
+    }
+}
+
+/// The finished heights (sea clamp applied) on `rect`.
+///
+/// # Errors
+/// [`Error::InvalidInput`] for invalid parameters or a rectangle outside the grid.
+pub fn heights(params: &TerrainParams, rect: Rect) -> Result<Heightfield> {
+    let generator = params.generator()?;
+    let last = params.size - 1;
+    if rect.x0 > rect.x1 || rect.y0 > rect.y1 || rect.x1 > last || rect.y1 > last {
+        return Err(Error::InvalidInput(format!("region {rect:?} is outside the {0}x{0} grid", params.size)));
+    }
+    let mut values = generator.heights(rect);
+    if let Some(sea) = params.sea_level {
+        values.par_iter_mut().for_each(|h| *h = h.max(sea));
+    }
+    // The generator snaps regions to its coarsest spacing at the finest level (spacing 1),
+    // so `values` covers exactly `rect`.
+    Ok(Heightfield { rect, heights: values })
+}
+
+/// The whole grid.
+///
+/// # Errors
+/// As [`heights`].
+pub fn whole(params: &TerrainParams) -> Result<Heightfield> {
+    let last = params.size.saturating_sub(1);
+    heights(params, Rect { x0: 0, y0: 0, x1: last, y1: last })
+}
+
+/// The rectangle of tile (i, j) with `tile_size` = 2ᵏ + 1 points per side: neighbouring
+/// tiles share their border row or column.
+///
+/// # Errors
+/// [`Error::InvalidInput`] when the tile size does not divide the grid or the tile is outside it.
+pub fn tile_rect(params: &TerrainParams, i: u64, j: u64, tile_size: u64) -> Result<Rect> {
+    let span = tile_size.saturating_sub(1);
+    let last = params.size.saturating_sub(1);
+    if span == 0 || last % span != 0 {
+        return Err(Error::InvalidInput(format!(
+            "tile size {tile_size} must be k·m + 1 with k·m = {last} (grid size − 1)"
+        )));
+    }
+    let tiles = last / span;
+    if i >= tiles || j >= tiles {
+        return Err(Error::InvalidInput(format!("tile {i},{j} is outside the {tiles}x{tiles} tiles")));
+    }
+    Ok(Rect { x0: i * span, y0: j * span, x1: (i + 1) * span, y1: (j + 1) * span })
+}
+
+/// Unit normal at grid point (x, y) by central differences (one-sided on the grid border),
+/// from heights known on `field` (which must hold the point's neighbours inside the grid).
+pub fn normal_at(params: &TerrainParams, field: &Heightfield, x: u64, y: u64) -> DVec3 {
+    let last = params.size - 1;
+    let (xa, xb) = (x.saturating_sub(1), (x + 1).min(last));
+    let (ya, yb) = (y.saturating_sub(1), (y + 1).min(last));
+    let dx = params.width / last as f64 * (xb - xa) as f64;
+    let dy = params.depth / last as f64 * (yb - ya) as f64;
+    let gx = (field.at(xb, y) - field.at(xa, y)) / dx;
+    let gy = (field.at(x, yb) - field.at(x, ya)) / dy;
+    DVec3::new(-gx, -gy, 1.0).normalize()
+}
+
+/// Triangles of a `cols`×`rows` vertex grid (two per cell, row by row), vertex (i, j) at
+/// index j·cols + i.
+pub fn grid_triangles(cols: usize, rows: usize) -> impl Iterator<Item = [u32; 3]> {
+    (0..rows.saturating_sub(1)).flat_map(move |j| {
+        (0..cols.saturating_sub(1)).flat_map(move |i| {
+            let a = (j * cols + i) as u32;
+            let (b, c, d) = (a + 1, a + 1 + cols as u32, a + cols as u32);
+            [[a, b, c], [a, c, d]]
+        })
+    })
+}
+
+/// The mesh of `rect` (a whole grid or a tile): positions, normals, colours.
+///
+/// # Errors
+/// As [`heights`]; [`Error::InvalidInput`] when the rectangle has 2³² vertices or more.
+pub fn mesh(params: &TerrainParams, rect: Rect) -> Result<Mesh> {
+    let (cols, rows) = (rect.width(), rect.height());
+    if cols.checked_mul(rows).is_none_or(|n| n > u32::MAX as usize) {
+        return Err(Error::InvalidInput(format!("{cols}x{rows} vertices exceed 32-bit indices: use tiles")));
+    }
+    let last = params.size - 1;
+    let grown = Rect {
+        x0: rect.x0.saturating_sub(1),
+        y0: rect.y0.saturating_sub(1),
+        x1: (rect.x1 + 1).min(last),
+        y1: (rect.y1 + 1).min(last),
+    };
+    let field = heights(params, grown)?;
+    let points: Vec<(u64, u64)> = (rect.y0..=rect.y1).flat_map(|y| (rect.x0..=rect.x1).map(move |x| (x, y))).collect();
+    let positions = points.par_iter().map(|&(x, y)| params.position(x, y, field.at(x, y))).collect();
+    let normals = points.par_iter().map(|&(x, y)| normal_at(params, &field, x, y)).collect();
+    let colors = points.par_iter().map(|&(x, y)| params.color(field.at(x, y))).collect();
+    let mut mesh = Mesh::new(positions, grid_triangles(cols, rows).collect());
+    mesh.normals = Some(normals);
+    mesh.colors = Some(colors);
+    Ok(mesh)
+}

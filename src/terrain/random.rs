@@ -1,0 +1,86 @@
+//! Terrain randomness: every displacement is a pure function of (seed, level, x, y), drawn
+//! from a counter-based stream, so any region of the grid — whole, tile or streamed band —
+//! gets the same values.
+
+use rand_distr::{Distribution as _, StandardNormal};
+use serde::{Deserialize, Serialize};
+
+use crate::noise::hash::{Stream, derive_seed, mix64};
+
+/// The distribution of the random displacements (seed 001), before scaling by the level's σ.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Distribution {
+    /// Normal (Gaussian), the default.
+    #[default]
+    Normal,
+    /// Uniform, with the same mean and variance.
+    Uniform,
+}
+
+/// `rand_core` adapter over a [`Stream`], so `rand_distr`'s samplers (ziggurat for the
+/// normal distribution) draw from counter-based bits.
+struct CounterRng(Stream);
+
+impl rand_core::RngCore for CounterRng {
+    fn next_u32(&mut self) -> u32 {
+        (self.0.next_u64() >> 32) as u32
+    }
+    fn next_u64(&mut self) -> u64 {
+        self.0.next_u64()
+    }
+    fn fill_bytes(&mut self, dest: &mut [u8]) {
+        for chunk in dest.chunks_mut(8) {
+            let bytes = self.0.next_u64().to_le_bytes();
+            chunk.copy_from_slice(&bytes[..chunk.len()]);
+        }
+    }
+    fn try_fill_bytes(&mut self, dest: &mut [u8]) -> Result<(), rand_core::Error> {
+        self.fill_bytes(dest);
+        Ok(())
+    }
+}
+
+/// Random displacements of one terrain.
+#[derive(Debug, Clone, Copy)]
+pub struct Displacements {
+    seed: u64,
+    distribution: Distribution,
+    mean: f64,
+    deviation: f64,
+}
+
+impl Displacements {
+    /// Displacements with the given seed, distribution, mean and variance.
+    pub fn new(seed: u64, distribution: Distribution, mean: f64, variance: f64) -> Self {
+        Displacements { seed: derive_seed(seed, "terrain"), distribution, mean, deviation: variance.max(0.0).sqrt() }
+    }
+
+    /// One mix of the seed and the point's coordinates (the sampler's stream mixes again).
+    #[inline(always)]
+    fn point_hash(&self, level: u32, x: u64, y: u64) -> u64 {
+        mix64(
+            self.seed
+                ^ u64::from(level).wrapping_mul(0x9e37_79b9_7f4a_7c15)
+                ^ x.wrapping_mul(0xc2b2_ae3d_27d4_eb4f)
+                ^ y.rotate_left(32).wrapping_mul(0x1656_67b1_9e37_79f9),
+        )
+    }
+
+    /// The random value of grid point (x, y) at `level`.
+    #[inline]
+    pub fn sample(&self, level: u32, x: u64, y: u64) -> f64 {
+        let mut rng = CounterRng(Stream::new(self.point_hash(level, x, y)));
+        let z: f64 = match self.distribution {
+            Distribution::Normal => StandardNormal.sample(&mut rng),
+            Distribution::Uniform => (rng.0.unit() * 2.0 - 1.0) * 3f64.sqrt(),
+        };
+        self.mean + self.deviation * z
+    }
+
+    /// A second, independent value of (x, y) at `level` (the applet's random sign).
+    #[inline]
+    pub fn sign(&self, level: u32, x: u64, y: u64) -> f64 {
+        if mix64(self.point_hash(level, x, y) ^ 0x5167_4e20_7369_676e) >> 63 == 0 { 1.0 } else { -1.0 }
+    }
+}

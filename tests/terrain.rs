@@ -1,0 +1,183 @@
+//! Classic terrain: determinism, streaming equals in-memory, seamless tiles, the Hurst
+//! exponent and per-level variance, thread independence.
+
+use asperity::io::{self, WriteOptions};
+use asperity::terrain::stream::{StreamFormat, write_terrain};
+use asperity::terrain::{Rect, TerrainParams, heights, mesh, tile_rect, whole};
+
+use crate::common::temp_dir;
+
+fn params(size: u64, hurst: f64, seed: u64) -> TerrainParams {
+    TerrainParams { size, hurst, seed, ..TerrainParams::default() }
+}
+
+fn full(p: &TerrainParams) -> Rect {
+    Rect { x0: 0, y0: 0, x1: p.size - 1, y1: p.size - 1 }
+}
+
+fn streamed(p: &TerrainParams, format: StreamFormat, band: usize) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    write_terrain(p, full(p), format, (-3.0, 3.0), band, &mut bytes).unwrap();
+    bytes
+}
+
+#[test]
+fn same_seed_same_bytes_other_seed_different() {
+    let a = streamed(&params(129, 0.7, 1), StreamFormat::F32, 129);
+    assert_eq!(a, streamed(&params(129, 0.7, 1), StreamFormat::F32, 129));
+    assert_ne!(a, streamed(&params(129, 0.7, 2), StreamFormat::F32, 129));
+}
+
+#[test]
+fn streaming_writes_the_same_bytes_as_the_whole_grid() {
+    let p = TerrainParams { sea_level: Some(-0.2), ..params(129, 0.6, 5) };
+    let dir = temp_dir();
+    let path = dir.path().join("whole.ply");
+    io::write(&mesh(&p, full(&p)).unwrap(), &path, WriteOptions::default()).unwrap();
+    let whole_bytes = std::fs::read(&path).unwrap();
+    for band in [1, 5, 64, 129] {
+        assert_eq!(streamed(&p, StreamFormat::Ply, band), whole_bytes, "ply, band {band}");
+    }
+    for format in [StreamFormat::Raw16, StreamFormat::F32, StreamFormat::Png16] {
+        assert_eq!(streamed(&p, format, 3), streamed(&p, format, 129), "{format:?}");
+    }
+}
+
+#[test]
+fn tiles_share_borders_and_their_union_is_the_whole_grid() {
+    let p = TerrainParams { sea_level: Some(0.0), ..params(129, 0.8, 9) };
+    let grid = whole(&p).unwrap();
+    let whole_mesh = mesh(&p, full(&p)).unwrap();
+    let tile_size = 33;
+    for j in 0..4 {
+        for i in 0..4 {
+            let rect = tile_rect(&p, i, j, tile_size).unwrap();
+            let tile = mesh(&p, rect).unwrap();
+            let cols = rect.width();
+            for (k, position) in tile.positions.iter().enumerate() {
+                let (x, y) = (rect.x0 + (k % cols) as u64, rect.y0 + (k / cols) as u64);
+                let w = (y * p.size + x) as usize;
+                assert_eq!(position.z, grid.at(x, y));
+                assert_eq!(*position, whole_mesh.positions[w], "tile {i},{j} point {x},{y}");
+                assert_eq!(tile.normals.as_ref().unwrap()[k], whole_mesh.normals.as_ref().unwrap()[w]);
+                assert_eq!(tile.colors.as_ref().unwrap()[k], whole_mesh.colors.as_ref().unwrap()[w]);
+            }
+        }
+    }
+    assert!(tile_rect(&p, 4, 0, tile_size).is_err());
+    assert!(tile_rect(&p, 0, 0, 30).is_err());
+}
+
+/// Slope of log D(h) against log h for the variogram D(h) = E[(z(x + h) − z(x))²], both axes.
+fn variogram_hurst(p: &TerrainParams) -> f64 {
+    let z = whole(p).unwrap();
+    let n = p.size;
+    let lags = [2u64, 3, 5, 7, 10, 14, 20, 28, 40];
+    let points: Vec<(f64, f64)> = lags
+        .iter()
+        .map(|&h| {
+            let (mut sum, mut count) = (0.0, 0.0);
+            for y in (0..n).step_by(2) {
+                for x in (0..n - h).step_by(2) {
+                    sum += (z.at(x + h, y) - z.at(x, y)).powi(2) + (z.at(y, x + h) - z.at(y, x)).powi(2);
+                    count += 2.0;
+                }
+            }
+            ((h as f64).ln(), (sum / count).ln())
+        })
+        .collect();
+    let m = points.len() as f64;
+    let (sx, sy) = points.iter().fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
+    let (mx, my) = (sx / m, sy / m);
+    let slope = points.iter().map(|(x, y)| (x - mx) * (y - my)).sum::<f64>()
+        / points.iter().map(|(x, _)| (x - mx).powi(2)).sum::<f64>();
+    slope / 2.0
+}
+
+#[test]
+fn the_variogram_recovers_the_hurst_exponent() {
+    for hurst in [0.3, 0.5, 0.8] {
+        let estimates: Vec<f64> = (0..3).map(|seed| variogram_hurst(&params(513, hurst, 40 + seed))).collect();
+        let mean = estimates.iter().sum::<f64>() / estimates.len() as f64;
+        eprintln!("H {hurst}: variogram estimates {estimates:?}");
+        assert!((mean - hurst).abs() <= 0.1, "H {hurst}: estimated {mean:.3}");
+    }
+}
+
+#[test]
+fn displacement_variance_falls_by_two_to_the_minus_two_h_per_level() {
+    let hurst = 0.7;
+    let p = params(1025, hurst, 3);
+    let z = whole(&p).unwrap();
+    // A square centre's displacement is its height minus the mean of its four corners
+    // (classic points never move once created).
+    let variance = |d: u64| {
+        let (mut sum, mut count) = (0.0, 0.0);
+        let mut y = d;
+        while y + d < p.size {
+            let mut x = d;
+            while x + d < p.size {
+                let mean = (z.at(x - d, y - d) + z.at(x + d, y - d) + z.at(x - d, y + d) + z.at(x + d, y + d)) / 4.0;
+                sum += (z.at(x, y) - mean).powi(2);
+                count += 1.0;
+                x += 2 * d;
+            }
+            y += 2 * d;
+        }
+        sum / count
+    };
+    let expected = (-2.0 * hurst).exp2();
+    for d in [2u64, 4, 8, 16] {
+        let ratio = variance(d / 2) / variance(d);
+        assert!((ratio / expected - 1.0).abs() < 0.1, "spacing {d}: ratio {ratio:.4}, expected {expected:.4}");
+    }
+}
+
+#[test]
+fn heights_are_identical_at_one_and_two_threads() {
+    let p = params(257, 0.8, 4);
+    let run =
+        |threads| rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| whole(&p).unwrap());
+    assert_eq!(run(1), run(2));
+    let region = Rect { x0: 17, y0: 100, x1: 200, y1: 131 };
+    let part = heights(&p, region).unwrap();
+    let all = run(2);
+    for y in region.y0..=region.y1 {
+        for x in region.x0..=region.x1 {
+            assert_eq!(part.at(x, y), all.at(x, y));
+        }
+    }
+}
+
+#[test]
+fn sea_level_flattens_and_colours_the_sea() {
+    let p = TerrainParams { sea_level: Some(0.1), ..params(65, 0.5, 6) };
+    let m = mesh(&p, full(&p)).unwrap();
+    let colors = m.colors.as_ref().unwrap();
+    let normals = m.normals.as_ref().unwrap();
+    let n = p.size as usize;
+    let (mut sea, mut open_sea) = (0, 0);
+    for (k, position) in m.positions.iter().enumerate() {
+        assert!(position.z >= 0.1);
+        if position.z == 0.1 {
+            sea += 1;
+            assert_eq!(colors[k], p.color(0.1));
+            let (x, y) = (k % n, k / n);
+            let inner = x > 0 && y > 0 && x + 1 < n && y + 1 < n;
+            if inner && [k - 1, k + 1, k - n, k + n].iter().all(|&w| m.positions[w].z == 0.1) {
+                open_sea += 1;
+                assert_eq!(normals[k], glam::DVec3::Z, "flat sea faces up");
+            }
+        }
+    }
+    assert!(sea > 0 && open_sea > 0, "some of the terrain lies under the sea");
+}
+
+#[test]
+fn invalid_sizes_and_parameters_are_errors() {
+    for size in [0, 1, 2, 100, 258] {
+        assert!(params(size, 0.5, 0).generator().is_err(), "size {size}");
+    }
+    assert!(TerrainParams { hurst: f64::NAN, ..TerrainParams::default() }.generator().is_err());
+    assert!(TerrainParams { width: 0.0, ..TerrainParams::default() }.generator().is_err());
+}
