@@ -72,7 +72,8 @@ fn tiles_share_borders_and_their_union_is_the_whole_grid() {
 fn variogram_hurst(p: &TerrainParams) -> f64 {
     let z = whole(p).unwrap();
     let n = p.size;
-    let lags = [2u64, 3, 5, 7, 10, 14, 20, 28, 40];
+    // Log-spaced lags (not powers of two) from 3 to 90 points.
+    let lags = [3u64, 5, 9, 13, 21, 30, 45, 63, 90];
     let points: Vec<(f64, f64)> = lags
         .iter()
         .map(|&h| {
@@ -97,7 +98,9 @@ fn variogram_hurst(p: &TerrainParams) -> f64 {
 #[test]
 fn the_variogram_recovers_the_hurst_exponent() {
     for hurst in [0.3, 0.5, 0.8] {
-        let estimates: Vec<f64> = (0..3).map(|seed| variogram_hurst(&params(513, hurst, 40 + seed))).collect();
+        // Diamond-square is not exactly fBm: its variogram slope runs a little low at high H
+        // (about 0.73 for H = 0.8), hence the average over four terrains.
+        let estimates: Vec<f64> = (0..4).map(|seed| variogram_hurst(&params(1025, hurst, 40 + seed))).collect();
         let mean = estimates.iter().sum::<f64>() / estimates.len() as f64;
         eprintln!("H {hurst}: variogram estimates {estimates:?}");
         assert!((mean - hurst).abs() <= 0.1, "H {hurst}: estimated {mean:.3}");

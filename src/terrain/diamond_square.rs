@@ -146,46 +146,68 @@ impl DiamondSquare {
                 *value = mean + self.displacement(level, scale, x, y);
             }
         });
-        let square = |x: u64, y: u64| {
-            centres[((y >> (shift + 1)) - b0) as usize * centre_cols + ((x >> (shift + 1)) - a0) as usize]
+        // Rows of the coarse level and of the centres, and column indices into them.
+        let coarse_row = |y: u64| {
+            let j = ((y - coarse.y0) >> (shift + 1)) as usize;
+            &coarse.values[j * coarse.cols..(j + 1) * coarse.cols]
         };
+        let centre_row = |y: u64| {
+            let b = ((y >> (shift + 1)) - b0) as usize;
+            &centres[b * centre_cols..(b + 1) * centre_cols]
+        };
+        let coarse_col = |x: u64| ((x - coarse.x0) >> (shift + 1)) as usize;
+        let centre_col = |x: u64| ((x >> (shift + 1)) - a0) as usize;
         let mut values = vec![0.0; rows * cols];
         values.par_chunks_mut(cols).enumerate().for_each(|(j, row)| {
             let y = r.y0 + j as u64 * d;
-            let y_odd = (y >> shift) & 1 == 1;
-            for (i, value) in row.iter_mut().enumerate() {
-                let x = r.x0 + i as u64 * d;
-                let x_odd = (x >> shift) & 1 == 1;
-                *value = match (x_odd, y_odd) {
-                    (false, false) => coarse.get(x, y),
-                    (true, true) => square(x, y),
-                    _ => {
-                        // Diamond point: its neighbours at distance d along each axis are
-                        // coarse points (along its even axis) and square centres.
-                        let neighbour = |nx: u64, ny: u64| {
-                            if ((nx | ny) >> shift) & 1 == 0 { coarse.get(nx, ny) } else { square(nx, ny) }
-                        };
-                        let mut sum = 0.0;
-                        let mut count = 0.0;
-                        if x >= d {
-                            sum += neighbour(x - d, y);
-                            count += 1.0;
-                        }
-                        if x + d <= last {
-                            sum += neighbour(x + d, y);
-                            count += 1.0;
-                        }
-                        if y >= d {
-                            sum += neighbour(x, y - d);
-                            count += 1.0;
-                        }
-                        if y + d <= last {
-                            sum += neighbour(x, y + d);
-                            count += 1.0;
-                        }
-                        sum / count + self.displacement(level, scale, x, y)
+            if (y >> shift) & 1 == 0 {
+                // Coarse points alternate with diamonds whose left and right neighbours are
+                // coarse points and whose upper and lower neighbours are square centres.
+                let here = coarse_row(y);
+                let up = (y >= d).then(|| centre_row(y - d));
+                let down = (y + d <= last).then(|| centre_row(y + d));
+                for (i, value) in row.iter_mut().enumerate() {
+                    let x = r.x0 + i as u64 * d;
+                    if (x >> shift) & 1 == 0 {
+                        *value = here[coarse_col(x)];
+                        continue;
                     }
-                };
+                    let mut sum = here[coarse_col(x - d)] + here[coarse_col(x + d)];
+                    let mut count = 2.0;
+                    if let Some(up) = up {
+                        sum += up[centre_col(x)];
+                        count += 1.0;
+                    }
+                    if let Some(down) = down {
+                        sum += down[centre_col(x)];
+                        count += 1.0;
+                    }
+                    *value = sum / count + self.displacement(level, scale, x, y);
+                }
+            } else {
+                // Square centres alternate with diamonds whose left and right neighbours are
+                // square centres and whose upper and lower neighbours are coarse points.
+                let here = centre_row(y);
+                let (up, down) = (coarse_row(y - d), coarse_row(y + d));
+                for (i, value) in row.iter_mut().enumerate() {
+                    let x = r.x0 + i as u64 * d;
+                    if (x >> shift) & 1 == 1 {
+                        *value = here[centre_col(x)];
+                        continue;
+                    }
+                    let mut sum = 0.0;
+                    let mut count = 2.0;
+                    if x >= d {
+                        sum += here[centre_col(x - d)];
+                        count += 1.0;
+                    }
+                    if x + d <= last {
+                        sum += here[centre_col(x + d)];
+                        count += 1.0;
+                    }
+                    sum += up[coarse_col(x)] + down[coarse_col(x)];
+                    *value = sum / count + self.displacement(level, scale, x, y);
+                }
             }
         });
         LevelGrid { shift, x0: r.x0, y0: r.y0, cols, rows, values }

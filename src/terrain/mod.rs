@@ -159,7 +159,21 @@ pub fn heights(params: &TerrainParams, rect: Rect) -> Result<Heightfield> {
     if rect.x0 > rect.x1 || rect.y0 > rect.y1 || rect.x1 > last || rect.y1 > last {
         return Err(Error::InvalidInput(format!("region {rect:?} is outside the {0}x{0} grid", params.size)));
     }
-    let mut values = generator.heights(rect);
+    // Tall regions are cut into bands computed in parallel: every band equals the matching
+    // rows of the whole, and bands stay cache-sized (one huge level buffer is slower).
+    const BAND: usize = 128;
+    let cols = rect.width();
+    let mut values = if rect.height() > 2 * BAND {
+        let mut values = vec![0.0; cols * rect.height()];
+        values.par_chunks_mut(cols * BAND).enumerate().for_each(|(b, chunk)| {
+            let y0 = rect.y0 + (b * BAND) as u64;
+            let band = Rect { y0, y1: y0 + (chunk.len() / cols) as u64 - 1, ..rect };
+            chunk.copy_from_slice(&generator.heights(band));
+        });
+        values
+    } else {
+        generator.heights(rect)
+    };
     if let Some(sea) = params.sea_level {
         values.par_iter_mut().for_each(|h| *h = h.max(sea));
     }

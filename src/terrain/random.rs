@@ -56,15 +56,14 @@ impl Displacements {
         Displacements { seed: derive_seed(seed, "terrain"), distribution, mean, deviation: variance.max(0.0).sqrt() }
     }
 
-    /// One mix of the seed and the point's coordinates (the sampler's stream mixes again).
+    /// The seed and the point's coordinates combined by odd multipliers; the sampler's
+    /// stream applies the one full mix (fmix64) before any bit is used.
     #[inline(always)]
     fn point_hash(&self, level: u32, x: u64, y: u64) -> u64 {
-        mix64(
-            self.seed
-                ^ u64::from(level).wrapping_mul(0x9e37_79b9_7f4a_7c15)
-                ^ x.wrapping_mul(0xc2b2_ae3d_27d4_eb4f)
-                ^ y.rotate_left(32).wrapping_mul(0x1656_67b1_9e37_79f9),
-        )
+        self.seed
+            ^ u64::from(level).wrapping_mul(0x9e37_79b9_7f4a_7c15)
+            ^ x.wrapping_mul(0xc2b2_ae3d_27d4_eb4f)
+            ^ y.rotate_left(32).wrapping_mul(0x1656_67b1_9e37_79f9)
     }
 
     /// The random value of grid point (x, y) at `level`.
