@@ -96,7 +96,15 @@ fn demo_writes_its_meshes() {
     let tmp = temp_dir();
     let out = asperity(&["demo", "--out", "results"], tmp.path());
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    for file in ["torus.ply", "icosphere.obj", "icosphere-coarse.off", "noise-gabor.png", "noise-marble.png"] {
+    for file in [
+        "torus.ply",
+        "icosphere.obj",
+        "icosphere-coarse.off",
+        "noise-gabor.png",
+        "noise-marble.png",
+        "terrain.ply",
+        "terrain-height.png",
+    ] {
         assert!(tmp.path().join("results").join(file).is_file(), "{file}");
     }
     let stdout = String::from_utf8_lossy(&out.stdout);

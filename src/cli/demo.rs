@@ -1,7 +1,7 @@
 //! `asperity demo [--out DIR]`: the main job on built-in inputs. It builds a torus and an
 //! icosphere in code, round-trips them through OpenMesh, measures them with CGAL, writes a
-//! panel of noise images and the feature analysis of fandisk (or of the torus when the
-//! shared meshes are absent) under `DIR`; later stages (terrain, detail) extend it.
+//! panel of noise images, a terrain, and the feature analysis of fandisk (or of the torus
+//! when the shared meshes are absent) under `DIR`; the detail pipeline will extend it.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -63,6 +63,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
     write_result(&coarse, &args.out.join("icosphere-coarse.off"))?;
 
     write_noise_panel(&args.out)?;
+    write_terrain(&args.out)?;
 
     if let Some(fandisk) = shared_mesh("fandisk.off") {
         let start = Instant::now();
@@ -98,6 +99,28 @@ fn openmesh_round_trip(name: &str, mesh: &Mesh) -> Result<()> {
         counts.vertices,
         counts.edges,
         counts.faces,
+        super::millis(start)
+    );
+    Ok(())
+}
+
+/// A 257² classic terrain with a sea, as a coloured mesh and a 16-bit heightmap.
+fn write_terrain(out: &Path) -> Result<()> {
+    use crate::terrain::stream::{StreamFormat, write_terrain};
+    use crate::terrain::{Rect, TerrainParams, mesh, whole};
+    let start = Instant::now();
+    let params = TerrainParams { size: 257, hurst: 0.6, seed: 2, sea_level: Some(-0.8), ..TerrainParams::default() };
+    let rect = Rect { x0: 0, y0: 0, x1: 256, y1: 256 };
+    io::write(&mesh(&params, rect)?, &out.join("terrain.ply"), WriteOptions::default())?;
+    // A preview uses the terrain's own range (tiles and streams use a fixed one instead).
+    let range = value_range(&whole(&params)?.heights).ok_or_else(|| Error::Internal("empty terrain".into()))?;
+    let path = out.join("terrain-height.png");
+    crate::io::write_atomically(&path, |w| {
+        write_terrain(&params, rect, StreamFormat::Png16, range, 257, w).map_err(std::io::Error::other)
+    })?;
+    println!(
+        "terrain: classic 257x257 (H 0.6, sea -0.8) => {}/terrain.ply, terrain-height.png in {} ms",
+        out.display(),
         super::millis(start)
     );
     Ok(())

@@ -54,7 +54,7 @@ pub struct NoiseArgs {
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// PNG grey range LO,HI (default: the image's own minimum and maximum).
-    #[arg(long, value_parser = parse_range)]
+    #[arg(long, value_parser = parse_range, allow_hyphen_values = true)]
     range: Option<(f64, f64)>,
     /// Output: .png (16-bit grey) or .f32 (raw little-endian, row-major).
     #[arg(short, long)]

@@ -82,11 +82,15 @@ pub struct TerrainArgs {
     #[arg(long)]
     tile_size: Option<u64>,
     /// Height range LO,HI mapped to 16 bits (.png, .raw16); default ± the height scale.
-    #[arg(long, value_parser = parse_range)]
+    #[arg(long, value_parser = parse_range, allow_hyphen_values = true)]
     range: Option<(f64, f64)>,
     /// Output: .ply / .obj mesh, .png 16-bit heightmap, .raw16, .f32.
     #[arg(short, long)]
     output: PathBuf,
+    /// Output format when the file name has no telling extension (e.g. -o /dev/null):
+    /// ply, obj, png, raw16 or f32.
+    #[arg(long)]
+    format: Option<String>,
 }
 
 fn parse_numbers<const N: usize>(s: &str) -> std::result::Result<[f64; N], String> {
@@ -135,7 +139,10 @@ pub fn run(args: TerrainArgs) -> Result<()> {
         (Some((i, j)), Some(size)) => tile_rect(&params, i, j, size)?,
         _ => Rect { x0: 0, y0: 0, x1: args.size - 1, y1: args.size - 1 },
     };
-    let ext = args.output.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    let ext = match &args.format {
+        Some(format) => format.to_ascii_lowercase(),
+        None => args.output.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase(),
+    };
     let scale = params.height_scale();
     let range = args.range.unwrap_or((-scale, scale));
     let points = rect.width() as u64 * rect.height() as u64;
@@ -144,7 +151,8 @@ pub fn run(args: TerrainArgs) -> Result<()> {
             return Err(Error::InvalidInput("--stream writes .ply, .png, .raw16 or .f32, not .obj".into()));
         }
         let terrain = mesh(&params, rect)?;
-        io::write(&terrain, &args.output, WriteOptions::default())?;
+        let format = if ext == "obj" { io::Format::Obj } else { io::Format::Ply };
+        io::write_as(&terrain, &args.output, format, WriteOptions::default())?;
     } else {
         let format = StreamFormat::from_extension(&ext).ok_or_else(|| {
             Error::InvalidInput(format!(

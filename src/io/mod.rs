@@ -99,7 +99,14 @@ pub fn read_bytes(bytes: &[u8], format: Format, path: &Path) -> Result<ReadOutco
 /// # Errors
 /// [`Error::InvalidInput`] for an inconsistent mesh; [`Error::Io`] if writing fails.
 pub fn write(mesh: &Mesh, path: &Path, options: WriteOptions) -> Result<()> {
-    let format = Format::from_path(path)?;
+    write_as(mesh, path, Format::from_path(path)?, options)
+}
+
+/// Writes a mesh in a given format whatever the file name; atomic like [`write`].
+///
+/// # Errors
+/// As [`write`].
+pub fn write_as(mesh: &Mesh, path: &Path, format: Format, options: WriteOptions) -> Result<()> {
     mesh.check()?;
     write_atomically(path, |w| match format {
         Format::Obj => obj::write(mesh, w),
