@@ -184,3 +184,33 @@ fn invalid_sizes_and_parameters_are_errors() {
     assert!(TerrainParams { hurst: f64::NAN, ..TerrainParams::default() }.generator().is_err());
     assert!(TerrainParams { width: 0.0, ..TerrainParams::default() }.generator().is_err());
 }
+
+#[test]
+fn the_smooth_method_stays_in_range_smooths_and_tiles() {
+    use asperity::terrain::Method;
+    let p = TerrainParams { method: Method::Smooth, sea_level: None, ..params(129, 0.5, 12) };
+    let smooth = whole(&p).unwrap();
+    let raw = p.generator().unwrap().heights(full(&p));
+    // Uniform draws within the parents' range never leave the corners' range, and a
+    // weighted average cannot either.
+    let corners = [raw[0], raw[128], raw[128 * 129], raw[129 * 129 - 1]];
+    let (lo, hi) = corners.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &c| (a.min(c), b.max(c)));
+    assert!(raw.iter().chain(&smooth.heights).all(|&h| h >= lo - 1e-12 && h <= hi + 1e-12));
+    // Two Gaussian passes lower the roughness.
+    let roughness = |z: &[f64]| z.windows(2).map(|w| (w[1] - w[0]).abs()).sum::<f64>();
+    assert!(
+        roughness(&smooth.heights) < 0.7 * roughness(&raw),
+        "{} vs {}",
+        roughness(&smooth.heights),
+        roughness(&raw)
+    );
+    // Tiles and streams still agree with the whole grid.
+    let rect = tile_rect(&p, 1, 2, 33).unwrap();
+    let tile = heights(&p, rect).unwrap();
+    for y in rect.y0..=rect.y1 {
+        for x in rect.x0..=rect.x1 {
+            assert_eq!(tile.at(x, y), smooth.at(x, y));
+        }
+    }
+    assert_eq!(streamed(&p, StreamFormat::Ply, 7), streamed(&p, StreamFormat::Ply, 129));
+}

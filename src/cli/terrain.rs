@@ -9,14 +9,7 @@ use clap::{Args, ValueEnum};
 use crate::error::{Error, Result};
 use crate::io::{self, WriteOptions, write_atomically};
 use crate::terrain::stream::{StreamFormat, write_terrain};
-use crate::terrain::{Distribution, Rect, TerrainParams, mesh, tile_rect};
-
-/// Generators (the dual and smooth methods of seeds 000 and 002 are not built yet).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum Method {
-    /// Midpoint displacement / diamond-square (seed 001).
-    Classic,
-}
+use crate::terrain::{Distribution, Method, Rect, TerrainParams, mesh, tile_rect};
 
 /// Grid types.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -27,7 +20,7 @@ enum Grid {
 
 #[derive(Debug, Args)]
 pub struct TerrainArgs {
-    /// Generator.
+    /// Generator (Janeczek's dual method of seed 000 is not built yet).
     #[arg(long, value_enum, default_value_t = Method::Classic)]
     method: Method,
     /// Points per side, 2^n + 1.
@@ -118,9 +111,9 @@ fn parse_pair(s: &str) -> std::result::Result<(u64, u64), String> {
 
 pub fn run(args: TerrainArgs) -> Result<()> {
     let start = Instant::now();
-    let Method::Classic = args.method;
     let Grid::Square = args.grid;
     let params = TerrainParams {
+        method: args.method,
         size: args.size,
         hurst: args.hurst,
         sigma: args.sigma,
@@ -176,7 +169,8 @@ pub fn run(args: TerrainArgs) -> Result<()> {
     }
     let seconds = start.elapsed().as_secs_f64();
     println!(
-        "terrain: classic {}x{} (H {}, seed {}) => {} in {} ms ({:.1} M points/s)",
+        "terrain: {:?} {}x{} (H {}, seed {}) => {} in {} ms ({:.1} M points/s)",
+        args.method,
         rect.width(),
         rect.height(),
         args.hurst,

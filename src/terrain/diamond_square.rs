@@ -1,8 +1,9 @@
-//! Classic midpoint displacement / diamond-square on a (2ⁿ + 1)² grid (Fournier, Fussell &
+//! Midpoint displacement / diamond-square on a (2ⁿ + 1)² grid (Fournier, Fussell &
 //! Carpenter 1982; seed 001): at level l (spacing d = 2ⁿ⁻ˡ) every square centre gets the
 //! mean of its four corners plus a displacement, then every diamond point the mean of its
 //! (three or four) neighbours at distance d plus a displacement; the displacement scale is
 //! σ·2^(−H·l). Seed 001's applet variant keeps the scale constant and draws a random sign.
+//! Seed 002's rule instead draws each new point uniformly within its parents' range.
 //!
 //! The generator works on any grid-aligned rectangle: level l on a rectangle needs level
 //! l − 1 on the rectangle grown by 2d, so a whole grid, a tile or a band of rows are the same
@@ -12,9 +13,20 @@ use rayon::prelude::*;
 
 use super::random::Displacements;
 
-/// Parameters of the classic generator.
+/// How a new point is made from its parents.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rule {
+    /// Mean of the parents plus a scaled displacement (Fournier, Fussell & Carpenter).
+    MeanPlusDisplacement,
+    /// Uniform within the range of the parents (seed 002): never leaves the corners' range.
+    UniformInSupport,
+}
+
+/// Parameters of the generator.
 #[derive(Debug, Clone, Copy)]
 pub struct DiamondSquare {
+    /// How new points are made.
+    pub rule: Rule,
     /// n: the grid has 2ⁿ + 1 points per side.
     pub levels: u32,
     /// Roughness H: the displacement scale is multiplied by 2^(−H) per level.
@@ -91,6 +103,21 @@ impl DiamondSquare {
         if self.applet { r.abs() * self.random.sign(level, x, y) * scale } else { r * scale }
     }
 
+    /// A new point from its parents (in a fixed order), by the generator's rule.
+    #[inline(always)]
+    fn new_point(&self, parents: &[f64], level: u32, scale: f64, x: u64, y: u64) -> f64 {
+        match self.rule {
+            Rule::MeanPlusDisplacement => {
+                parents.iter().sum::<f64>() / parents.len() as f64 + self.displacement(level, scale, x, y)
+            }
+            Rule::UniformInSupport => {
+                let (lo, hi) =
+                    parents.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+                lo + (hi - lo) * self.random.unit(level, x, y)
+            }
+        }
+    }
+
     /// The finished heights on `rect` (row-major, `rect.width()` per row).
     pub fn heights(&self, rect: Rect) -> Vec<f64> {
         self.level(self.levels, rect).values
@@ -138,12 +165,13 @@ impl DiamondSquare {
             let y = (2 * (b0 + jb as u64) + 1) * d;
             for (ia, value) in row.iter_mut().enumerate() {
                 let x = (2 * (a0 + ia as u64) + 1) * d;
-                let mean = (coarse.get(x - d, y - d)
-                    + coarse.get(x + d, y - d)
-                    + coarse.get(x - d, y + d)
-                    + coarse.get(x + d, y + d))
-                    * 0.25;
-                *value = mean + self.displacement(level, scale, x, y);
+                let parents = [
+                    coarse.get(x - d, y - d),
+                    coarse.get(x + d, y - d),
+                    coarse.get(x - d, y + d),
+                    coarse.get(x + d, y + d),
+                ];
+                *value = self.new_point(&parents, level, scale, x, y);
             }
         });
         // Rows of the coarse level and of the centres, and column indices into them.
@@ -172,17 +200,13 @@ impl DiamondSquare {
                         *value = here[coarse_col(x)];
                         continue;
                     }
-                    let mut sum = here[coarse_col(x - d)] + here[coarse_col(x + d)];
-                    let mut count = 2.0;
-                    if let Some(up) = up {
-                        sum += up[centre_col(x)];
-                        count += 1.0;
+                    let mut parents = [here[coarse_col(x - d)], here[coarse_col(x + d)], 0.0, 0.0];
+                    let mut count = 2;
+                    for neighbours in [up, down].into_iter().flatten() {
+                        parents[count] = neighbours[centre_col(x)];
+                        count += 1;
                     }
-                    if let Some(down) = down {
-                        sum += down[centre_col(x)];
-                        count += 1.0;
-                    }
-                    *value = sum / count + self.displacement(level, scale, x, y);
+                    *value = self.new_point(&parents[..count], level, scale, x, y);
                 }
             } else {
                 // Square centres alternate with diamonds whose left and right neighbours are
@@ -195,18 +219,19 @@ impl DiamondSquare {
                         *value = here[centre_col(x)];
                         continue;
                     }
-                    let mut sum = 0.0;
-                    let mut count = 2.0;
+                    let mut parents = [0.0; 4];
+                    let mut count = 0;
                     if x >= d {
-                        sum += here[centre_col(x - d)];
-                        count += 1.0;
+                        parents[count] = here[centre_col(x - d)];
+                        count += 1;
                     }
                     if x + d <= last {
-                        sum += here[centre_col(x + d)];
-                        count += 1.0;
+                        parents[count] = here[centre_col(x + d)];
+                        count += 1;
                     }
-                    sum += up[coarse_col(x)] + down[coarse_col(x)];
-                    *value = sum / count + self.displacement(level, scale, x, y);
+                    parents[count] = up[coarse_col(x)];
+                    parents[count + 1] = down[coarse_col(x)];
+                    *value = self.new_point(&parents[..count + 2], level, scale, x, y);
                 }
             }
         });

@@ -11,15 +11,29 @@ use glam::DVec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-pub use diamond_square::{DiamondSquare, Rect};
+pub use diamond_square::{DiamondSquare, Rect, Rule};
 pub use random::{Displacements, Distribution};
 
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, Rgb};
 
-/// Parameters of a classic terrain.
+/// Terrain generators.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// Midpoint displacement / diamond-square (Fournier, Fussell & Carpenter; seed 001).
+    #[default]
+    Classic,
+    /// Seed 002: new points uniform within their parents' range, then a 3×3 Gaussian
+    /// filter applied twice; colours blended through a logistic function.
+    Smooth,
+}
+
+/// Parameters of a terrain.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct TerrainParams {
+    /// Generator.
+    pub method: Method,
     /// Points per side, 2ⁿ + 1.
     pub size: u64,
     /// Roughness H (seed 001): the displacement scale is multiplied by 2^(−H) per level.
@@ -49,6 +63,7 @@ pub struct TerrainParams {
 impl Default for TerrainParams {
     fn default() -> Self {
         TerrainParams {
+            method: Method::Classic,
             size: 257,
             hurst: 0.8,
             sigma: 1.0,
@@ -88,6 +103,10 @@ impl TerrainParams {
             return Err(Error::InvalidInput("variance must be ≥ 0 and width, depth > 0".into()));
         }
         Ok(DiamondSquare {
+            rule: match self.method {
+                Method::Classic => Rule::MeanPlusDisplacement,
+                Method::Smooth => Rule::UniformInSupport,
+            },
             levels,
             hurst: self.hurst,
             sigma: self.sigma,
@@ -128,7 +147,12 @@ impl TerrainParams {
         ];
         let k = stops.windows(2).position(|w| t <= w[1].0).unwrap_or(2);
         let ((t0, c0), (t1, c1)) = (stops[k], stops[k + 1]);
-        let s = (t - t0) / (t1 - t0);
+        let linear = (t - t0) / (t1 - t0);
+        // Seed 002 blends bands through a logistic function of the normalised height.
+        let s = match self.method {
+            Method::Classic => linear,
+            Method::Smooth => 1.0 / (1.0 + (-12.0 * (linear - 0.5)).exp()),
+        };
         [0, 1, 2].map(|i| (c0[i] + s * (c1[i] - c0[i])).round() as u8)
     }
 }
@@ -159,11 +183,73 @@ pub fn heights(params: &TerrainParams, rect: Rect) -> Result<Heightfield> {
     if rect.x0 > rect.x1 || rect.y0 > rect.y1 || rect.x1 > last || rect.y1 > last {
         return Err(Error::InvalidInput(format!("region {rect:?} is outside the {0}x{0} grid", params.size)));
     }
+    if params.method == Method::Smooth {
+        // Two 3×3 Gaussian passes: each height depends on raw heights two points away.
+        let grown = Rect {
+            x0: rect.x0.saturating_sub(2),
+            y0: rect.y0.saturating_sub(2),
+            x1: (rect.x1 + 2).min(last),
+            y1: (rect.y1 + 2).min(last),
+        };
+        let raw = Heightfield { rect: grown, heights: raw_heights(&generator, grown) };
+        let once = gaussian_3x3(
+            &raw,
+            params.size,
+            Rect {
+                x0: rect.x0.saturating_sub(1),
+                y0: rect.y0.saturating_sub(1),
+                x1: (rect.x1 + 1).min(last),
+                y1: (rect.y1 + 1).min(last),
+            },
+        );
+        let mut twice = gaussian_3x3(&once, params.size, rect);
+        if let Some(sea) = params.sea_level {
+            twice.heights.par_iter_mut().for_each(|h| *h = h.max(sea));
+        }
+        return Ok(twice);
+    }
+    let mut values = raw_heights(&generator, rect);
+    if let Some(sea) = params.sea_level {
+        values.par_iter_mut().for_each(|h| *h = h.max(sea));
+    }
+    Ok(Heightfield { rect, heights: values })
+}
+
+/// One pass of the 3×3 Gaussian filter ([1 2 1]ᵀ[1 2 1] / 16) over `rect`, from `field`
+/// (which must hold `rect` grown by one point within the grid); at the grid border the
+/// weights of the points that exist are renormalised.
+fn gaussian_3x3(field: &Heightfield, size: u64, rect: Rect) -> Heightfield {
+    let last = size - 1;
+    let cols = rect.width();
+    let mut heights = vec![0.0; cols * rect.height()];
+    heights.par_chunks_mut(cols).enumerate().for_each(|(j, row)| {
+        let y = rect.y0 + j as u64;
+        for (i, value) in row.iter_mut().enumerate() {
+            let x = rect.x0 + i as u64;
+            let (mut sum, mut weight) = (0.0, 0.0);
+            for (dy, wy) in [(-1i64, 1.0), (0, 2.0), (1, 1.0)] {
+                for (dx, wx) in [(-1i64, 1.0), (0, 2.0), (1, 1.0)] {
+                    let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+                    if nx < 0 || ny < 0 || nx as u64 > last || ny as u64 > last {
+                        continue;
+                    }
+                    sum += wx * wy * field.at(nx as u64, ny as u64);
+                    weight += wx * wy;
+                }
+            }
+            *value = sum / weight;
+        }
+    });
+    Heightfield { rect, heights }
+}
+
+/// The generator's heights on `rect`.
+fn raw_heights(generator: &DiamondSquare, rect: Rect) -> Vec<f64> {
     // Tall regions are cut into bands computed in parallel: every band equals the matching
     // rows of the whole, and bands stay cache-sized (one huge level buffer is slower).
     const BAND: usize = 128;
     let cols = rect.width();
-    let mut values = if rect.height() > 2 * BAND {
+    if rect.height() > 2 * BAND {
         let mut values = vec![0.0; cols * rect.height()];
         values.par_chunks_mut(cols * BAND).enumerate().for_each(|(b, chunk)| {
             let y0 = rect.y0 + (b * BAND) as u64;
@@ -172,14 +258,9 @@ pub fn heights(params: &TerrainParams, rect: Rect) -> Result<Heightfield> {
         });
         values
     } else {
+        // At the finest level (spacing 1) the generator's region is exactly `rect`.
         generator.heights(rect)
-    };
-    if let Some(sea) = params.sea_level {
-        values.par_iter_mut().for_each(|h| *h = h.max(sea));
     }
-    // The generator snaps regions to its coarsest spacing at the finest level (spacing 1),
-    // so `values` covers exactly `rect`.
-    Ok(Heightfield { rect, heights: values })
 }
 
 /// The whole grid.

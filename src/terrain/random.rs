@@ -77,6 +77,12 @@ impl Displacements {
         self.mean + self.deviation * z
     }
 
+    /// A uniform value in [0, 1) of (x, y) at `level` (seed 002's rule).
+    #[inline]
+    pub fn unit(&self, level: u32, x: u64, y: u64) -> f64 {
+        Stream::new(self.point_hash(level, x, y)).unit()
+    }
+
     /// A second, independent value of (x, y) at `level` (the applet's random sign).
     #[inline]
     pub fn sign(&self, level: u32, x: u64, y: u64) -> f64 {
