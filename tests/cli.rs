@@ -196,5 +196,17 @@ fn terrain_streams_tiles_and_refuses_bad_sizes() {
         &["tile 9,9"],
     );
     assert_one_line_error(&run(&["terrain", "--stream", "-o", "x.obj"]), 2, &[".obj"]);
+    let out = run(&[
+        "terrain", "--method", "dual", "--x", "2,0,0.3", "--y", "0,1,0", "--levels", "4", "--steps", "steps", "-o",
+        "dual.ply",
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(asperity::io::read(&tmp.path().join("dual.ply")).unwrap().mesh.vertex_count(), 17 * 17);
+    assert!(tmp.path().join("steps/level-04.ply").is_file());
+    assert_one_line_error(
+        &run(&["terrain", "--method", "dual", "--x", "1,0,0", "--y", "2,0,0", "-o", "x.ply"]),
+        2,
+        &["non-parallel"],
+    );
     assert!(!tmp.path().join("x.ply").exists() && !tmp.path().join("x.obj").exists());
 }

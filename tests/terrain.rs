@@ -214,3 +214,78 @@ fn the_smooth_method_stays_in_range_smooths_and_tiles() {
     }
     assert_eq!(streamed(&p, StreamFormat::Ply, 7), streamed(&p, StreamFormat::Ply, 129));
 }
+
+mod dual {
+    use asperity::terrain::{DualParams, QuadSurface, dual_midpoint_displacement};
+    use glam::DVec3;
+
+    fn surface(params: &DualParams) -> QuadSurface {
+        dual_midpoint_displacement(params, |_, _| {}).unwrap()
+    }
+
+    /// Mean |second difference along the diagonals| of the height along the quad normal —
+    /// |h − mean of the four diagonal neighbours|, a stencil the correction does not use —
+    /// at the last division's originals (even, even) and at the quad centres (odd, odd).
+    fn diagonal_peaks_at_originals_and_centres(s: &QuadSurface, z: DVec3) -> (f64, f64) {
+        let h = |i: usize, j: usize| s.points[i * s.n + j].dot(z);
+        let (mut originals, mut centres, mut n_orig, mut n_centre) = (0.0, 0.0, 0.0, 0.0);
+        for i in 1..s.m - 1 {
+            for j in 1..s.n - 1 {
+                let peak =
+                    (h(i, j) - (h(i - 1, j - 1) + h(i + 1, j - 1) + h(i - 1, j + 1) + h(i + 1, j + 1)) / 4.0).abs();
+                match (i % 2, j % 2) {
+                    (0, 0) => (originals, n_orig) = (originals + peak, n_orig + 1.0),
+                    (1, 1) => (centres, n_centre) = (centres + peak, n_centre + 1.0),
+                    _ => {}
+                }
+            }
+        }
+        (originals / n_orig, centres / n_centre)
+    }
+
+    #[test]
+    fn the_surface_keeps_its_corners_and_is_deterministic() {
+        let params = DualParams {
+            x: DVec3::new(2.0, 0.0, 0.5),
+            y: DVec3::new(0.3, 1.5, 0.0),
+            levels: 6,
+            seed: 4,
+            ..DualParams::default()
+        };
+        let s = surface(&params);
+        assert_eq!((s.m, s.n), (65, 65));
+        assert_eq!(s.points[0], DVec3::ZERO);
+        assert_eq!(s.points[64], params.y);
+        assert_eq!(s.points[64 * 65], params.x);
+        assert_eq!(s.points[65 * 65 - 1], params.x + params.y);
+        assert_eq!(s, surface(&params));
+        assert_ne!(s, surface(&DualParams { seed: 5, ..params }));
+        assert_ne!(s, surface(&DualParams { cross_product: true, ..params }));
+        let mut levels = Vec::new();
+        dual_midpoint_displacement(&params, |level, step| levels.push((level, step.m))).unwrap();
+        assert_eq!(levels, vec![(0, 2), (1, 3), (2, 5), (3, 9), (4, 17), (5, 33), (6, 65)]);
+        let mesh = s.to_mesh();
+        assert!(mesh.validate().is_manifold());
+        assert!(dual_midpoint_displacement(&DualParams { y: params.x * 2.0, ..params }, |_, _| {}).is_err());
+    }
+
+    #[test]
+    fn the_non_random_mode_needs_no_seed() {
+        let params = DualParams { levels: 5, deterministic: true, ..DualParams::default() };
+        assert_eq!(surface(&DualParams { seed: 1, ..params }), surface(&DualParams { seed: 2, ..params }));
+    }
+
+    #[test]
+    fn mean_correction_removes_the_peaks_and_pits_at_original_points() {
+        let params = DualParams { levels: 7, seed: 9, hurst: 1.5, ..DualParams::default() };
+        let (with_orig, with_centres) = diagonal_peaks_at_originals_and_centres(&surface(&params), DVec3::Z);
+        let (without_orig, without_centres) = diagonal_peaks_at_originals_and_centres(
+            &surface(&DualParams { mean_correction: false, ..params }),
+            DVec3::Z,
+        );
+        let (corrected, uncorrected) = (with_orig / with_centres, without_orig / without_centres);
+        eprintln!("diagonal peaks originals/centres: corrected {corrected:.3}, uncorrected {uncorrected:.3}");
+        assert!(uncorrected > 1.5, "uncorrected originals stand out as peaks and pits: {uncorrected:.3}");
+        assert!(corrected < 0.5 * uncorrected && corrected < 1.2, "corrected originals should not: {corrected:.3}");
+    }
+}

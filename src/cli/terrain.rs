@@ -6,10 +6,26 @@ use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 
+use crate::analysis::{FaceGeometry, NormalWeighting, vertex_normals};
 use crate::error::{Error, Result};
 use crate::io::{self, WriteOptions, write_atomically};
+use crate::mesh::Adjacency;
 use crate::terrain::stream::{StreamFormat, write_terrain};
-use crate::terrain::{Distribution, Method, Rect, TerrainParams, mesh, tile_rect};
+use crate::terrain::{
+    Distribution, DualParams, Method, QuadSurface, Rect, TerrainParams, dual_midpoint_displacement, mesh, ramp_color,
+    tile_rect,
+};
+
+/// Generators.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum MethodArg {
+    /// Midpoint displacement / diamond-square (seed 001).
+    Classic,
+    /// Seed 002: uniform within the parents' range, Gaussian-smoothed.
+    Smooth,
+    /// Janeczek's dual midpoint displacement over a 3D quadrilateral (seed 000).
+    Dual,
+}
 
 /// Grid types.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -20,18 +36,39 @@ enum Grid {
 
 #[derive(Debug, Args)]
 pub struct TerrainArgs {
-    /// Generator (Janeczek's dual method of seed 000 is not built yet).
-    #[arg(long, value_enum, default_value_t = Method::Classic)]
-    method: Method,
+    /// Generator.
+    #[arg(long, value_enum, default_value_t = MethodArg::Classic)]
+    method: MethodArg,
     /// Points per side, 2^n + 1.
     #[arg(long, default_value_t = 257)]
     size: u64,
-    /// Roughness H: the displacement scale falls by 2^-H per level.
-    #[arg(long, default_value_t = 0.8)]
-    hurst: f64,
-    /// Displacement scale at the first level.
+    /// Roughness H: the displacement scale falls by 2^-H per level (default 0.8; 1.5 for dual).
+    #[arg(long)]
+    hurst: Option<f64>,
+    /// Displacement scale at the first level (dual: the factor applied to (|x| + |y|)/2).
     #[arg(long, default_value_t = 1.0)]
     sigma: f64,
+    /// Dual: first side of the quadrilateral X,Y,Z.
+    #[arg(long, value_parser = parse_vector, allow_hyphen_values = true, default_value = "1,0,0")]
+    x: [f64; 3],
+    /// Dual: second side of the quadrilateral X,Y,Z.
+    #[arg(long, value_parser = parse_vector, allow_hyphen_values = true, default_value = "0,1,0")]
+    y: [f64; 3],
+    /// Dual: number of divisions n ((2^n + 1)² points).
+    #[arg(long, default_value_t = 9)]
+    levels: u32,
+    /// Dual: displace by σ itself instead of a random sample.
+    #[arg(long)]
+    deterministic: bool,
+    /// Dual: one sample per point along the cross product of its two pairs.
+    #[arg(long)]
+    cross_product: bool,
+    /// Dual: keep the original points where they are (shows his Fig. 2 artifacts).
+    #[arg(long)]
+    no_mean_correction: bool,
+    /// Dual: also write each division's surface as DIR/level-NN.ply.
+    #[arg(long)]
+    steps: Option<PathBuf>,
     /// Seed.
     #[arg(long, default_value_t = 0)]
     seed: u64,
@@ -94,6 +131,10 @@ fn parse_numbers<const N: usize>(s: &str) -> std::result::Result<[f64; N], Strin
     values.try_into().map_err(|_| format!("expected {N} comma-separated numbers"))
 }
 
+fn parse_vector(s: &str) -> std::result::Result<[f64; 3], String> {
+    parse_numbers::<3>(s)
+}
+
 fn parse_corners(s: &str) -> std::result::Result<[f64; 4], String> {
     parse_numbers::<4>(s)
 }
@@ -112,10 +153,16 @@ fn parse_pair(s: &str) -> std::result::Result<(u64, u64), String> {
 pub fn run(args: TerrainArgs) -> Result<()> {
     let start = Instant::now();
     let Grid::Square = args.grid;
+    let method = match args.method {
+        MethodArg::Classic => Method::Classic,
+        MethodArg::Smooth => Method::Smooth,
+        MethodArg::Dual => return run_dual(&args, start),
+    };
+    let hurst = args.hurst.unwrap_or(0.8);
     let params = TerrainParams {
-        method: args.method,
+        method,
         size: args.size,
-        hurst: args.hurst,
+        hurst,
         sigma: args.sigma,
         seed: args.seed,
         distribution: args.distribution,
@@ -173,11 +220,73 @@ pub fn run(args: TerrainArgs) -> Result<()> {
         args.method,
         rect.width(),
         rect.height(),
-        args.hurst,
+        hurst,
         args.seed,
         args.output.display(),
         super::millis(start),
         points as f64 / seconds.max(1e-9) / 1e6
     );
     Ok(())
+}
+
+/// Janeczek's dual method: a quad surface written as a mesh with normals and a height ramp.
+fn run_dual(args: &TerrainArgs, start: Instant) -> Result<()> {
+    if args.stream || args.tile.is_some() {
+        return Err(Error::InvalidInput("--method dual makes a quad surface in memory: no --stream or --tile".into()));
+    }
+    let format = io::Format::from_path(&args.output)?;
+    if !matches!(format, io::Format::Ply | io::Format::Obj) {
+        return Err(Error::InvalidInput(format!("{}: --method dual writes .ply or .obj", args.output.display())));
+    }
+    let params = DualParams {
+        x: args.x.into(),
+        y: args.y.into(),
+        hurst: args.hurst.unwrap_or(1.5),
+        levels: args.levels,
+        scale: args.sigma,
+        seed: args.seed,
+        deterministic: args.deterministic,
+        cross_product: args.cross_product,
+        mean_correction: !args.no_mean_correction,
+    };
+    if let Some(dir) = &args.steps {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    }
+    let mut step_error = None;
+    let surface = dual_midpoint_displacement(&params, |level, surface| {
+        if let (Some(dir), None) = (&args.steps, &step_error) {
+            let path = dir.join(format!("level-{level:02}.ply"));
+            if let Err(e) = io::write(&dual_mesh(surface, &params), &path, WriteOptions::default()) {
+                step_error = Some(e);
+            }
+        }
+    })?;
+    if let Some(e) = step_error {
+        return Err(e);
+    }
+    io::write(&dual_mesh(&surface, &params), &args.output, WriteOptions::default())?;
+    println!(
+        "terrain: dual {}x{} (H {}, {} divisions, seed {}) => {} in {} ms",
+        surface.m,
+        surface.n,
+        params.hurst,
+        params.levels,
+        params.seed,
+        args.output.display(),
+        super::millis(start)
+    );
+    Ok(())
+}
+
+/// The quad surface as a mesh with angle-weighted normals and colours by height along the
+/// quad's normal (the surface's own range).
+fn dual_mesh(surface: &QuadSurface, params: &DualParams) -> crate::mesh::Mesh {
+    let mut m = surface.to_mesh();
+    let adjacency = Adjacency::of(&m);
+    m.normals = Some(vertex_normals(&m, &adjacency, &FaceGeometry::of(&m), NormalWeighting::Angle));
+    let z = params.x.cross(params.y).normalize();
+    let heights: Vec<f64> = m.positions.iter().map(|p| p.dot(z)).collect();
+    let (lo, hi) = heights.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &h| (a.min(h), b.max(h)));
+    m.colors = Some(heights.iter().map(|h| ramp_color((h - lo) / (hi - lo).max(1e-12), false)).collect());
+    m
 }

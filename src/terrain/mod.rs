@@ -4,6 +4,7 @@
 //! point), so a tile or a streamed band equals the matching part of the whole grid.
 
 mod diamond_square;
+mod dual;
 mod random;
 pub mod stream;
 
@@ -12,6 +13,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 pub use diamond_square::{DiamondSquare, Rect, Rule};
+pub use dual::{DualParams, QuadSurface, dual_midpoint_displacement};
 pub use random::{Displacements, Distribution};
 
 use crate::error::{Error, Result};
@@ -139,22 +141,25 @@ impl TerrainParams {
             return [30, 70, 160];
         }
         let t = ((h - sea) / (self.height_scale() * 0.5).max(1e-12)).clamp(0.0, 1.0);
-        let stops: [(f64, [f64; 3]); 4] = [
-            (0.0, [60.0, 140.0, 60.0]),
-            (0.45, [110.0, 150.0, 70.0]),
-            (0.7, [130.0, 100.0, 70.0]),
-            (1.0, [250.0, 250.0, 250.0]),
-        ];
-        let k = stops.windows(2).position(|w| t <= w[1].0).unwrap_or(2);
-        let ((t0, c0), (t1, c1)) = (stops[k], stops[k + 1]);
-        let linear = (t - t0) / (t1 - t0);
-        // Seed 002 blends bands through a logistic function of the normalised height.
-        let s = match self.method {
-            Method::Classic => linear,
-            Method::Smooth => 1.0 / (1.0 + (-12.0 * (linear - 0.5)).exp()),
-        };
-        [0, 1, 2].map(|i| (c0[i] + s * (c1[i] - c0[i])).round() as u8)
+        ramp_color(t, self.method == Method::Smooth)
     }
+}
+
+/// The land colour ramp at t ∈ [0, 1]: green, olive, brown, white peaks; blended linearly
+/// or, as in seed 002, through a logistic function between bands.
+pub fn ramp_color(t: f64, logistic: bool) -> Rgb {
+    let stops: [(f64, [f64; 3]); 4] = [
+        (0.0, [60.0, 140.0, 60.0]),
+        (0.45, [110.0, 150.0, 70.0]),
+        (0.7, [130.0, 100.0, 70.0]),
+        (1.0, [250.0, 250.0, 250.0]),
+    ];
+    let t = t.clamp(0.0, 1.0);
+    let k = stops.windows(2).position(|w| t <= w[1].0).unwrap_or(2);
+    let ((t0, c0), (t1, c1)) = (stops[k], stops[k + 1]);
+    let linear = (t - t0) / (t1 - t0);
+    let s = if logistic { 1.0 / (1.0 + (-12.0 * (linear - 0.5)).exp()) } else { linear };
+    [0, 1, 2].map(|i| (c0[i] + s * (c1[i] - c0[i])).round() as u8)
 }
 
 /// Heights on a rectangle of the grid, after the sea clamp.

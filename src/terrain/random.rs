@@ -18,11 +18,11 @@ pub enum Distribution {
     Uniform,
 }
 
-/// `rand_core` adapter over a [`Stream`], so `rand_distr`'s samplers (ziggurat for the
-/// normal distribution) draw from counter-based bits.
-struct CounterRng(Stream);
+/// `rand_core` adapter over a borrowed [`Stream`], so `rand_distr`'s samplers (ziggurat for
+/// the normal distribution) draw from counter-based bits.
+pub(crate) struct CounterRng<'a>(pub &'a mut Stream);
 
-impl rand_core::RngCore for CounterRng {
+impl rand_core::RngCore for CounterRng<'_> {
     fn next_u32(&mut self) -> u32 {
         (self.0.next_u64() >> 32) as u32
     }
@@ -31,8 +31,7 @@ impl rand_core::RngCore for CounterRng {
     }
     fn fill_bytes(&mut self, dest: &mut [u8]) {
         for chunk in dest.chunks_mut(8) {
-            let bytes = self.0.next_u64().to_le_bytes();
-            chunk.copy_from_slice(&bytes[..chunk.len()]);
+            chunk.copy_from_slice(&self.0.next_u64().to_le_bytes()[..chunk.len()]);
         }
     }
     fn try_fill_bytes(&mut self, dest: &mut [u8]) -> Result<(), rand_core::Error> {
@@ -69,10 +68,10 @@ impl Displacements {
     /// The random value of grid point (x, y) at `level`.
     #[inline]
     pub fn sample(&self, level: u32, x: u64, y: u64) -> f64 {
-        let mut rng = CounterRng(Stream::new(self.point_hash(level, x, y)));
+        let mut stream = Stream::new(self.point_hash(level, x, y));
         let z: f64 = match self.distribution {
-            Distribution::Normal => StandardNormal.sample(&mut rng),
-            Distribution::Uniform => (rng.0.unit() * 2.0 - 1.0) * 3f64.sqrt(),
+            Distribution::Normal => StandardNormal.sample(&mut CounterRng(&mut stream)),
+            Distribution::Uniform => (stream.unit() * 2.0 - 1.0) * 3f64.sqrt(),
         };
         self.mean + self.deviation * z
     }
