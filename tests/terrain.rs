@@ -289,3 +289,22 @@ mod dual {
         assert!(corrected < 0.5 * uncorrected && corrected < 1.2, "corrected originals should not: {corrected:.3}");
     }
 }
+
+#[test]
+fn clouds_cover_less_sky_as_the_threshold_rises() {
+    use asperity::terrain::{CloudParams, clouds};
+    let base = CloudParams {
+        plasma: TerrainParams { size: 129, seed: 3, ..TerrainParams::default() },
+        ..CloudParams::default()
+    };
+    let covers: Vec<f64> = [0.0, 0.3, 0.5, 0.7, 1.0]
+        .iter()
+        .map(|&threshold| clouds(&CloudParams { threshold, ..base }).unwrap().1)
+        .collect();
+    assert!(covers.windows(2).all(|w| w[0] >= w[1]), "{covers:?}");
+    assert!(covers[0] > 0.99 && covers[4] == 0.0, "{covers:?}");
+    let (sky_only, _) = clouds(&CloudParams { threshold: 1.0, ..base }).unwrap();
+    assert!(sky_only.chunks(3).all(|c| c == base.sky));
+    assert_eq!(clouds(&base).unwrap(), clouds(&base).unwrap());
+    assert!(clouds(&CloudParams { threshold: 1.5, ..base }).is_err());
+}

@@ -2,6 +2,7 @@
 //! one line on stderr; exit codes are 0 (success), 2 (bad input or usage), 1 (internal).
 
 mod analyze;
+mod clouds;
 mod convert;
 mod demo;
 mod info;
@@ -26,6 +27,8 @@ pub struct Cli {
 enum Command {
     /// Curvatures and feature classes of a mesh, written as PLY properties and colours.
     Analyze(analyze::AnalyzeArgs),
+    /// A cloud image from a midpoint-displacement plasma, thresholded and coloured.
+    Clouds(clouds::CloudArgs),
     /// Print a mesh's validation report (counts, boundaries, manifoldness, genus).
     Info(info::InfoArgs),
     /// Convert a mesh between OBJ, PLY, OFF and STL (format by extension).
@@ -76,6 +79,7 @@ pub fn run() -> i32 {
 fn dispatch(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Analyze(args) => analyze::run(args),
+        Command::Clouds(args) => clouds::run(args),
         Command::Info(args) => info::run(args),
         Command::Convert(args) => convert::run(args),
         Command::Demo(args) => demo::run(args),

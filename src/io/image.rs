@@ -37,6 +37,27 @@ pub fn write_png16(path: &Path, values: &[f64], width: usize, range: (f64, f64))
     })
 }
 
+/// Writes an 8-bit RGB PNG from row-major RGB bytes.
+///
+/// # Errors
+/// [`Error::InvalidInput`] when the bytes do not form `width`-pixel rows; [`Error::Io`].
+pub fn write_png_rgb8(path: &Path, rgb: &[u8], width: usize) -> Result<()> {
+    if width == 0 || rgb.is_empty() || rgb.len() % (3 * width) != 0 {
+        return Err(Error::InvalidInput(format!("{} bytes do not form RGB rows of {width} pixels", rgb.len())));
+    }
+    let (Ok(w), Ok(h)) = (u32::try_from(width), u32::try_from(rgb.len() / (3 * width))) else {
+        return Err(Error::InvalidInput("image too large for PNG".into()));
+    };
+    write_atomically(path, |out| {
+        let mut encoder = png::Encoder::new(out, w, h);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        let mut writer = encoder.write_header().map_err(std::io::Error::other)?;
+        writer.write_image_data(rgb).map_err(std::io::Error::other)?;
+        writer.finish().map_err(std::io::Error::other)
+    })
+}
+
 /// Writes `values` as raw little-endian f32.
 ///
 /// # Errors

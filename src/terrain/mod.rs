@@ -3,6 +3,7 @@
 //! and streaming in bounded memory. Heights are a pure function of (seed, level, grid
 //! point), so a tile or a streamed band equals the matching part of the whole grid.
 
+mod clouds;
 mod diamond_square;
 mod dual;
 mod random;
@@ -12,6 +13,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+pub use clouds::{CloudParams, clouds};
 pub use diamond_square::{DiamondSquare, Rect, Rule};
 pub use dual::{DualParams, QuadSurface, dual_midpoint_displacement};
 pub use random::{Displacements, Distribution};

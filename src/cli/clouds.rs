@@ -1,0 +1,68 @@
+//! `asperity clouds`: a cloud image from a midpoint-displacement plasma (seed 001).
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+
+use crate::error::{Error, Result};
+use crate::io::image::write_png_rgb8;
+use crate::terrain::{CloudParams, TerrainParams, clouds};
+
+#[derive(Debug, Args)]
+pub struct CloudArgs {
+    /// Pixels per side, 2^n + 1.
+    #[arg(long, default_value_t = 513)]
+    size: u64,
+    /// Roughness H of the plasma.
+    #[arg(long, default_value_t = 0.7)]
+    hurst: f64,
+    /// Seed.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Plasma values below this (0 to 1) are clear sky.
+    #[arg(long, default_value_t = 0.45)]
+    threshold: f64,
+    /// Sky colour R,G,B.
+    #[arg(long, value_parser = parse_rgb, default_value = "70,130,210")]
+    sky: [u8; 3],
+    /// Cloud colour R,G,B.
+    #[arg(long, value_parser = parse_rgb, default_value = "255,255,255")]
+    cloud: [u8; 3],
+    /// Output .png (8-bit RGB).
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+fn parse_rgb(s: &str) -> std::result::Result<[u8; 3], String> {
+    let values: Vec<u8> = s
+        .split(',')
+        .map(|t| t.trim().parse::<u8>().map_err(|_| format!("`{t}` is not 0-255")))
+        .collect::<std::result::Result<_, _>>()?;
+    values.try_into().map_err(|_| "expected R,G,B".to_string())
+}
+
+pub fn run(args: CloudArgs) -> Result<()> {
+    let start = Instant::now();
+    if !args.output.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
+        return Err(Error::InvalidInput(format!("{}: clouds are written as .png", args.output.display())));
+    }
+    let params = CloudParams {
+        plasma: TerrainParams { size: args.size, hurst: args.hurst, seed: args.seed, ..TerrainParams::default() },
+        threshold: args.threshold,
+        sky: args.sky,
+        cloud: args.cloud,
+    };
+    let (rgb, cover) = clouds(&params)?;
+    write_png_rgb8(&args.output, &rgb, args.size as usize)?;
+    println!(
+        "clouds: {0}x{0} (H {1}, threshold {2}) => {3:.0}% cover => {4} in {5} ms",
+        args.size,
+        args.hurst,
+        args.threshold,
+        cover * 100.0,
+        args.output.display(),
+        super::millis(start)
+    );
+    Ok(())
+}
