@@ -266,6 +266,9 @@ fn batches_equal_scalars_at_any_thread_count() {
             let (i, j) = (k % n, k / n);
             assert_eq!(*v, field.sample2(x0 + i as f64 * step, y0 + j as f64 * step), "{:?} at {i},{j}", spec.kind);
         }
+        // A decreasing grid takes the point-by-point path with the same values.
+        let reversed = field.grid2(x0, y0, -step, 7, 3);
+        assert_eq!(reversed[8], field.sample2(x0 - step, y0 - step));
         let points = random_points(3000, 50.0, 4);
         let a = pool(1).install(|| field.sample3_batch(&points, &[]));
         let b = pool(2).install(|| field.sample3_batch(&points, &[]));

@@ -24,22 +24,14 @@ pub struct CloudArgs {
     #[arg(long, default_value_t = 0.45)]
     threshold: f64,
     /// Sky colour R,G,B.
-    #[arg(long, value_parser = parse_rgb, default_value = "70,130,210")]
+    #[arg(long, value_parser = super::parse::rgb, default_value = "70,130,210")]
     sky: [u8; 3],
     /// Cloud colour R,G,B.
-    #[arg(long, value_parser = parse_rgb, default_value = "255,255,255")]
+    #[arg(long, value_parser = super::parse::rgb, default_value = "255,255,255")]
     cloud: [u8; 3],
     /// Output .png (8-bit RGB).
     #[arg(short, long)]
     output: PathBuf,
-}
-
-fn parse_rgb(s: &str) -> std::result::Result<[u8; 3], String> {
-    let values: Vec<u8> = s
-        .split(',')
-        .map(|t| t.trim().parse::<u8>().map_err(|_| format!("`{t}` is not 0-255")))
-        .collect::<std::result::Result<_, _>>()?;
-    values.try_into().map_err(|_| "expected R,G,B".to_string())
 }
 
 pub fn run(args: CloudArgs) -> Result<()> {

@@ -7,6 +7,7 @@ mod convert;
 mod demo;
 mod info;
 mod noise;
+mod parse;
 mod terrain;
 
 use std::path::PathBuf;

@@ -54,17 +54,11 @@ pub struct NoiseArgs {
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// PNG grey range LO,HI (default: the image's own minimum and maximum).
-    #[arg(long, value_parser = parse_range, allow_hyphen_values = true)]
+    #[arg(long, value_parser = super::parse::range, allow_hyphen_values = true)]
     range: Option<(f64, f64)>,
     /// Output: .png (16-bit grey) or .f32 (raw little-endian, row-major).
     #[arg(short, long)]
     output: PathBuf,
-}
-
-fn parse_range(s: &str) -> std::result::Result<(f64, f64), String> {
-    let (lo, hi) = s.split_once(',').ok_or("expected LO,HI")?;
-    let parse = |t: &str| t.trim().parse::<f64>().map_err(|_| format!("`{t}` is not a number"));
-    Ok((parse(lo)?, parse(hi)?))
 }
 
 pub fn run(args: NoiseArgs) -> Result<()> {

@@ -49,10 +49,10 @@ pub struct TerrainArgs {
     #[arg(long, default_value_t = 1.0)]
     sigma: f64,
     /// Dual: first side of the quadrilateral X,Y,Z.
-    #[arg(long, value_parser = parse_vector, allow_hyphen_values = true, default_value = "1,0,0")]
+    #[arg(long, value_parser = super::parse::vector, allow_hyphen_values = true, default_value = "1,0,0")]
     x: [f64; 3],
     /// Dual: second side of the quadrilateral X,Y,Z.
-    #[arg(long, value_parser = parse_vector, allow_hyphen_values = true, default_value = "0,1,0")]
+    #[arg(long, value_parser = super::parse::vector, allow_hyphen_values = true, default_value = "0,1,0")]
     y: [f64; 3],
     /// Dual: number of divisions n ((2^n + 1)² points).
     #[arg(long, default_value_t = 9)]
@@ -82,7 +82,7 @@ pub struct TerrainArgs {
     #[arg(long, default_value_t = 1.0)]
     variance: f64,
     /// Initial corner heights A,B,C,D.
-    #[arg(long, value_parser = parse_corners)]
+    #[arg(long, value_parser = super::parse::four)]
     corners: Option<[f64; 4]>,
     /// Seed 001's applet variant: constant scale, random sign.
     #[arg(long)]
@@ -106,13 +106,13 @@ pub struct TerrainArgs {
     #[arg(long, default_value_t = 64)]
     band: usize,
     /// Generate only tile I,J (needs --tile-size).
-    #[arg(long, value_parser = parse_pair, requires = "tile_size")]
+    #[arg(long, value_parser = super::parse::index_pair, requires = "tile_size")]
     tile: Option<(u64, u64)>,
     /// Points per tile side, 2^k + 1; tiles share their borders.
     #[arg(long)]
     tile_size: Option<u64>,
     /// Height range LO,HI mapped to 16 bits (.png, .raw16); default ± the height scale.
-    #[arg(long, value_parser = parse_range, allow_hyphen_values = true)]
+    #[arg(long, value_parser = super::parse::range, allow_hyphen_values = true)]
     range: Option<(f64, f64)>,
     /// Output: .ply / .obj mesh, .png 16-bit heightmap, .raw16, .f32.
     #[arg(short, long)]
@@ -121,33 +121,6 @@ pub struct TerrainArgs {
     /// ply, obj, png, raw16 or f32.
     #[arg(long)]
     format: Option<String>,
-}
-
-fn parse_numbers<const N: usize>(s: &str) -> std::result::Result<[f64; N], String> {
-    let values: Vec<f64> = s
-        .split(',')
-        .map(|t| t.trim().parse::<f64>().map_err(|_| format!("`{t}` is not a number")))
-        .collect::<std::result::Result<_, _>>()?;
-    values.try_into().map_err(|_| format!("expected {N} comma-separated numbers"))
-}
-
-fn parse_vector(s: &str) -> std::result::Result<[f64; 3], String> {
-    parse_numbers::<3>(s)
-}
-
-fn parse_corners(s: &str) -> std::result::Result<[f64; 4], String> {
-    parse_numbers::<4>(s)
-}
-
-fn parse_range(s: &str) -> std::result::Result<(f64, f64), String> {
-    let [lo, hi] = parse_numbers::<2>(s)?;
-    if hi > lo { Ok((lo, hi)) } else { Err("the range needs LO < HI".into()) }
-}
-
-fn parse_pair(s: &str) -> std::result::Result<(u64, u64), String> {
-    let (a, b) = s.split_once(',').ok_or("expected I,J")?;
-    let parse = |t: &str| t.trim().parse::<u64>().map_err(|_| format!("`{t}` is not a tile index"));
-    Ok((parse(a)?, parse(b)?))
 }
 
 pub fn run(args: TerrainArgs) -> Result<()> {
@@ -205,19 +178,24 @@ pub fn run(args: TerrainArgs) -> Result<()> {
         }
         let band = if args.stream { args.band } else { rect.height() };
         let mut failure = None;
+        // I/O failures go back to `write_atomically`, which names the output file; other
+        // errors keep their type.
         write_atomically(&args.output, |w| {
-            write_terrain(&params, rect, format, range, band, w).map_err(|e| {
-                let message = e.to_string();
-                failure = Some(e);
-                std::io::Error::other(message)
+            write_terrain(&params, rect, format, range, band, w).map_err(|e| match e {
+                Error::Io { source, .. } => source,
+                other => {
+                    let message = other.to_string();
+                    failure = Some(other);
+                    std::io::Error::other(message)
+                }
             })
         })
         .map_err(|e| failure.take().unwrap_or(e))?;
     }
     let seconds = start.elapsed().as_secs_f64();
     println!(
-        "terrain: {:?} {}x{} (H {}, seed {}) => {} in {} ms ({:.1} M points/s)",
-        args.method,
+        "terrain: {} {}x{} (H {}, seed {}) => {} in {} ms ({:.1} M points/s)",
+        args.method.to_possible_value().map_or_else(String::new, |v| v.get_name().to_string()),
         rect.width(),
         rect.height(),
         hurst,

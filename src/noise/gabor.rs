@@ -228,6 +228,11 @@ impl Gabor {
         if width == 0 {
             return;
         }
+        if !(step.is_finite() && step > 0.0 && x0.is_finite() && y0.is_finite()) {
+            // The cell cache assumes increasing coordinates: evaluate point by point instead.
+            super::fill_parallel(out, |k| self.sample2(x0 + (k % width) as f64 * step, y0 + (k / width) as f64 * step));
+            return;
+        }
         const BAND: usize = 32;
         out.par_chunks_mut(width * BAND).enumerate().for_each(|(band, rows)| {
             let first_row = band * BAND;

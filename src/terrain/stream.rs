@@ -48,7 +48,7 @@ pub fn to_u16(h: f64, range: (f64, f64)) -> u16 {
 ///
 /// # Errors
 /// [`Error::InvalidInput`] for invalid parameters or sizes the format cannot hold;
-/// [`Error::Io`]-like failures of `w` as [`Error::Internal`] with the message.
+/// [`Error::Io`] (with the placeholder path `terrain output`) when `w` fails.
 pub fn write_terrain(
     params: &TerrainParams,
     rect: Rect,
@@ -59,7 +59,7 @@ pub fn write_terrain(
 ) -> Result<()> {
     let (cols, rows) = (rect.width(), rect.height());
     let band = band.max(1);
-    let io = |e: std::io::Error| Error::Internal(format!("writing terrain: {e}"));
+    let io = |e: std::io::Error| Error::io("terrain output", e);
     match format {
         StreamFormat::Ply => {
             let vertices = cols * rows;
@@ -116,8 +116,8 @@ pub fn write_terrain(
             let mut encoder = png::Encoder::new(&mut *w, width, height);
             encoder.set_color(png::ColorType::Grayscale);
             encoder.set_depth(png::BitDepth::Sixteen);
-            let mut writer = encoder.write_header().map_err(|e| Error::Internal(format!("png: {e}")))?;
-            let mut stream = writer.stream_writer().map_err(|e| Error::Internal(format!("png: {e}")))?;
+            let mut writer = encoder.write_header().map_err(|e| io(std::io::Error::other(e)))?;
+            let mut stream = writer.stream_writer().map_err(|e| io(std::io::Error::other(e)))?;
             let mut row_bytes = Vec::with_capacity(cols * 2);
             for_each_band(params, rect, band, false, |field, y0, y1| {
                 for y in y0..=y1 {
@@ -130,7 +130,7 @@ pub fn write_terrain(
                 Ok(())
             })
             .map_err(io)?;
-            stream.finish().map_err(|e| Error::Internal(format!("png: {e}")))?;
+            stream.finish().map_err(|e| io(std::io::Error::other(e)))?;
         }
     }
     Ok(())

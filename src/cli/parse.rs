@@ -1,0 +1,41 @@
+//! Parsers for comma-separated argument values (`LO,HI`, `X,Y,Z`, `I,J`, `R,G,B`).
+
+fn list<T: std::str::FromStr, const N: usize>(s: &str, what: &str) -> Result<[T; N], String> {
+    let values: Vec<T> = s
+        .split(',')
+        .map(|t| t.trim().parse::<T>().map_err(|_| format!("`{}` is not {what}", t.trim())))
+        .collect::<Result<_, _>>()?;
+    values.try_into().map_err(|_| format!("expected {N} comma-separated values"))
+}
+
+/// `A,B,...`: N numbers.
+pub fn numbers<const N: usize>(s: &str) -> Result<[f64; N], String> {
+    list::<f64, N>(s, "a number")
+}
+
+/// `X,Y,Z`.
+pub fn vector(s: &str) -> Result<[f64; 3], String> {
+    numbers::<3>(s)
+}
+
+/// `A,B,C,D`.
+pub fn four(s: &str) -> Result<[f64; 4], String> {
+    numbers::<4>(s)
+}
+
+/// `LO,HI` with LO < HI.
+pub fn range(s: &str) -> Result<(f64, f64), String> {
+    let [lo, hi] = numbers::<2>(s)?;
+    if hi > lo { Ok((lo, hi)) } else { Err("the range needs LO < HI".into()) }
+}
+
+/// `I,J`: two non-negative integers.
+pub fn index_pair(s: &str) -> Result<(u64, u64), String> {
+    let [i, j] = list::<u64, 2>(s, "a non-negative integer")?;
+    Ok((i, j))
+}
+
+/// `R,G,B`: three 0–255 values.
+pub fn rgb(s: &str) -> Result<[u8; 3], String> {
+    list::<u8, 3>(s, "a value from 0 to 255")
+}
