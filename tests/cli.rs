@@ -196,6 +196,14 @@ fn terrain_streams_tiles_and_refuses_bad_sizes() {
         &["tile 9,9"],
     );
     assert_one_line_error(&run(&["terrain", "--stream", "-o", "x.obj"]), 2, &[".obj"]);
+    assert!(
+        run(&["terrain", "--grid", "hex", "--size", "33", "--sea-level", "-0.2", "-o", "hex.obj"]).status.success()
+    );
+    assert_one_line_error(
+        &run(&["terrain", "--grid", "hex", "--tile", "0,0", "--tile-size", "17", "-o", "x.ply"]),
+        2,
+        &["hexagonal"],
+    );
     let out = run(&[
         "terrain", "--method", "dual", "--x", "2,0,0.3", "--y", "0,1,0", "--levels", "4", "--steps", "steps", "-o",
         "dual.ply",

@@ -308,3 +308,59 @@ fn clouds_cover_less_sky_as_the_threshold_rises() {
     assert_eq!(clouds(&base).unwrap(), clouds(&base).unwrap());
     assert!(clouds(&CloudParams { threshold: 1.5, ..base }).is_err());
 }
+
+#[test]
+fn triangle_and_hex_grids_are_lattices_that_tile_and_stream() {
+    use asperity::terrain::Grid;
+    let tri = TerrainParams { grid: Grid::Triangle, sea_level: Some(0.0), ..params(129, 0.7, 8) };
+    let m = mesh(&tri, full(&tri)).unwrap();
+    let report = m.validate();
+    assert!(report.is_manifold() && report.genus == Some(0) && report.boundary_loops == 1);
+    assert_eq!(report.inconsistently_oriented_edges, 0);
+    // Every triangle is equilateral in the plane and faces up.
+    for f in 0..m.face_count() {
+        let [a, b, c] = m.triangle_points(f).map(|p| glam::DVec2::new(p.x, p.y));
+        let (ab, bc, ca) = ((b - a).length(), (c - b).length(), (a - c).length());
+        assert!((ab - bc).abs() < 1e-9 && (bc - ca).abs() < 1e-9);
+        assert!((b - a).perp_dot(c - a) > 0.0);
+    }
+    assert_eq!(streamed(&tri, StreamFormat::Ply, 7), streamed(&tri, StreamFormat::Ply, 129));
+    let rect = tile_rect(&tri, 2, 1, 33).unwrap();
+    let tile = mesh(&tri, rect).unwrap();
+    for (k, p) in tile.positions.iter().enumerate() {
+        let (x, y) = (rect.x0 + (k % 33) as u64, rect.y0 + (k / 33) as u64);
+        let w = (y * tri.size + x) as usize;
+        assert_eq!(*p, m.positions[w]);
+        assert_eq!(tile.normals.as_ref().unwrap()[k], m.normals.as_ref().unwrap()[w]);
+    }
+    // Edge midpoints: displacement variance falls by 2^(−2H) per level.
+    let z = whole(&tri).unwrap();
+    let raw = TerrainParams { sea_level: None, ..tri };
+    let z_raw = whole(&raw).unwrap();
+    let variance = |d: u64| {
+        let (mut sum, mut count) = (0.0, 0.0);
+        for y in (0..tri.size).step_by(2 * d as usize) {
+            for x in (d..tri.size - d).step_by(2 * d as usize) {
+                sum += (z_raw.at(x, y) - (z_raw.at(x - d, y) + z_raw.at(x + d, y)) / 2.0).powi(2);
+                count += 1.0;
+            }
+        }
+        sum / count
+    };
+    let expected = (-2.0 * tri.hurst).exp2();
+    for d in [2u64, 4] {
+        let ratio = variance(d / 2) / variance(d);
+        assert!((ratio / expected - 1.0).abs() < 0.15, "spacing {d}: ratio {ratio:.3}, expected {expected:.3}");
+    }
+    assert!(z.heights.iter().all(|&h| h >= 0.0));
+
+    let hex = TerrainParams { grid: Grid::Hex, ..tri };
+    let h = mesh(&hex, full(&hex)).unwrap();
+    let side = 64usize;
+    assert_eq!(h.vertex_count(), 3 * side * side + 3 * side + 1, "a centred hexagonal number of vertices");
+    assert_eq!(h.face_count(), 6 * side * side);
+    let report = h.validate();
+    assert!(report.is_manifold() && report.boundary_loops == 1 && report.unreferenced_vertices == 0);
+    let mut sink = Vec::new();
+    assert!(write_terrain(&hex, full(&hex), StreamFormat::Ply, (-1.0, 1.0), 8, &mut sink).is_err());
+}

@@ -10,6 +10,7 @@ use crate::analysis::{FaceGeometry, NormalWeighting, vertex_normals};
 use crate::error::{Error, Result};
 use crate::io::{self, WriteOptions, write_atomically};
 use crate::mesh::Adjacency;
+use crate::terrain::Grid;
 use crate::terrain::stream::{StreamFormat, write_terrain};
 use crate::terrain::{
     Distribution, DualParams, Method, QuadSurface, Rect, TerrainParams, dual_midpoint_displacement, mesh, ramp_color,
@@ -25,13 +26,6 @@ enum MethodArg {
     Smooth,
     /// Janeczek's dual midpoint displacement over a 3D quadrilateral (seed 000).
     Dual,
-}
-
-/// Grid types.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum Grid {
-    /// Two triangles per square cell.
-    Square,
 }
 
 #[derive(Debug, Args)]
@@ -76,13 +70,13 @@ pub struct TerrainArgs {
     #[arg(long, value_enum, default_value_t = Distribution::Normal)]
     distribution: Distribution,
     /// Mean of the distribution.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     mean: f64,
     /// Variance of the distribution.
     #[arg(long, default_value_t = 1.0)]
     variance: f64,
     /// Initial corner heights A,B,C,D.
-    #[arg(long, value_parser = super::parse::four)]
+    #[arg(long, value_parser = super::parse::four, allow_hyphen_values = true)]
     corners: Option<[f64; 4]>,
     /// Seed 001's applet variant: constant scale, random sign.
     #[arg(long)]
@@ -94,7 +88,7 @@ pub struct TerrainArgs {
     #[arg(long, default_value_t = 10.0)]
     depth: f64,
     /// Raise everything below this height to it.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     sea_level: Option<f64>,
     /// Grid type.
     #[arg(long, value_enum, default_value_t = Grid::Square)]
@@ -125,15 +119,20 @@ pub struct TerrainArgs {
 
 pub fn run(args: TerrainArgs) -> Result<()> {
     let start = Instant::now();
-    let Grid::Square = args.grid;
     let method = match args.method {
         MethodArg::Classic => Method::Classic,
         MethodArg::Smooth => Method::Smooth,
         MethodArg::Dual => return run_dual(&args, start),
     };
     let hurst = args.hurst.unwrap_or(0.8);
+    if args.grid == Grid::Hex && args.tile.is_some() {
+        return Err(Error::InvalidInput(
+            "a hexagonal tile is one terrain: --tile applies to square and triangle grids".into(),
+        ));
+    }
     let params = TerrainParams {
         method,
+        grid: args.grid,
         size: args.size,
         hurst,
         sigma: args.sigma,

@@ -22,11 +22,25 @@ pub enum Rule {
     UniformInSupport,
 }
 
+/// The lattice the grid indices stand for (seed 001's grid types).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Lattice {
+    /// Squares: diamond-square (square centres, then diamonds).
+    #[default]
+    Square,
+    /// Triangles: point (i, j) sits at (i + j/2, j·√3/2); each level splits every triangle
+    /// into four by displacing its edge midpoints, each from its edge's two ends.
+    Triangle,
+}
+
 /// Parameters of the generator.
 #[derive(Debug, Clone, Copy)]
 pub struct DiamondSquare {
     /// How new points are made.
     pub rule: Rule,
+    /// Square or triangular lattice.
+    pub lattice: Lattice,
     /// n: the grid has 2ⁿ + 1 points per side.
     pub levels: u32,
     /// Roughness H: the displacement scale is multiplied by 2^(−H) per level.
@@ -146,6 +160,9 @@ impl DiamondSquare {
                 .collect();
             return LevelGrid { shift, x0: r.x0, y0: r.y0, cols, rows, values };
         }
+        if self.lattice == Lattice::Triangle {
+            return self.triangle_level(level, r, shift);
+        }
         let two_d = 2 * d;
         let grown = Rect {
             x0: r.x0.saturating_sub(two_d),
@@ -233,6 +250,41 @@ impl DiamondSquare {
                     parents[count + 1] = down[coarse_col(x)];
                     *value = self.new_point(&parents[..count + 2], level, scale, x, y);
                 }
+            }
+        });
+        LevelGrid { shift, x0: r.x0, y0: r.y0, cols, rows, values }
+    }
+
+    /// Level `level` of the triangular lattice on the snapped rectangle `r`: every new point
+    /// is an edge midpoint whose parents are the edge's ends, coarse points at distance d —
+    /// along x (odd, even), along y (even, odd) or along the anti-diagonal (odd, odd).
+    fn triangle_level(&self, level: u32, r: Rect, shift: u32) -> LevelGrid {
+        let last = self.side() - 1;
+        let d = 1u64 << shift;
+        let grown = Rect {
+            x0: r.x0.saturating_sub(d),
+            y0: r.y0.saturating_sub(d),
+            x1: (r.x1 + d).min(last),
+            y1: (r.y1 + d).min(last),
+        };
+        let coarse = self.level(level - 1, grown);
+        let scale = self.scale(level);
+        let (cols, rows) = (((r.x1 - r.x0) >> shift) as usize + 1, ((r.y1 - r.y0) >> shift) as usize + 1);
+        let mut values = vec![0.0; rows * cols];
+        values.par_chunks_mut(cols).enumerate().for_each(|(j, row)| {
+            let y = r.y0 + ((j as u64) << shift);
+            let y_odd = (y >> shift) & 1 == 1;
+            for (i, value) in row.iter_mut().enumerate() {
+                let x = r.x0 + ((i as u64) << shift);
+                let x_odd = (x >> shift) & 1 == 1;
+                *value = match (x_odd, y_odd) {
+                    (false, false) => coarse.get(x, y),
+                    (true, false) => self.new_point(&[coarse.get(x - d, y), coarse.get(x + d, y)], level, scale, x, y),
+                    (false, true) => self.new_point(&[coarse.get(x, y - d), coarse.get(x, y + d)], level, scale, x, y),
+                    (true, true) => {
+                        self.new_point(&[coarse.get(x - d, y + d), coarse.get(x + d, y - d)], level, scale, x, y)
+                    }
+                };
             }
         });
         LevelGrid { shift, x0: r.x0, y0: r.y0, cols, rows, values }

@@ -14,7 +14,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 pub use clouds::{CloudParams, clouds};
-pub use diamond_square::{DiamondSquare, Rect, Rule};
+pub use diamond_square::{DiamondSquare, Lattice, Rect, Rule};
 pub use dual::{DualParams, QuadSurface, dual_midpoint_displacement};
 pub use random::{Displacements, Distribution};
 
@@ -33,11 +33,28 @@ pub enum Method {
     Smooth,
 }
 
+/// Grid types (seed 001).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Grid {
+    /// Square cells, two triangles each.
+    #[default]
+    Square,
+    /// A triangular lattice: every triangle split into four per level.
+    Triangle,
+    /// The triangular lattice on a hexagonal tile (the hexagon inscribed in the lattice's
+    /// rhombus).
+    Hex,
+}
+
 /// Parameters of a terrain.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct TerrainParams {
     /// Generator.
     pub method: Method,
+    /// Grid type. Triangle and hex grids use the lattice spacing width/(size − 1) on both
+    /// axes: rows are √3/2 of it apart, so `depth` is not used.
+    pub grid: Grid,
     /// Points per side, 2ⁿ + 1.
     pub size: u64,
     /// Roughness H (seed 001): the displacement scale is multiplied by 2^(−H) per level.
@@ -68,6 +85,7 @@ impl Default for TerrainParams {
     fn default() -> Self {
         TerrainParams {
             method: Method::Classic,
+            grid: Grid::Square,
             size: 257,
             hurst: 0.8,
             sigma: 1.0,
@@ -107,6 +125,10 @@ impl TerrainParams {
             return Err(Error::InvalidInput("variance must be ≥ 0 and width, depth > 0".into()));
         }
         Ok(DiamondSquare {
+            lattice: match self.grid {
+                Grid::Square => Lattice::Square,
+                Grid::Triangle | Grid::Hex => Lattice::Triangle,
+            },
             rule: match self.method {
                 Method::Classic => Rule::MeanPlusDisplacement,
                 Method::Smooth => Rule::UniformInSupport,
@@ -132,7 +154,20 @@ impl TerrainParams {
     /// World position of grid point (x, y) with height h (z up).
     pub fn position(&self, x: u64, y: u64, h: f64) -> DVec3 {
         let last = (self.size - 1) as f64;
-        DVec3::new(x as f64 * self.width / last, y as f64 * self.depth / last, h)
+        match self.grid {
+            Grid::Square => DVec3::new(x as f64 * self.width / last, y as f64 * self.depth / last, h),
+            Grid::Triangle | Grid::Hex => {
+                let s = self.width / last;
+                DVec3::new((x as f64 + 0.5 * y as f64) * s, y as f64 * (0.75f64).sqrt() * s, h)
+            }
+        }
+    }
+
+    /// Whether grid point (x, y) belongs to the terrain's domain (all of it, except for the
+    /// hexagonal tile: L/2 ≤ x + y ≤ 3L/2 with L = size − 1).
+    pub fn in_domain(&self, x: u64, y: u64) -> bool {
+        let l = self.size - 1;
+        self.grid != Grid::Hex || (2 * (x + y) >= l && 2 * (x + y) <= 3 * l)
     }
 
     /// The colour of a height: blue at or below the sea (or 0 without a sea), then green,
@@ -299,10 +334,28 @@ pub fn tile_rect(params: &TerrainParams, i: u64, j: u64, tile_size: u64) -> Resu
     Ok(Rect { x0: i * span, y0: j * span, x1: (i + 1) * span, y1: (j + 1) * span })
 }
 
-/// Unit normal at grid point (x, y) by central differences (one-sided on the grid border),
-/// from heights known on `field` (which must hold the point's neighbours inside the grid).
+/// Unit normal at grid point (x, y) from heights known on `field` (which must hold the
+/// point's neighbours inside the grid): central differences (one-sided on the border) on
+/// square grids; on triangular lattices the area-weighted normal of the fan of its six
+/// lattice neighbours.
 pub fn normal_at(params: &TerrainParams, field: &Heightfield, x: u64, y: u64) -> DVec3 {
     let last = params.size - 1;
+    if params.grid != Grid::Square {
+        const RING: [(i64, i64); 6] = [(1, 0), (0, 1), (-1, 1), (-1, 0), (0, -1), (1, -1)];
+        let centre = params.position(x, y, field.at(x, y));
+        let neighbour = |(dx, dy): (i64, i64)| {
+            let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+            (nx >= 0 && ny >= 0 && nx as u64 <= last && ny as u64 <= last)
+                .then(|| params.position(nx as u64, ny as u64, field.at(nx as u64, ny as u64)) - centre)
+        };
+        let mut sum = DVec3::ZERO;
+        for k in 0..6 {
+            if let (Some(a), Some(b)) = (neighbour(RING[k]), neighbour(RING[(k + 1) % 6])) {
+                sum += a.cross(b);
+            }
+        }
+        return sum.normalize_or_zero();
+    }
     let (xa, xb) = (x.saturating_sub(1), (x + 1).min(last));
     let (ya, yb) = (y.saturating_sub(1), (y + 1).min(last));
     let dx = params.width / last as f64 * (xb - xa) as f64;
@@ -313,13 +366,14 @@ pub fn normal_at(params: &TerrainParams, field: &Heightfield, x: u64, y: u64) ->
 }
 
 /// Triangles of a `cols`×`rows` vertex grid (two per cell, row by row), vertex (i, j) at
-/// index j·cols + i.
-pub fn grid_triangles(cols: usize, rows: usize) -> impl Iterator<Item = [u32; 3]> {
+/// index j·cols + i. Square grids cut each cell along (i, j)–(i + 1, j + 1); triangular
+/// lattices along their third lattice direction, (i + 1, j)–(i, j + 1).
+pub fn grid_triangles(grid: Grid, cols: usize, rows: usize) -> impl Iterator<Item = [u32; 3]> {
     (0..rows.saturating_sub(1)).flat_map(move |j| {
         (0..cols.saturating_sub(1)).flat_map(move |i| {
             let a = (j * cols + i) as u32;
             let (b, c, d) = (a + 1, a + 1 + cols as u32, a + cols as u32);
-            [[a, b, c], [a, c, d]]
+            if grid == Grid::Square { [[a, b, c], [a, c, d]] } else { [[a, b, d], [b, c, d]] }
         })
     })
 }
@@ -345,8 +399,49 @@ pub fn mesh(params: &TerrainParams, rect: Rect) -> Result<Mesh> {
     let positions = points.par_iter().map(|&(x, y)| params.position(x, y, field.at(x, y))).collect();
     let normals = points.par_iter().map(|&(x, y)| normal_at(params, &field, x, y)).collect();
     let colors = points.par_iter().map(|&(x, y)| params.color(field.at(x, y))).collect();
-    let mut mesh = Mesh::new(positions, grid_triangles(cols, rows).collect());
+    let mut mesh = Mesh::new(positions, grid_triangles(params.grid, cols, rows).collect());
     mesh.normals = Some(normals);
     mesh.colors = Some(colors);
+    if params.grid == Grid::Hex {
+        keep_domain(&mut mesh, params, &points);
+    }
     Ok(mesh)
+}
+
+/// Drops the triangles with a vertex outside the domain, then the vertices no triangle uses.
+fn keep_domain(mesh: &mut Mesh, params: &TerrainParams, points: &[(u64, u64)]) {
+    let inside: Vec<bool> = points.iter().map(|&(x, y)| params.in_domain(x, y)).collect();
+    mesh.triangles.retain(|t| t.iter().all(|&v| inside[v as usize]));
+    let mut used = vec![false; points.len()];
+    for t in &mesh.triangles {
+        for &v in t {
+            used[v as usize] = true;
+        }
+    }
+    let mut remap = vec![u32::MAX; points.len()];
+    let mut next = 0;
+    for (v, &u) in used.iter().enumerate() {
+        if u {
+            remap[v] = next;
+            next += 1;
+        }
+    }
+    keep_used(&mut mesh.positions, &used);
+    if let Some(n) = &mut mesh.normals {
+        keep_used(n, &used);
+    }
+    if let Some(c) = &mut mesh.colors {
+        keep_used(c, &used);
+    }
+    for t in &mut mesh.triangles {
+        *t = t.map(|v| remap[v as usize]);
+    }
+}
+
+fn keep_used<T>(values: &mut Vec<T>, used: &[bool]) {
+    let mut k = 0;
+    values.retain(|_| {
+        k += 1;
+        used[k - 1]
+    });
 }

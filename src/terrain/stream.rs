@@ -62,6 +62,11 @@ pub fn write_terrain(
     let io = |e: std::io::Error| Error::io("terrain output", e);
     match format {
         StreamFormat::Ply => {
+            if params.grid == super::Grid::Hex {
+                return Err(Error::InvalidInput(
+                    "hexagonal tiles are written whole (no --stream for hex meshes)".into(),
+                ));
+            }
             let vertices = cols * rows;
             if vertices > i32::MAX as usize {
                 return Err(Error::InvalidInput(format!("{cols}x{rows} vertices exceed PLY's int indices: use tiles")));
@@ -86,7 +91,7 @@ pub fn write_terrain(
                 Ok(())
             })
             .map_err(io)?;
-            for t in grid_triangles(cols, rows) {
+            for t in grid_triangles(params.grid, cols, rows) {
                 write_triangle(w, false, t).map_err(io)?;
             }
         }
