@@ -66,7 +66,7 @@ impl Displacements {
     }
 
     /// The random value of grid point (x, y) at `level`.
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, level: u32, x: u64, y: u64) -> f64 {
         let mut stream = Stream::new(self.point_hash(level, x, y));
         let z: f64 = match self.distribution {
