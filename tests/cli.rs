@@ -195,7 +195,12 @@ fn terrain_streams_tiles_and_refuses_bad_sizes() {
         2,
         &["tile 9,9"],
     );
-    assert_one_line_error(&run(&["terrain", "--stream", "-o", "x.obj"]), 2, &[".obj"]);
+    assert!(run(&["terrain", "--size", "65", "--seed", "2", "-o", "m.obj"]).status.success());
+    assert!(
+        run(&["terrain", "--size", "65", "--seed", "2", "--stream", "--band", "4", "-o", "s.obj"]).status.success()
+    );
+    assert_eq!(std::fs::read(tmp.path().join("m.obj")).unwrap(), std::fs::read(tmp.path().join("s.obj")).unwrap());
+    assert_one_line_error(&run(&["terrain", "--size", "65", "-o", "x.stl"]), 2, &["x.stl"]);
     assert!(
         run(&["terrain", "--grid", "hex", "--size", "33", "--sea-level", "-0.2", "-o", "hex.obj"]).status.success()
     );
@@ -216,5 +221,5 @@ fn terrain_streams_tiles_and_refuses_bad_sizes() {
         2,
         &["non-parallel"],
     );
-    assert!(!tmp.path().join("x.ply").exists() && !tmp.path().join("x.obj").exists());
+    assert!(!tmp.path().join("x.ply").exists() && !tmp.path().join("x.stl").exists());
 }

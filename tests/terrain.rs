@@ -38,6 +38,9 @@ fn streaming_writes_the_same_bytes_as_the_whole_grid() {
     for band in [1, 5, 64, 129] {
         assert_eq!(streamed(&p, StreamFormat::Ply, band), whole_bytes, "ply, band {band}");
     }
+    let obj_path = dir.path().join("whole.obj");
+    io::write(&mesh(&p, full(&p)).unwrap(), &obj_path, WriteOptions::default()).unwrap();
+    assert_eq!(streamed(&p, StreamFormat::Obj, 6), std::fs::read(&obj_path).unwrap(), "obj");
     for format in [StreamFormat::Raw16, StreamFormat::F32, StreamFormat::Png16] {
         assert_eq!(streamed(&p, format, 3), streamed(&p, format, 129), "{format:?}");
     }

@@ -93,7 +93,7 @@ pub struct TerrainArgs {
     /// Grid type.
     #[arg(long, value_enum, default_value_t = Grid::Square)]
     grid: Grid,
-    /// Write rows as they are generated, in bounded memory (.ply, .png, .raw16, .f32).
+    /// Write rows as they are generated, in bounded memory (.ply, .obj, .png, .raw16, .f32).
     #[arg(long)]
     stream: bool,
     /// Rows per streamed band.
@@ -158,10 +158,7 @@ pub fn run(args: TerrainArgs) -> Result<()> {
     let scale = params.height_scale();
     let range = args.range.unwrap_or((-scale, scale));
     let points = rect.width() as u64 * rect.height() as u64;
-    if ext == "obj" || (ext == "ply" && !args.stream) {
-        if args.stream && ext == "obj" {
-            return Err(Error::InvalidInput("--stream writes .ply, .png, .raw16 or .f32, not .obj".into()));
-        }
+    if matches!(ext.as_str(), "obj" | "ply") && !args.stream {
         let terrain = mesh(&params, rect)?;
         let format = if ext == "obj" { io::Format::Obj } else { io::Format::Ply };
         io::write_as(&terrain, &args.output, format, WriteOptions::default())?;

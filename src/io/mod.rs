@@ -4,7 +4,7 @@
 
 mod atomic;
 pub mod image;
-mod obj;
+pub mod obj;
 mod off;
 pub mod ply;
 mod stl;

@@ -167,31 +167,45 @@ fn locate(text: &str, error: &tobj::LoadError) -> Location {
     Location::File
 }
 
+/// The header comment of OBJ files written by asperity.
+pub fn write_header(w: &mut dyn Write) -> std::io::Result<()> {
+    writeln!(w, "# written by asperity {}", env!("CARGO_PKG_VERSION"))
+}
+
+/// One `v` line, with the colour as `v x y z r g b` when given.
+pub fn write_vertex(w: &mut dyn Write, p: DVec3, color: Option<[u8; 3]>) -> std::io::Result<()> {
+    match color {
+        Some(c) => {
+            let [r, g, b] = c.map(|v| f64::from(v) / 255.0);
+            writeln!(w, "v {} {} {} {r} {g} {b}", p.x, p.y, p.z)
+        }
+        None => writeln!(w, "v {} {} {}", p.x, p.y, p.z),
+    }
+}
+
+/// One `vn` line.
+pub fn write_normal(w: &mut dyn Write, n: DVec3) -> std::io::Result<()> {
+    writeln!(w, "vn {} {} {}", n.x, n.y, n.z)
+}
+
+/// One `f` line (1-based), referring to the normal of the same index when `with_normals`.
+pub fn write_face(w: &mut dyn Write, t: [u32; 3], with_normals: bool) -> std::io::Result<()> {
+    let [a, b, c] = t.map(|v| u64::from(v) + 1);
+    if with_normals { writeln!(w, "f {a}//{a} {b}//{b} {c}//{c}") } else { writeln!(w, "f {a} {b} {c}") }
+}
+
 /// Writes an OBJ file: positions (with colours as `v x y z r g b` when present), normals,
 /// and 1-based triangles.
 pub fn write(mesh: &Mesh, w: &mut dyn Write) -> std::io::Result<()> {
-    writeln!(w, "# written by asperity {}", env!("CARGO_PKG_VERSION"))?;
+    write_header(w)?;
     for (i, p) in mesh.positions.iter().enumerate() {
-        match &mesh.colors {
-            Some(c) => {
-                let [r, g, b] = c[i].map(|v| f64::from(v) / 255.0);
-                writeln!(w, "v {} {} {} {r} {g} {b}", p.x, p.y, p.z)?;
-            }
-            None => writeln!(w, "v {} {} {}", p.x, p.y, p.z)?,
-        }
+        write_vertex(w, *p, mesh.colors.as_ref().map(|c| c[i]))?;
     }
-    if let Some(normals) = &mesh.normals {
-        for n in normals {
-            writeln!(w, "vn {} {} {}", n.x, n.y, n.z)?;
-        }
+    for n in mesh.normals.iter().flatten() {
+        write_normal(w, *n)?;
     }
     for t in &mesh.triangles {
-        let [a, b, c] = t.map(|v| v + 1);
-        if mesh.normals.is_some() {
-            writeln!(w, "f {a}//{a} {b}//{b} {c}//{c}")?;
-        } else {
-            writeln!(w, "f {a} {b} {c}")?;
-        }
+        write_face(w, *t, mesh.normals.is_some())?;
     }
     Ok(())
 }

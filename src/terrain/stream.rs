@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{Rect, TerrainParams, grid_triangles, heights, normal_at};
 use crate::error::{Error, Result};
+use crate::io::obj;
 use crate::io::ply::{PlyLayout, write_header, write_triangle, write_vertex};
 
 /// Terrain encodings that can be written progressively.
@@ -16,6 +17,9 @@ use crate::io::ply::{PlyLayout, write_header, write_triangle, write_vertex};
 pub enum StreamFormat {
     /// Binary PLY with normals and colours (same bytes as the in-memory mesh writer).
     Ply,
+    /// OBJ with colours and normals (same bytes as the in-memory mesh writer): heights are
+    /// generated twice, once for the `v` lines and once for the `vn` lines that follow them.
+    Obj,
     /// 16-bit greyscale PNG heightmap.
     Png16,
     /// Row-major u16 little-endian heights, no header.
@@ -29,6 +33,7 @@ impl StreamFormat {
     pub fn from_extension(ext: &str) -> Option<Self> {
         Some(match ext.to_ascii_lowercase().as_str() {
             "ply" => StreamFormat::Ply,
+            "obj" => StreamFormat::Obj,
             "png" => StreamFormat::Png16,
             "raw16" => StreamFormat::Raw16,
             "f32" => StreamFormat::F32,
@@ -93,6 +98,39 @@ pub fn write_terrain(
             .map_err(io)?;
             for t in grid_triangles(params.grid, cols, rows) {
                 write_triangle(w, false, t).map_err(io)?;
+            }
+        }
+        StreamFormat::Obj => {
+            if params.grid == super::Grid::Hex {
+                return Err(Error::InvalidInput(
+                    "hexagonal tiles are written whole (no --stream for hex meshes)".into(),
+                ));
+            }
+            if (cols * rows) as u64 > u64::from(u32::MAX) {
+                return Err(Error::InvalidInput(format!("{cols}x{rows} vertices exceed 32-bit indices: use tiles")));
+            }
+            obj::write_header(w).map_err(io)?;
+            for_each_band(params, rect, band, false, |field, y0, y1| {
+                for y in y0..=y1 {
+                    for x in rect.x0..=rect.x1 {
+                        let h = field.at(x, y);
+                        obj::write_vertex(w, params.position(x, y, h), Some(params.color(h)))?;
+                    }
+                }
+                Ok(())
+            })
+            .map_err(io)?;
+            for_each_band(params, rect, band, true, |field, y0, y1| {
+                for y in y0..=y1 {
+                    for x in rect.x0..=rect.x1 {
+                        obj::write_normal(w, normal_at(params, field, x, y))?;
+                    }
+                }
+                Ok(())
+            })
+            .map_err(io)?;
+            for t in grid_triangles(params.grid, cols, rows) {
+                obj::write_face(w, t, true).map_err(io)?;
             }
         }
         StreamFormat::Raw16 | StreamFormat::F32 => {
