@@ -367,3 +367,17 @@ fn triangle_and_hex_grids_are_lattices_that_tile_and_stream() {
     let mut sink = Vec::new();
     assert!(write_terrain(&hex, full(&hex), StreamFormat::Ply, (-1.0, 1.0), 8, &mut sink).is_err());
 }
+
+#[test]
+fn the_colour_ramp_is_configurable() {
+    use asperity::terrain::Palette;
+    let palette =
+        Palette { sea: [0, 0, 255], low: [0, 255, 0], mid: [255, 255, 0], high: [255, 0, 0], peak: [255, 255, 255] };
+    let p = TerrainParams { sea_level: Some(0.0), palette, peak_height: Some(2.0), ..params(65, 0.5, 1) };
+    assert_eq!(p.color(-1.0), palette.sea);
+    assert_eq!(p.color(0.0), palette.sea);
+    assert_eq!(p.color(1e-9), palette.low);
+    assert_eq!(p.color(0.7 * 2.0), palette.high);
+    assert_eq!(p.color(2.0), palette.peak);
+    assert_eq!(p.color(50.0), palette.peak);
+}

@@ -39,7 +39,7 @@ enum Command {
     /// Write a noise image (Perlin family or Gabor) as 16-bit PNG or raw f32.
     Noise(noise::NoiseArgs),
     /// Generate a fractal terrain: mesh or heightmap, whole, tiled or streamed.
-    Terrain(terrain::TerrainArgs),
+    Terrain(Box<terrain::TerrainArgs>),
 }
 
 /// Parses the arguments, runs the subcommand and returns the process exit code.
@@ -85,7 +85,7 @@ fn dispatch(cli: Cli) -> Result<()> {
         Command::Convert(args) => convert::run(args),
         Command::Demo(args) => demo::run(args),
         Command::Noise(args) => noise::run(args),
-        Command::Terrain(args) => terrain::run(args),
+        Command::Terrain(args) => terrain::run(*args),
     }
 }
 

@@ -39,3 +39,11 @@ pub fn index_pair(s: &str) -> Result<(u64, u64), String> {
 pub fn rgb(s: &str) -> Result<[u8; 3], String> {
     list::<u8, 3>(s, "a value from 0 to 255")
 }
+
+/// `SEA;LOW;MID;HIGH;PEAK`, each `R,G,B`.
+pub fn palette(s: &str) -> Result<crate::terrain::Palette, String> {
+    let colours: Vec<[u8; 3]> = s.split(';').map(rgb).collect::<Result<_, _>>()?;
+    let [sea, low, mid, high, peak]: [[u8; 3]; 5] =
+        colours.try_into().map_err(|_| "expected five colours SEA;LOW;MID;HIGH;PEAK, each R,G,B".to_string())?;
+    Ok(crate::terrain::Palette { sea, low, mid, high, peak })
+}

@@ -90,6 +90,12 @@ pub struct TerrainArgs {
     /// Raise everything below this height to it.
     #[arg(long, allow_hyphen_values = true)]
     sea_level: Option<f64>,
+    /// Ramp colours SEA;LOW;MID;HIGH;PEAK, each R,G,B.
+    #[arg(long, value_parser = super::parse::palette)]
+    colors: Option<crate::terrain::Palette>,
+    /// Height above the sea that gets the peak colour (default: half the height scale).
+    #[arg(long)]
+    peak_height: Option<f64>,
     /// Grid type.
     #[arg(long, value_enum, default_value_t = Grid::Square)]
     grid: Grid,
@@ -145,6 +151,8 @@ pub fn run(args: TerrainArgs) -> Result<()> {
         width: args.width,
         depth: args.depth,
         sea_level: args.sea_level,
+        palette: args.colors.unwrap_or_default(),
+        peak_height: args.peak_height,
     };
     params.generator()?;
     let rect = match (args.tile, args.tile_size) {
@@ -230,7 +238,7 @@ fn run_dual(args: &TerrainArgs, start: Instant) -> Result<()> {
     let surface = dual_midpoint_displacement(&params, |level, surface| {
         if let (Some(dir), None) = (&args.steps, &step_error) {
             let path = dir.join(format!("level-{level:02}.ply"));
-            if let Err(e) = io::write(&dual_mesh(surface, &params), &path, WriteOptions::default()) {
+            if let Err(e) = io::write(&dual_mesh(surface, &params, args), &path, WriteOptions::default()) {
                 step_error = Some(e);
             }
         }
@@ -238,7 +246,7 @@ fn run_dual(args: &TerrainArgs, start: Instant) -> Result<()> {
     if let Some(e) = step_error {
         return Err(e);
     }
-    io::write(&dual_mesh(&surface, &params), &args.output, WriteOptions::default())?;
+    io::write(&dual_mesh(&surface, &params, args), &args.output, WriteOptions::default())?;
     println!(
         "terrain: dual {}x{} (H {}, {} divisions, seed {}) => {} in {} ms",
         surface.m,
@@ -254,13 +262,14 @@ fn run_dual(args: &TerrainArgs, start: Instant) -> Result<()> {
 
 /// The quad surface as a mesh with angle-weighted normals and colours by height along the
 /// quad's normal (the surface's own range).
-fn dual_mesh(surface: &QuadSurface, params: &DualParams) -> crate::mesh::Mesh {
+fn dual_mesh(surface: &QuadSurface, params: &DualParams, args: &TerrainArgs) -> crate::mesh::Mesh {
     let mut m = surface.to_mesh();
     let adjacency = Adjacency::of(&m);
     m.normals = Some(vertex_normals(&m, &adjacency, &FaceGeometry::of(&m), NormalWeighting::Angle));
     let z = params.x.cross(params.y).normalize();
     let heights: Vec<f64> = m.positions.iter().map(|p| p.dot(z)).collect();
     let (lo, hi) = heights.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &h| (a.min(h), b.max(h)));
-    m.colors = Some(heights.iter().map(|h| ramp_color((h - lo) / (hi - lo).max(1e-12), false)).collect());
+    let palette = args.colors.unwrap_or_default();
+    m.colors = Some(heights.iter().map(|h| ramp_color(&palette, (h - lo) / (hi - lo).max(1e-12), false)).collect());
     m
 }

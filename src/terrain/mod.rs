@@ -79,6 +79,39 @@ pub struct TerrainParams {
     pub depth: f64,
     /// Heights below this are raised to it (the sea plane), when set.
     pub sea_level: Option<f64>,
+    /// Colours of the height ramp.
+    pub palette: Palette,
+    /// Height (above the sea, or above 0) that gets the peak colour; by default half of
+    /// [`TerrainParams::height_scale`].
+    pub peak_height: Option<f64>,
+}
+
+/// Colours of the height ramp: the sea (at or below sea level, or 0), then land from low
+/// to peak at 0, 45 %, 70 % and 100 % of the peak height.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Palette {
+    /// At or below the sea.
+    pub sea: Rgb,
+    /// Lowland.
+    pub low: Rgb,
+    /// Upland.
+    pub mid: Rgb,
+    /// Mountain.
+    pub high: Rgb,
+    /// Peaks.
+    pub peak: Rgb,
+}
+
+impl Default for Palette {
+    fn default() -> Self {
+        Palette {
+            sea: [30, 70, 160],
+            low: [60, 140, 60],
+            mid: [110, 150, 70],
+            high: [130, 100, 70],
+            peak: [250, 250, 250],
+        }
+    }
 }
 
 impl Default for TerrainParams {
@@ -98,6 +131,8 @@ impl Default for TerrainParams {
             width: 10.0,
             depth: 10.0,
             sea_level: None,
+            palette: Palette::default(),
+            peak_height: None,
         }
     }
 }
@@ -175,28 +210,23 @@ impl TerrainParams {
     pub fn color(&self, h: f64) -> Rgb {
         let sea = self.sea_level.unwrap_or(0.0);
         if h <= sea {
-            return [30, 70, 160];
+            return self.palette.sea;
         }
-        let t = ((h - sea) / (self.height_scale() * 0.5).max(1e-12)).clamp(0.0, 1.0);
-        ramp_color(t, self.method == Method::Smooth)
+        let peak = self.peak_height.unwrap_or(self.height_scale() * 0.5).max(1e-12);
+        ramp_color(&self.palette, (h - sea) / peak, self.method == Method::Smooth)
     }
 }
 
-/// The land colour ramp at t ∈ [0, 1]: green, olive, brown, white peaks; blended linearly
-/// or, as in seed 002, through a logistic function between bands.
-pub fn ramp_color(t: f64, logistic: bool) -> Rgb {
-    let stops: [(f64, [f64; 3]); 4] = [
-        (0.0, [60.0, 140.0, 60.0]),
-        (0.45, [110.0, 150.0, 70.0]),
-        (0.7, [130.0, 100.0, 70.0]),
-        (1.0, [250.0, 250.0, 250.0]),
-    ];
+/// The land colours of `palette` at t ∈ [0, 1] (stops at 0, 0.45, 0.7, 1), blended linearly
+/// or, as in seed 002, through a logistic function between stops.
+pub fn ramp_color(palette: &Palette, t: f64, logistic: bool) -> Rgb {
+    let stops = [(0.0, palette.low), (0.45, palette.mid), (0.7, palette.high), (1.0, palette.peak)];
     let t = t.clamp(0.0, 1.0);
     let k = stops.windows(2).position(|w| t <= w[1].0).unwrap_or(2);
     let ((t0, c0), (t1, c1)) = (stops[k], stops[k + 1]);
     let linear = (t - t0) / (t1 - t0);
     let s = if logistic { 1.0 / (1.0 + (-12.0 * (linear - 0.5)).exp()) } else { linear };
-    [0, 1, 2].map(|i| (c0[i] + s * (c1[i] - c0[i])).round() as u8)
+    [0, 1, 2].map(|i| (f64::from(c0[i]) + s * (f64::from(c1[i]) - f64::from(c0[i]))).round() as u8)
 }
 
 /// Heights on a rectangle of the grid, after the sea clamp.
