@@ -381,3 +381,19 @@ fn the_colour_ramp_is_configurable() {
     assert_eq!(p.color(2.0), palette.peak);
     assert_eq!(p.color(50.0), palette.peak);
 }
+
+#[test]
+fn every_distribution_has_the_requested_mean_and_variance() {
+    use asperity::terrain::{Displacements, Distribution};
+    for distribution in [Distribution::Normal, Distribution::Uniform, Distribution::Exponential, Distribution::Laplace]
+    {
+        let d = Displacements::new(5, distribution, 0.3, 2.0);
+        let values: Vec<f64> = (0..200_000u64).map(|k| d.sample(3, k % 1000, k / 1000)).collect();
+        let mean = values.iter().sum::<f64>() / values.len() as f64;
+        let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / values.len() as f64;
+        assert!(
+            (mean - 0.3).abs() < 0.02 && (var / 2.0 - 1.0).abs() < 0.03,
+            "{distribution:?}: mean {mean}, variance {var}"
+        );
+    }
+}

@@ -2,12 +2,13 @@
 //! from a counter-based stream, so any region of the grid — whole, tile or streamed band —
 //! gets the same values.
 
-use rand_distr::{Distribution as _, StandardNormal};
+use rand_distr::{Distribution as _, Exp1, StandardNormal};
 use serde::{Deserialize, Serialize};
 
 use crate::noise::hash::{Stream, derive_seed, mix64};
 
-/// The distribution of the random displacements (seed 001), before scaling by the level's σ.
+/// The distribution of the random displacements (seed 001), before scaling by the level's σ;
+/// each is standardised, then given the requested mean and variance.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Distribution {
@@ -16,6 +17,10 @@ pub enum Distribution {
     Normal,
     /// Uniform, with the same mean and variance.
     Uniform,
+    /// Exponential, shifted and scaled to the mean and variance (skewed: rare tall peaks).
+    Exponential,
+    /// Laplace (two-sided exponential), with the mean and variance (heavier tails).
+    Laplace,
 }
 
 /// `rand_core` adapter over a borrowed [`Stream`], so `rand_distr`'s samplers (ziggurat for
@@ -72,6 +77,17 @@ impl Displacements {
         let z: f64 = match self.distribution {
             Distribution::Normal => StandardNormal.sample(&mut CounterRng(&mut stream)),
             Distribution::Uniform => (stream.unit() * 2.0 - 1.0) * 3f64.sqrt(),
+            // Exp(1) has mean 1 and variance 1.
+            Distribution::Exponential => {
+                let e: f64 = Exp1.sample(&mut CounterRng(&mut stream));
+                e - 1.0
+            }
+            // A random sign on Exp(1) has variance 2.
+            Distribution::Laplace => {
+                let magnitude: f64 = Exp1.sample(&mut CounterRng(&mut stream));
+                let sign = if stream.next_u64() >> 63 == 0 { 1.0 } else { -1.0 };
+                sign * magnitude * std::f64::consts::FRAC_1_SQRT_2
+            }
         };
         self.mean + self.deviation * z
     }
