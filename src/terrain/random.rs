@@ -77,17 +77,7 @@ impl Displacements {
         let z: f64 = match self.distribution {
             Distribution::Normal => StandardNormal.sample(&mut CounterRng(&mut stream)),
             Distribution::Uniform => (stream.unit() * 2.0 - 1.0) * 3f64.sqrt(),
-            // Exp(1) has mean 1 and variance 1.
-            Distribution::Exponential => {
-                let e: f64 = Exp1.sample(&mut CounterRng(&mut stream));
-                e - 1.0
-            }
-            // A random sign on Exp(1) has variance 2.
-            Distribution::Laplace => {
-                let magnitude: f64 = Exp1.sample(&mut CounterRng(&mut stream));
-                let sign = if stream.next_u64() >> 63 == 0 { 1.0 } else { -1.0 };
-                sign * magnitude * std::f64::consts::FRAC_1_SQRT_2
-            }
+            other => skewed_sample(other, stream),
         };
         self.mean + self.deviation * z
     }
@@ -102,5 +92,20 @@ impl Displacements {
     #[inline]
     pub fn sign(&self, level: u32, x: u64, y: u64) -> f64 {
         if mix64(self.point_hash(level, x, y) ^ 0x5167_4e20_7369_676e) >> 63 == 0 { 1.0 } else { -1.0 }
+    }
+}
+
+/// The exponential and Laplace draws, kept out of line so the common normal path stays small.
+#[cold]
+#[inline(never)]
+fn skewed_sample(distribution: Distribution, mut stream: Stream) -> f64 {
+    // Exp(1) has mean 1 and variance 1; a random sign on it has variance 2.
+    let magnitude: f64 = Exp1.sample(&mut CounterRng(&mut stream));
+    match distribution {
+        Distribution::Laplace => {
+            let sign = if stream.next_u64() >> 63 == 0 { 1.0 } else { -1.0 };
+            sign * magnitude * std::f64::consts::FRAC_1_SQRT_2
+        }
+        _ => magnitude - 1.0,
     }
 }
