@@ -77,6 +77,16 @@ impl Rect {
     pub fn height(&self) -> usize {
         (self.y1 - self.y0 + 1) as usize
     }
+
+    /// The rectangle grown by `margin` on every side, clipped to a grid whose last index is `last`.
+    pub fn grown(&self, margin: u64, last: u64) -> Rect {
+        Rect {
+            x0: self.x0.saturating_sub(margin),
+            y0: self.y0.saturating_sub(margin),
+            x1: (self.x1 + margin).min(last),
+            y1: (self.y1 + margin).min(last),
+        }
+    }
 }
 
 /// Heights of one level on a rectangle aligned to the level's spacing `d`: value (i, j) is
@@ -164,12 +174,7 @@ impl DiamondSquare {
             return self.triangle_level(level, r, shift);
         }
         let two_d = 2 * d;
-        let grown = Rect {
-            x0: r.x0.saturating_sub(two_d),
-            y0: r.y0.saturating_sub(two_d),
-            x1: (r.x1 + two_d).min(last),
-            y1: (r.y1 + two_d).min(last),
-        };
+        let grown = r.grown(two_d, last);
         let coarse = self.level(level - 1, grown);
         let scale = self.scale(level);
         // Square centres ((2a + 1)·d, (2b + 1)·d) within d of the rectangle: the mean of the
@@ -261,12 +266,7 @@ impl DiamondSquare {
     fn triangle_level(&self, level: u32, r: Rect, shift: u32) -> LevelGrid {
         let last = self.side() - 1;
         let d = 1u64 << shift;
-        let grown = Rect {
-            x0: r.x0.saturating_sub(d),
-            y0: r.y0.saturating_sub(d),
-            x1: (r.x1 + d).min(last),
-            y1: (r.y1 + d).min(last),
-        };
+        let grown = r.grown(d, last);
         let coarse = self.level(level - 1, grown);
         let scale = self.scale(level);
         let (cols, rows) = (((r.x1 - r.x0) >> shift) as usize + 1, ((r.y1 - r.y0) >> shift) as usize + 1);

@@ -257,23 +257,9 @@ pub fn heights(params: &TerrainParams, rect: Rect) -> Result<Heightfield> {
     }
     if params.method == Method::Smooth {
         // Two 3×3 Gaussian passes: each height depends on raw heights two points away.
-        let grown = Rect {
-            x0: rect.x0.saturating_sub(2),
-            y0: rect.y0.saturating_sub(2),
-            x1: (rect.x1 + 2).min(last),
-            y1: (rect.y1 + 2).min(last),
-        };
+        let grown = rect.grown(2, last);
         let raw = Heightfield { rect: grown, heights: raw_heights(&generator, grown) };
-        let once = gaussian_3x3(
-            &raw,
-            params.size,
-            Rect {
-                x0: rect.x0.saturating_sub(1),
-                y0: rect.y0.saturating_sub(1),
-                x1: (rect.x1 + 1).min(last),
-                y1: (rect.y1 + 1).min(last),
-            },
-        );
+        let once = gaussian_3x3(&raw, params.size, rect.grown(1, last));
         let mut twice = gaussian_3x3(&once, params.size, rect);
         if let Some(sea) = params.sea_level {
             twice.heights.par_iter_mut().for_each(|h| *h = h.max(sea));
@@ -418,12 +404,7 @@ pub fn mesh(params: &TerrainParams, rect: Rect) -> Result<Mesh> {
         return Err(Error::InvalidInput(format!("{cols}x{rows} vertices exceed 32-bit indices: use tiles")));
     }
     let last = params.size - 1;
-    let grown = Rect {
-        x0: rect.x0.saturating_sub(1),
-        y0: rect.y0.saturating_sub(1),
-        x1: (rect.x1 + 1).min(last),
-        y1: (rect.y1 + 1).min(last),
-    };
+    let grown = rect.grown(1, last);
     let field = heights(params, grown)?;
     let points: Vec<(u64, u64)> = (rect.y0..=rect.y1).flat_map(|y| (rect.x0..=rect.x1).map(move |x| (x, y))).collect();
     let positions = points.par_iter().map(|&(x, y)| params.position(x, y, field.at(x, y))).collect();

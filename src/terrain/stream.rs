@@ -193,12 +193,7 @@ fn for_each_band(
     let mut y0 = rect.y0;
     while y0 <= rect.y1 {
         let y1 = (y0 + band as u64 - 1).min(rect.y1);
-        let region = Rect {
-            x0: rect.x0.saturating_sub(m),
-            y0: y0.saturating_sub(m),
-            x1: (rect.x1 + m).min(last),
-            y1: (y1 + m).min(last),
-        };
+        let region = Rect { y0, y1, ..rect }.grown(m, last);
         let field = heights(params, region).map_err(std::io::Error::other)?;
         emit(&field, y0, y1)?;
         y0 = y1 + 1;
