@@ -14,7 +14,7 @@ fn main() {
     let points = (p.size * p.size) as f64;
     let rect = Rect { x0: 0, y0: 0, x1: p.size - 1, y1: p.size - 1 };
     let best = |f: &dyn Fn()| {
-        (0..3)
+        (0..11)
             .map(|_| {
                 let start = Instant::now();
                 f();

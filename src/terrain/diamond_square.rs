@@ -144,11 +144,22 @@ impl DiamondSquare {
 
     /// The finished heights on `rect` (row-major, `rect.width()` per row).
     pub fn heights(&self, rect: Rect) -> Vec<f64> {
-        self.level(self.levels, rect).values
+        self.level(self.levels, rect, None).values
+    }
+
+    /// The finished heights on `rect`, written into `out` (`rect.width() × rect.height()`
+    /// values, row-major) without an intermediate buffer.
+    ///
+    /// # Panics
+    /// When `out` has the wrong length (a caller bug).
+    pub fn heights_into(&self, rect: Rect, out: &mut [f64]) {
+        assert_eq!(out.len(), rect.width() * rect.height(), "output length must match the rectangle");
+        self.level(self.levels, rect, Some(out));
     }
 
     /// Level `level` on `rect` (snapped outward to the level's lattice and clipped to the grid).
-    fn level(&self, level: u32, rect: Rect) -> LevelGrid {
+    /// With `out`, the level's values go there and the returned grid holds none.
+    fn level(&self, level: u32, rect: Rect, out: Option<&mut [f64]>) -> LevelGrid {
         let last = self.side() - 1;
         let shift = self.levels - level;
         let d = 1u64 << shift;
@@ -168,14 +179,19 @@ impl DiamondSquare {
                     self.corners[corner] + self.displacement(0, self.scale(0), x, y)
                 })
                 .collect();
+            let values: Vec<f64> = values;
+            if let Some(out) = out {
+                out.copy_from_slice(&values);
+                return LevelGrid { shift, x0: r.x0, y0: r.y0, cols, rows, values: Vec::new() };
+            }
             return LevelGrid { shift, x0: r.x0, y0: r.y0, cols, rows, values };
         }
         if self.lattice == Lattice::Triangle {
-            return self.triangle_level(level, r, shift);
+            return self.triangle_level(level, r, shift, out);
         }
         let two_d = 2 * d;
         let grown = r.grown(two_d, last);
-        let coarse = self.level(level - 1, grown);
+        let coarse = self.level(level - 1, grown, None);
         let scale = self.scale(level);
         // Square centres ((2a + 1)·d, (2b + 1)·d) within d of the rectangle: the mean of the
         // four coarse corners plus a displacement. Computed once; diamonds reuse them.
@@ -207,7 +223,14 @@ impl DiamondSquare {
         };
         let coarse_col = |x: u64| ((x - coarse.x0) >> (shift + 1)) as usize;
         let centre_col = |x: u64| ((x >> (shift + 1)) - a0) as usize;
-        let mut values = vec![0.0; rows * cols];
+        let mut owned = Vec::new();
+        let values: &mut [f64] = match out {
+            Some(slice) => slice,
+            None => {
+                owned = vec![0.0; rows * cols];
+                &mut owned
+            }
+        };
         values.par_chunks_mut(cols).enumerate().for_each(|(j, row)| {
             let y = r.y0 + j as u64 * d;
             if (y >> shift) & 1 == 0 {
@@ -257,20 +280,27 @@ impl DiamondSquare {
                 }
             }
         });
-        LevelGrid { shift, x0: r.x0, y0: r.y0, cols, rows, values }
+        LevelGrid { shift, x0: r.x0, y0: r.y0, cols, rows, values: owned }
     }
 
     /// Level `level` of the triangular lattice on the snapped rectangle `r`: every new point
     /// is an edge midpoint whose parents are the edge's ends, coarse points at distance d —
     /// along x (odd, even), along y (even, odd) or along the anti-diagonal (odd, odd).
-    fn triangle_level(&self, level: u32, r: Rect, shift: u32) -> LevelGrid {
+    fn triangle_level(&self, level: u32, r: Rect, shift: u32, out: Option<&mut [f64]>) -> LevelGrid {
         let last = self.side() - 1;
         let d = 1u64 << shift;
         let grown = r.grown(d, last);
-        let coarse = self.level(level - 1, grown);
+        let coarse = self.level(level - 1, grown, None);
         let scale = self.scale(level);
         let (cols, rows) = (((r.x1 - r.x0) >> shift) as usize + 1, ((r.y1 - r.y0) >> shift) as usize + 1);
-        let mut values = vec![0.0; rows * cols];
+        let mut owned = Vec::new();
+        let values: &mut [f64] = match out {
+            Some(slice) => slice,
+            None => {
+                owned = vec![0.0; rows * cols];
+                &mut owned
+            }
+        };
         values.par_chunks_mut(cols).enumerate().for_each(|(j, row)| {
             let y = r.y0 + ((j as u64) << shift);
             let y_odd = (y >> shift) & 1 == 1;
@@ -287,6 +317,6 @@ impl DiamondSquare {
                 };
             }
         });
-        LevelGrid { shift, x0: r.x0, y0: r.y0, cols, rows, values }
+        LevelGrid { shift, x0: r.x0, y0: r.y0, cols, rows, values: owned }
     }
 }

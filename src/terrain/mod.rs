@@ -305,14 +305,14 @@ fn gaussian_3x3(field: &Heightfield, size: u64, rect: Rect) -> Heightfield {
 fn raw_heights(generator: &DiamondSquare, rect: Rect) -> Vec<f64> {
     // Tall regions are cut into bands computed in parallel: every band equals the matching
     // rows of the whole, and bands stay cache-sized (one huge level buffer is slower).
-    const BAND: usize = 128;
+    const BAND: usize = 256;
     let cols = rect.width();
     if rect.height() > 2 * BAND {
         let mut values = vec![0.0; cols * rect.height()];
         values.par_chunks_mut(cols * BAND).enumerate().for_each(|(b, chunk)| {
             let y0 = rect.y0 + (b * BAND) as u64;
             let band = Rect { y0, y1: y0 + (chunk.len() / cols) as u64 - 1, ..rect };
-            chunk.copy_from_slice(&generator.heights(band));
+            generator.heights_into(band, chunk);
         });
         values
     } else {
