@@ -104,11 +104,16 @@ fn demo_writes_its_meshes() {
         "noise-marble.png",
         "terrain.ply",
         "terrain-height.png",
+        "clouds.png",
+        // The feature analysis uses fandisk when the shared meshes are there.
+        if shared_meshes().is_some() { "fandisk-features.ply" } else { "torus-features.ply" },
     ] {
         assert!(tmp.path().join("results").join(file).is_file(), "{file}");
     }
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(stdout.contains("round trip exact") && stdout.contains("hausdorff"), "{stdout}");
+    for stage in ["round trip exact", "hausdorff", "noise:", "terrain:", "clouds:", "analyze:"] {
+        assert!(stdout.contains(stage), "missing `{stage}` in {stdout}");
+    }
 }
 
 #[test]

@@ -123,6 +123,25 @@ fn write_terrain(out: &Path) -> Result<()> {
         out.display(),
         super::millis(start)
     );
+    write_clouds(out)
+}
+
+/// Seed 001's clouds: a 257² plasma, thresholded and coloured.
+fn write_clouds(out: &Path) -> Result<()> {
+    use crate::terrain::{CloudParams, TerrainParams, clouds};
+    let start = Instant::now();
+    let params = CloudParams {
+        plasma: TerrainParams { size: 257, hurst: 0.7, seed: 4, ..TerrainParams::default() },
+        ..Default::default()
+    };
+    let (rgb, cover) = clouds(&params)?;
+    crate::io::image::write_png_rgb8(&out.join("clouds.png"), &rgb, 257)?;
+    println!(
+        "clouds: 257x257 => {:.0}% cover => {}/clouds.png in {} ms",
+        cover * 100.0,
+        out.display(),
+        super::millis(start)
+    );
     Ok(())
 }
 
