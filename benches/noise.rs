@@ -4,23 +4,15 @@
 //!
 //! `cargo bench --bench noise`
 
+mod common;
+
 use std::hint::black_box;
-use std::time::Instant;
+
+use common::best_of;
 
 use asperity::noise::{Fractal, FractalKind, NoiseField, NoiseKind, NoiseSpec, Perlin, hash::Stream};
 use glam::DVec3;
 use noise::{Fbm, MultiFractal, NoiseFn};
-
-/// Best of eleven runs, in seconds (this kind of machine is noisy).
-fn best_of(mut f: impl FnMut()) -> f64 {
-    (0..11)
-        .map(|_| {
-            let start = Instant::now();
-            f();
-            start.elapsed().as_secs_f64()
-        })
-        .fold(f64::INFINITY, f64::min)
-}
 
 fn single_thread<T: Send>(f: impl FnOnce() -> T + Send) -> T {
     rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("pool").install(f)

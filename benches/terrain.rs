@@ -4,7 +4,9 @@
 //!
 //! `cargo bench --bench terrain`
 
-use std::time::Instant;
+mod common;
+
+use common::best_of;
 
 use asperity::terrain::stream::{StreamFormat, write_terrain};
 use asperity::terrain::{Rect, TerrainParams, whole};
@@ -13,23 +15,14 @@ fn main() {
     let p = TerrainParams { size: 8193, hurst: 0.8, seed: 1, ..TerrainParams::default() };
     let points = (p.size * p.size) as f64;
     let rect = Rect { x0: 0, y0: 0, x1: p.size - 1, y1: p.size - 1 };
-    let best = |f: &dyn Fn()| {
-        (0..11)
-            .map(|_| {
-                let start = Instant::now();
-                f();
-                start.elapsed().as_secs_f64()
-            })
-            .fold(f64::INFINITY, f64::min)
-    };
-    let in_memory = best(&|| drop(whole(&p).expect("terrain")));
+    let in_memory = best_of(|| drop(whole(&p).expect("terrain")));
     println!(
         "classic 8193² in memory: {:.0} ms, {:.1} M points/s ({} threads)",
         in_memory * 1e3,
         points / in_memory / 1e6,
         rayon::current_num_threads()
     );
-    let streamed = best(&|| {
+    let streamed = best_of(|| {
         write_terrain(&p, rect, StreamFormat::F32, (-1.0, 1.0), 64, &mut std::io::sink()).expect("stream");
     });
     println!(

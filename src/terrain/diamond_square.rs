@@ -186,9 +186,27 @@ impl DiamondSquare {
             }
             return LevelGrid { shift, x0: r.x0, y0: r.y0, cols, rows, values };
         }
-        if self.lattice == Lattice::Triangle {
-            return self.triangle_level(level, r, shift, out);
+        let mut owned = Vec::new();
+        let values: &mut [f64] = match out {
+            Some(slice) => slice,
+            None => {
+                owned = vec![0.0; rows * cols];
+                &mut owned
+            }
+        };
+        match self.lattice {
+            Lattice::Square => self.fill_square_level(level, r, shift, values),
+            Lattice::Triangle => self.fill_triangle_level(level, r, shift, values),
         }
+        LevelGrid { shift, x0: r.x0, y0: r.y0, cols, rows, values: owned }
+    }
+
+    /// Fills level `level` of the square lattice on the snapped rectangle `r` (row-major,
+    /// spacing d = 2^shift) into `values`: square centres first, then diamonds.
+    fn fill_square_level(&self, level: u32, r: Rect, shift: u32, values: &mut [f64]) {
+        let last = self.side() - 1;
+        let d = 1u64 << shift;
+        let cols = ((r.x1 - r.x0) >> shift) as usize + 1;
         let two_d = 2 * d;
         let grown = r.grown(two_d, last);
         let coarse = self.level(level - 1, grown, None);
@@ -223,14 +241,6 @@ impl DiamondSquare {
         };
         let coarse_col = |x: u64| ((x - coarse.x0) >> (shift + 1)) as usize;
         let centre_col = |x: u64| ((x >> (shift + 1)) - a0) as usize;
-        let mut owned = Vec::new();
-        let values: &mut [f64] = match out {
-            Some(slice) => slice,
-            None => {
-                owned = vec![0.0; rows * cols];
-                &mut owned
-            }
-        };
         values.par_chunks_mut(cols).enumerate().for_each(|(j, row)| {
             let y = r.y0 + j as u64 * d;
             if (y >> shift) & 1 == 0 {
@@ -280,27 +290,18 @@ impl DiamondSquare {
                 }
             }
         });
-        LevelGrid { shift, x0: r.x0, y0: r.y0, cols, rows, values: owned }
     }
 
-    /// Level `level` of the triangular lattice on the snapped rectangle `r`: every new point
+    /// Fills level `level` of the triangular lattice on the snapped rectangle `r`: every new point
     /// is an edge midpoint whose parents are the edge's ends, coarse points at distance d —
     /// along x (odd, even), along y (even, odd) or along the anti-diagonal (odd, odd).
-    fn triangle_level(&self, level: u32, r: Rect, shift: u32, out: Option<&mut [f64]>) -> LevelGrid {
+    fn fill_triangle_level(&self, level: u32, r: Rect, shift: u32, values: &mut [f64]) {
         let last = self.side() - 1;
         let d = 1u64 << shift;
         let grown = r.grown(d, last);
         let coarse = self.level(level - 1, grown, None);
         let scale = self.scale(level);
-        let (cols, rows) = (((r.x1 - r.x0) >> shift) as usize + 1, ((r.y1 - r.y0) >> shift) as usize + 1);
-        let mut owned = Vec::new();
-        let values: &mut [f64] = match out {
-            Some(slice) => slice,
-            None => {
-                owned = vec![0.0; rows * cols];
-                &mut owned
-            }
-        };
+        let cols = ((r.x1 - r.x0) >> shift) as usize + 1;
         values.par_chunks_mut(cols).enumerate().for_each(|(j, row)| {
             let y = r.y0 + ((j as u64) << shift);
             let y_odd = (y >> shift) & 1 == 1;
@@ -317,6 +318,5 @@ impl DiamondSquare {
                 };
             }
         });
-        LevelGrid { shift, x0: r.x0, y0: r.y0, cols, rows, values: owned }
     }
 }
