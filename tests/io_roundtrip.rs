@@ -6,7 +6,7 @@ use asperity::io::{self, WriteOptions};
 use asperity::mesh::primitives::{cube, grid, icosphere, torus};
 use glam::DVec3;
 
-use crate::common::{canonical, shared_mesh_files, temp_dir};
+use crate::common::{canonical, read_text, shared_mesh_files, temp_dir};
 
 fn code_meshes() -> Vec<(&'static str, Mesh)> {
     vec![
@@ -93,11 +93,8 @@ fn shared_meshes_survive_every_format() {
 
 #[test]
 fn polygons_are_triangulated_and_counted() {
-    let dir = temp_dir();
-    let path = dir.path().join("l.off");
     // An L-shaped (non-convex) hexagon: a fan from vertex 0 would cover the notch.
-    std::fs::write(&path, "OFF\n6 1 0\n0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n6 0 1 2 3 4 5\n").unwrap();
-    let outcome = io::read(&path).unwrap();
+    let (_dir, outcome) = read_text("l.off", "OFF\n6 1 0\n0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n6 0 1 2 3 4 5\n");
     assert_eq!(outcome.triangulated_polygons, 1);
     let mesh = outcome.mesh;
     assert_eq!(mesh.face_count(), 4);
@@ -114,10 +111,8 @@ fn polygons_are_triangulated_and_counted() {
 
 #[test]
 fn obj_groups_are_merged_with_shared_vertices() {
-    let dir = temp_dir();
-    let path = dir.path().join("groups.obj");
-    std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\ng first\nf 1 2 3\ng second\nf 1 3 4\n").unwrap();
-    let outcome = io::read(&path).unwrap();
+    let (_dir, outcome) =
+        read_text("groups.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\ng first\nf 1 2 3\ng second\nf 1 3 4\n");
     assert_eq!(outcome.mesh.vertex_count(), 4);
     assert_eq!(outcome.mesh.validate().boundary_loops, 1);
     assert!(outcome.notes.iter().any(|n| n.contains("merged")), "{:?}", outcome.notes);
@@ -125,11 +120,9 @@ fn obj_groups_are_merged_with_shared_vertices() {
 
 #[test]
 fn files_with_bom_crlf_and_comments_read() {
-    let dir = temp_dir();
-    let path = dir.path().join("crlf.off");
-    std::fs::write(&path, "\u{feff}OFF\r\n# a comment\r\n3 1 0\r\n0 0 0\r1 0 0\n0 1 0 # trailing\r\n3 0 1 2\r\n")
-        .unwrap();
-    let mesh = io::read(&path).unwrap().mesh;
+    let (_dir, outcome) =
+        read_text("crlf.off", "\u{feff}OFF\r\n# a comment\r\n3 1 0\r\n0 0 0\r1 0 0\n0 1 0 # trailing\r\n3 0 1 2\r\n");
+    let mesh = outcome.mesh;
     assert_eq!((mesh.vertex_count(), mesh.face_count()), (3, 1));
 }
 

@@ -12,7 +12,7 @@ use glam::DVec3;
 use super::text::{numbered_lines, shorten};
 use super::{ReadOutcome, check_count_fits, check_polygon};
 use crate::error::{Error, Location, Result};
-use crate::mesh::{Mesh, triangulate_polygon};
+use crate::mesh::{Mesh, triangulate_polygons};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Encoding {
@@ -420,15 +420,9 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
         return Err(Error::parse(path, Location::File, "the PLY file has no vertex element"));
     }
 
-    let mut triangles = Vec::with_capacity(polygon_starts.len());
-    let mut triangulated = 0;
-    for (k, &start) in polygon_starts.iter().enumerate() {
-        let end = polygon_starts.get(k + 1).copied().unwrap_or(polygons.len());
-        if end - start > 3 {
-            triangulated += 1;
-        }
-        triangulate_polygon(&positions, &polygons[start..end], &mut triangles);
-    }
+    let ends = polygon_starts.iter().skip(1).copied().chain(std::iter::once(polygons.len()));
+    let faces = polygon_starts.iter().zip(ends).map(|(&start, end)| &polygons[start..end]);
+    let (triangles, triangulated) = triangulate_polygons(&positions, faces);
     let mesh = Mesh { positions, triangles, normals, colors, scalars };
     Ok(ReadOutcome { mesh, triangulated_polygons: triangulated, notes })
 }

@@ -62,3 +62,13 @@ pub fn canonical(mesh: &Mesh) -> Mesh {
 pub fn temp_dir() -> tempfile::TempDir {
     tempfile::tempdir().expect("temporary folder")
 }
+
+/// Writes `contents` to a file named `name` in a fresh temporary folder and reads it back as
+/// a mesh (the folder is returned so the file outlives the call).
+pub fn read_text(name: &str, contents: &str) -> (tempfile::TempDir, asperity::io::ReadOutcome) {
+    let dir = temp_dir();
+    let path = dir.path().join(name);
+    std::fs::write(&path, contents).expect("write test file");
+    let outcome = asperity::io::read(&path).expect("read test file");
+    (dir, outcome)
+}
