@@ -56,7 +56,7 @@ fn main() {
     // The static adapter after the bridge that calls it, then the shared libraries it needs.
     println!("cargo:rustc-link-search=native={}/build", native.display());
     println!("cargo:rustc-link-lib=static=asperity_native");
-    for lib in ["OpenMeshCore", "gmp", "mpfr", "stdc++"] {
+    for lib in ["OpenMeshTools", "OpenMeshCore", "gmp", "mpfr", "stdc++"] {
         println!("cargo:rustc-link-lib=dylib={lib}");
     }
 }

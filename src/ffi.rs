@@ -41,6 +41,12 @@ mod sys {
         new_vertices: Vec<u32>,
     }
 
+    /// A decimated mesh from a reference decimator.
+    struct DecimatedMesh {
+        positions: Vec<f64>,
+        triangles: Vec<u32>,
+    }
+
     unsafe extern "C++" {
         include!("asperity/cpp/bridge/bridge.h");
 
@@ -56,6 +62,12 @@ mod sys {
         fn boundary_flags(mesh: &HalfEdgeMesh, vertices: &[u32]) -> Result<Vec<u8>>;
         fn flip_edges(mesh: Pin<&mut HalfEdgeMesh>, pairs: &[u32]) -> Result<Vec<u8>>;
         fn split_edges(mesh: Pin<&mut HalfEdgeMesh>, pairs: &[u32], points: &[f64]) -> Result<SplitOutcome>;
+        fn insert_on_edges(
+            mesh: Pin<&mut HalfEdgeMesh>,
+            pairs: &[u32],
+            vertices: &[u32],
+            points: &[f64],
+        ) -> Result<Vec<u8>>;
         fn collapse_halfedges(
             mesh: Pin<&mut HalfEdgeMesh>,
             pairs: &[u32],
@@ -74,6 +86,9 @@ mod sys {
             points_per_area_unit: f64,
             seed: u32,
         ) -> Result<f64>;
+        fn point_distances(points: &[f64], positions: &[f64], triangles: &[u32]) -> Result<Vec<f64>>;
+        fn openmesh_decimate(positions: &[f64], triangles: &[u32], target_vertices: usize) -> Result<DecimatedMesh>;
+        fn cgal_decimate(positions: &[f64], triangles: &[u32], target_vertices: usize) -> Result<DecimatedMesh>;
         fn self_intersections(positions: &[f64], triangles: &[u32]) -> Result<Vec<u32>>;
     }
 }
@@ -112,6 +127,8 @@ pub enum OpStatus {
     OutOfRange,
     /// The collapse would turn a surviving face upside down.
     FlipsNormal,
+    /// The vertex to insert already has incident edges.
+    NotIsolated,
 }
 
 impl OpStatus {
@@ -124,6 +141,7 @@ impl OpStatus {
             4 => OpStatus::Deleted,
             5 => OpStatus::OutOfRange,
             6 => OpStatus::FlipsNormal,
+            7 => OpStatus::NotIsolated,
             other => {
                 return Err(Error::Internal(format!("unknown native status code {other}")));
             }
@@ -303,6 +321,24 @@ impl HalfEdgeMesh {
             .collect())
     }
 
+    /// Splits the edges `[a, b]` by inserting the given isolated vertices (present in the
+    /// store but on no face) moved to `points`, in order. Vertex indices stay fixed, which
+    /// is what hierarchy refinement needs.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] when the counts differ; [`Error::Native`] for a non-finite point.
+    pub fn insert_on_edges(&mut self, edges: &[[u32; 2]], vertices: &[u32], points: &[DVec3]) -> Result<Vec<OpStatus>> {
+        if edges.len() != points.len() || edges.len() != vertices.len() {
+            return Err(Error::InvalidInput(format!(
+                "{} edges to split, {} vertices and {} points",
+                edges.len(),
+                vertices.len(),
+                points.len()
+            )));
+        }
+        OpStatus::decode(&sys::insert_on_edges(self.store_mut()?, flat_pairs(edges), vertices, flat_positions(points))?)
+    }
+
     /// Collapses the half-edges `[from, to]` in order (`from` is removed, `to` keeps its
     /// position), each checked by OpenMesh's `is_collapse_ok` and `options`.
     ///
@@ -342,6 +378,22 @@ impl HalfEdgeMesh {
 #[derive(Debug, Clone, Copy, PartialEq, Default, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(transparent)]
 pub struct Quadric(pub [f64; 10]);
+
+impl Quadric {
+    /// The quadric error [p 1] Q [p 1]ᵀ (a sum of squared plane distances).
+    pub fn error(&self, p: DVec3) -> f64 {
+        let [a, b, c, d, e, f, g, h, i, j] = self.0;
+        let (x, y, z) = (p.x, p.y, p.z);
+        x * (a * x + 2.0 * (b * y + c * z + d)) + y * (e * y + 2.0 * (f * z + g)) + z * (h * z + 2.0 * i) + j
+    }
+
+    /// Adds `scale` times `other`.
+    pub fn add_scaled(&mut self, other: &Quadric, scale: f64) {
+        for (a, b) in self.0.iter_mut().zip(other.0) {
+            *a += scale * b;
+        }
+    }
+}
 
 /// Per-vertex Garland–Heckbert quadrics from CGAL's `GarlandHeckbert_plane_policies`
 /// (Garland & Heckbert 1997): the sum of the plane quadrics of the incident faces, plus
@@ -411,4 +463,40 @@ pub fn self_intersections(mesh: &Mesh) -> Result<Vec<[FaceId; 2]>> {
     mesh.check()?;
     let flat = sys::self_intersections(flat_positions(&mesh.positions), mesh.triangles.as_flattened())?;
     Ok(flat.chunks_exact(2).map(|p| [FaceId(p[0]), FaceId(p[1])]).collect())
+}
+
+/// OpenMesh's `DecimaterT` with `ModQuadricT` down to `target_vertices` (a reference for
+/// `asperity compare`).
+///
+/// # Errors
+/// [`Error::InvalidInput`] for an inconsistent mesh; [`Error::Native`] when OpenMesh refuses it.
+pub fn openmesh_decimate(mesh: &Mesh, target_vertices: usize) -> Result<Mesh> {
+    mesh.check()?;
+    let d = sys::openmesh_decimate(flat_positions(&mesh.positions), mesh.triangles.as_flattened(), target_vertices)?;
+    Ok(decimated(d))
+}
+
+/// CGAL's `edge_collapse` with `GarlandHeckbert_plane_policies`, stopping at the edge count
+/// of a `target_vertices`-vertex surface of the input's topology (a reference for
+/// `asperity compare`).
+///
+/// # Errors
+/// [`Error::InvalidInput`] for an inconsistent mesh; [`Error::Native`] when CGAL refuses it.
+pub fn cgal_decimate(mesh: &Mesh, target_vertices: usize) -> Result<Mesh> {
+    mesh.check()?;
+    let d = sys::cgal_decimate(flat_positions(&mesh.positions), mesh.triangles.as_flattened(), target_vertices)?;
+    Ok(decimated(d))
+}
+
+fn decimated(d: sys::DecimatedMesh) -> Mesh {
+    Mesh::new(unflatten_positions(&d.positions), d.triangles.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect())
+}
+
+/// Distance from each point to the nearest point of `mesh` (CGAL AABB tree).
+///
+/// # Errors
+/// [`Error::InvalidInput`] for an inconsistent mesh; [`Error::Native`] when CGAL refuses it.
+pub fn point_distances(points: &[DVec3], mesh: &Mesh) -> Result<Vec<f64>> {
+    mesh.check()?;
+    Ok(sys::point_distances(flat_positions(points), flat_positions(&mesh.positions), mesh.triangles.as_flattened())?)
 }

@@ -11,6 +11,7 @@ pub mod cli;
 pub mod error;
 #[allow(unsafe_code)]
 pub mod ffi;
+pub mod hierarchy;
 pub mod io;
 pub mod mesh;
 pub mod noise;

@@ -228,3 +228,80 @@ fn terrain_streams_tiles_and_refuses_bad_sizes() {
     );
     assert!(!tmp.path().join("x.ply").exists() && !tmp.path().join("x.stl").exists());
 }
+
+#[test]
+fn simplify_writes_the_base_levels_and_parametrization_and_reports_json() {
+    let Some(dir) = shared_meshes() else { return };
+    let tmp = temp_dir();
+    let input = dir.join("elephant.off");
+    let out = asperity(
+        &[
+            "simplify",
+            input.to_str().unwrap(),
+            "--target-vertices",
+            "10%",
+            "-o",
+            "base.ply",
+            "--levels-out",
+            "levels",
+            "--param-out",
+            "param.ply",
+            "--json",
+        ],
+        tmp.path(),
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for key in ["input_vertices", "output_vertices", "levels", "seconds", "feature_vertices_kept", "hausdorff"] {
+        assert!(json.get(key).is_some(), "missing {key}");
+    }
+    let levels = json["levels"].as_u64().unwrap();
+    let base = asperity::io::read(&tmp.path().join("base.ply")).unwrap().mesh;
+    assert_eq!(base.vertex_count() as u64, json["output_vertices"].as_u64().unwrap());
+    assert!((0.0..0.2).contains(&json["hausdorff"].as_f64().unwrap()));
+    assert_eq!(std::fs::read_dir(tmp.path().join("levels")).unwrap().count() as u64, levels + 1);
+    let param = asperity::io::read(&tmp.path().join("param.ply")).unwrap().mesh;
+    for key in ["level", "base_v0", "base_v1", "base_v2", "bary0", "bary1", "bary2"] {
+        assert!(param.scalars.contains_key(key), "param.ply lacks {key}");
+    }
+    let bad = asperity(&["simplify", input.to_str().unwrap(), "--target-vertices", "0%", "-o", "x.ply"], tmp.path());
+    assert_one_line_error(&bad, 2, &["--target-vertices"]);
+    assert!(!tmp.path().join("x.ply").exists());
+}
+
+#[test]
+fn detail_without_a_recipe_gives_the_input_back() {
+    let Some(dir) = shared_meshes() else { return };
+    let tmp = temp_dir();
+    let input = dir.join("femur.off");
+    let out = asperity(&["detail", input.to_str().unwrap(), "-o", "back.off", "--json"], tmp.path());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["positions_exact"], true);
+    assert_eq!(json["faces_matched"].as_f64(), Some(1.0));
+    let original = asperity::io::read(&input).unwrap().mesh;
+    let back = asperity::io::read(&tmp.path().join("back.off")).unwrap().mesh;
+    assert_eq!(back.positions, original.positions);
+}
+
+#[test]
+fn compare_runs_every_method_to_the_same_budget() {
+    let Some(dir) = shared_meshes() else { return };
+    let tmp = temp_dir();
+    let out = asperity(
+        &["compare", dir.join("elephant.off").to_str().unwrap(), "--target-vertices", "600", "--json"],
+        tmp.path(),
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let rows: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout).unwrap();
+    let methods: Vec<&str> = rows.iter().map(|r| r["method"].as_str().unwrap()).collect();
+    assert_eq!(methods, ["asperity", "openmesh", "cgal", "meshoptimizer"]);
+    for r in &rows {
+        let v = r["vertices"].as_u64().unwrap();
+        assert!((560..=640).contains(&v), "{r}");
+        for key in ["seconds", "hausdorff", "rms", "min_angle_deg", "features_kept"] {
+            assert!(r[key].is_number(), "{key} in {r}");
+        }
+        assert!(r["hausdorff"].as_f64().unwrap() < 0.1, "{r}");
+    }
+}

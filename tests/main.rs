@@ -5,6 +5,7 @@ mod bad_input;
 mod cli;
 mod common;
 mod ffi;
+mod hierarchy;
 mod io_roundtrip;
 mod noise;
 mod terrain;

@@ -70,6 +70,13 @@ SplitOutcome split_edges(HalfEdgeMesh& mesh, rust::Slice<const std::uint32_t> pa
   return SplitOutcome{to_rust(status), to_rust(new_vertices)};
 }
 
+rust::Vec<std::uint8_t> insert_on_edges(HalfEdgeMesh& mesh, rust::Slice<const std::uint32_t> pairs,
+                                        rust::Slice<const std::uint32_t> vertices,
+                                        rust::Slice<const double> points) {
+  return to_rust(mesh.insert_on_edges(pairs.data(), pairs.size(), vertices.data(), vertices.size(),
+                                      points.data(), points.size()));
+}
+
 rust::Vec<std::uint8_t> collapse_halfedges(HalfEdgeMesh& mesh, rust::Slice<const std::uint32_t> pairs,
                                            std::uint32_t required_degree, bool check_normals) {
   return to_rust(mesh.collapse_halfedges(pairs.data(), pairs.size(), required_degree, check_normals));
@@ -93,6 +100,23 @@ double symmetric_hausdorff(rust::Slice<const double> positions_a,
                            double points_per_area_unit, std::uint32_t seed) {
   return asperity::symmetric_hausdorff(arrays(positions_a, triangles_a),
                                        arrays(positions_b, triangles_b), points_per_area_unit, seed);
+}
+
+rust::Vec<double> point_distances(rust::Slice<const double> points, rust::Slice<const double> positions,
+                                  rust::Slice<const std::uint32_t> triangles) {
+  return to_rust(asperity::point_distances(points.data(), points.size(), arrays(positions, triangles)));
+}
+
+DecimatedMesh openmesh_decimate(rust::Slice<const double> positions,
+                                rust::Slice<const std::uint32_t> triangles, std::size_t target_vertices) {
+  const DecimatedArrays d = asperity::openmesh_decimate(arrays(positions, triangles), target_vertices);
+  return DecimatedMesh{to_rust(d.positions), to_rust(d.triangles)};
+}
+
+DecimatedMesh cgal_decimate(rust::Slice<const double> positions,
+                            rust::Slice<const std::uint32_t> triangles, std::size_t target_vertices) {
+  const DecimatedArrays d = asperity::cgal_decimate(arrays(positions, triangles), target_vertices);
+  return DecimatedMesh{to_rust(d.positions), to_rust(d.triangles)};
 }
 
 rust::Vec<std::uint32_t> self_intersections(rust::Slice<const double> positions,

@@ -31,6 +31,7 @@ struct MeshCounts;
 struct CsrArrays;
 struct ExportArrays;
 struct SplitOutcome;
+struct DecimatedMesh;
 
 std::unique_ptr<HalfEdgeMesh> new_halfedge_mesh();
 rust::Vec<std::uint32_t> add_geometry(HalfEdgeMesh& mesh, rust::Slice<const double> positions,
@@ -44,6 +45,9 @@ rust::Vec<std::uint8_t> boundary_flags(const HalfEdgeMesh& mesh,
 rust::Vec<std::uint8_t> flip_edges(HalfEdgeMesh& mesh, rust::Slice<const std::uint32_t> pairs);
 SplitOutcome split_edges(HalfEdgeMesh& mesh, rust::Slice<const std::uint32_t> pairs,
                          rust::Slice<const double> points);
+rust::Vec<std::uint8_t> insert_on_edges(HalfEdgeMesh& mesh, rust::Slice<const std::uint32_t> pairs,
+                                        rust::Slice<const std::uint32_t> vertices,
+                                        rust::Slice<const double> points);
 rust::Vec<std::uint8_t> collapse_halfedges(HalfEdgeMesh& mesh, rust::Slice<const std::uint32_t> pairs,
                                            std::uint32_t required_degree, bool check_normals);
 rust::Vec<std::uint32_t> garbage_collect(HalfEdgeMesh& mesh);
@@ -56,6 +60,12 @@ double symmetric_hausdorff(rust::Slice<const double> positions_a,
                            rust::Slice<const double> positions_b,
                            rust::Slice<const std::uint32_t> triangles_b,
                            double points_per_area_unit, std::uint32_t seed);
+DecimatedMesh openmesh_decimate(rust::Slice<const double> positions,
+                                rust::Slice<const std::uint32_t> triangles, std::size_t target_vertices);
+DecimatedMesh cgal_decimate(rust::Slice<const double> positions,
+                            rust::Slice<const std::uint32_t> triangles, std::size_t target_vertices);
+rust::Vec<double> point_distances(rust::Slice<const double> points, rust::Slice<const double> positions,
+                                  rust::Slice<const std::uint32_t> triangles);
 rust::Vec<std::uint32_t> self_intersections(rust::Slice<const double> positions,
                                             rust::Slice<const std::uint32_t> triangles);
 

@@ -13,6 +13,14 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
+#include <CGAL/Surface_mesh_simplification/edge_collapse.h>
+
+#include "asperity/reference_decimators.hpp"
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
 
 namespace asperity {
 namespace {
@@ -22,8 +30,11 @@ using Point = Kernel::Point_3;
 using SurfaceMesh = CGAL::Surface_mesh<Point>;
 namespace PMP = CGAL::Polygon_mesh_processing;
 
-/// Builds a Surface_mesh whose vertex and face indices equal the array indices.
-SurfaceMesh to_surface_mesh(const TriangleArrays& in, const char* which) {
+/// Builds a Surface_mesh whose vertex and face indices equal the array indices. With
+/// `as_soup`, a face the half-edge structure refuses (non-manifold, e.g. from a decimator
+/// that does not keep manifoldness) is added on its own copies of its corners instead:
+/// distance measures only need the triangles.
+SurfaceMesh to_surface_mesh(const TriangleArrays& in, const char* which, bool as_soup = false) {
   if (in.n_coords % 3 != 0 || in.n_indices % 3 != 0)
     throw NativeError(std::string(which) + ": array lengths are not multiples of 3");
   const std::size_t nv = in.n_coords / 3, nf = in.n_indices / 3;
@@ -50,7 +61,17 @@ SurfaceMesh to_surface_mesh(const TriangleArrays& in, const char* which) {
       }
       v[k] = SurfaceMesh::Vertex_index(idx);
     }
-    if (sm.add_face(v[0], v[1], v[2]) == SurfaceMesh::null_face()) {
+    if (sm.add_face(v[0], v[1], v[2]) != SurfaceMesh::null_face()) continue;
+    if (as_soup && v[0] != v[1] && v[1] != v[2] && v[0] != v[2]) {
+      SurfaceMesh::Vertex_index copy[3];
+      for (int k = 0; k < 3; ++k) {
+        const Point corner = sm.point(v[k]);  // a copy: add_vertex may grow the point array
+        copy[k] = sm.add_vertex(corner);
+      }
+      sm.add_face(copy[0], copy[1], copy[2]);
+      continue;
+    }
+    {
       std::ostringstream msg;
       msg << which << ": face " << f << " (" << v[0] << ", " << v[1] << ", " << v[2]
           << ") is degenerate or non-manifold";
@@ -101,8 +122,8 @@ std::vector<double> quadric_errors(const double* quadrics, std::size_t n_quadric
 
 double symmetric_hausdorff(const TriangleArrays& a, const TriangleArrays& b,
                            double points_per_area_unit, unsigned seed) {
-  const SurfaceMesh ma = to_surface_mesh(a, "hausdorff (first mesh)");
-  const SurfaceMesh mb = to_surface_mesh(b, "hausdorff (second mesh)");
+  const SurfaceMesh ma = to_surface_mesh(a, "hausdorff (first mesh)", true);
+  const SurfaceMesh mb = to_surface_mesh(b, "hausdorff (second mesh)", true);
   if (ma.number_of_faces() == 0 || mb.number_of_faces() == 0)
     throw NativeError("hausdorff: a mesh has no faces");
   if (points_per_area_unit > 0.0) {
@@ -130,6 +151,45 @@ std::vector<std::uint32_t> self_intersections(const TriangleArrays& mesh) {
   std::vector<std::uint32_t> out;
   out.reserve(2 * sorted.size());
   for (const auto& p : sorted) out.insert(out.end(), {p.first, p.second});
+  return out;
+}
+
+DecimatedArrays cgal_decimate(const TriangleArrays& mesh, std::size_t target_vertices) {
+  namespace SMS = CGAL::Surface_mesh_simplification;
+  SurfaceMesh sm = to_surface_mesh(mesh, "CGAL edge_collapse");
+  // V - E + F = chi and 2E = 3F + boundary edges: E = 3V - 3chi + boundary edges.
+  const long long v = static_cast<long long>(sm.number_of_vertices());
+  const long long e = static_cast<long long>(sm.number_of_edges());
+  const long long f = static_cast<long long>(sm.number_of_faces());
+  long long boundary = 0;
+  for (auto h : sm.halfedges()) boundary += sm.is_border(h) ? 1 : 0;
+  const long long chi = v - e + f;
+  const long long edges = 3 * static_cast<long long>(target_vertices) - 3 * chi + boundary;
+  SMS::Count_stop_predicate<SurfaceMesh> stop(static_cast<std::size_t>(std::max<long long>(edges, 0)));
+  SMS::GarlandHeckbert_plane_policies<SurfaceMesh, Kernel> policies(sm);
+  SMS::edge_collapse(sm, stop, CGAL::parameters::get_cost(policies.get_cost()).get_placement(policies.get_placement()));
+  sm.collect_garbage();
+  DecimatedArrays out;
+  for (auto vi : sm.vertices()) {
+    const Point& p = sm.point(vi);
+    out.positions.insert(out.positions.end(), {p.x(), p.y(), p.z()});
+  }
+  for (auto fi : sm.faces())
+    for (auto vi : CGAL::vertices_around_face(sm.halfedge(fi), sm)) out.triangles.push_back(static_cast<std::uint32_t>(vi.idx()));
+  return out;
+}
+
+std::vector<double> point_distances(const double* xyz, std::size_t n_coords, const TriangleArrays& mesh) {
+  if (n_coords % 3 != 0) throw NativeError("point_distances: point array length is not a multiple of 3");
+  SurfaceMesh sm = to_surface_mesh(mesh, "point_distances", true);
+  if (sm.number_of_faces() == 0) throw NativeError("point_distances: the mesh has no faces");
+  using Primitive = CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+  Tree tree(faces(sm).first, faces(sm).second, sm);
+  tree.accelerate_distance_queries();
+  std::vector<double> out(n_coords / 3);
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = std::sqrt(CGAL::to_double(tree.squared_distance(Point(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]))));
   return out;
 }
 

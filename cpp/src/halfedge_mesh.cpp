@@ -226,6 +226,40 @@ std::vector<OpStatus> HalfEdgeMesh::split_edges(const std::uint32_t* pairs, std:
   return out;
 }
 
+std::vector<OpStatus> HalfEdgeMesh::insert_on_edges(const std::uint32_t* pairs, std::size_t n_values,
+                                                   const std::uint32_t* vertices, std::size_t n_vertices,
+                                                   const double* xyz, std::size_t n_coords) {
+  require_multiple(n_values, 2, "insertion pairs");
+  const std::size_t n = n_values / 2;
+  if (n_vertices != n || n_coords != 3 * n)
+    throw NativeError("insert_on_edges: need one vertex and one point (3 coordinates) per edge");
+  std::vector<OpStatus> out(n, OpStatus::Done);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t a = pairs[2 * i], b = pairs[2 * i + 1], v = vertices[i];
+    if (a >= mesh_.n_vertices() || b >= mesh_.n_vertices() || v >= mesh_.n_vertices()) {
+      out[i] = OpStatus::OutOfRange;
+      continue;
+    }
+    const VH va(static_cast<int>(a)), vb(static_cast<int>(b)), vn(static_cast<int>(v));
+    if (mesh_.status(va).deleted() || mesh_.status(vb).deleted() || mesh_.status(vn).deleted()) {
+      out[i] = OpStatus::Deleted;
+      continue;
+    }
+    if (!mesh_.is_isolated(vn)) { out[i] = OpStatus::NotIsolated; continue; }
+    const HH h = mesh_.find_halfedge(va, vb);
+    if (!h.is_valid()) { out[i] = OpStatus::NotAnEdge; continue; }
+    const TriMesh::Point p(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+      std::ostringstream msg;
+      msg << "insertion point " << i << " has a non-finite coordinate";
+      throw NativeError(msg.str());
+    }
+    mesh_.set_point(vn, p);
+    mesh_.split(mesh_.edge_handle(h), vn);
+  }
+  return out;
+}
+
 std::vector<OpStatus> HalfEdgeMesh::collapse_halfedges(const std::uint32_t* pairs,
                                                        std::size_t n_values,
                                                        std::uint32_t required_degree,

@@ -3,11 +3,14 @@
 
 mod analyze;
 mod clouds;
+mod compare;
 mod convert;
 mod demo;
+mod detail;
 mod info;
 mod noise;
 mod parse;
+mod simplify;
 mod terrain;
 
 use std::path::PathBuf;
@@ -32,12 +35,18 @@ enum Command {
     Clouds(clouds::CloudArgs),
     /// Print a mesh's validation report (counts, boundaries, manifoldness, genus).
     Info(info::InfoArgs),
+    /// Simplify with asperity, OpenMesh, CGAL and meshoptimizer to the same vertex count.
+    Compare(compare::CompareArgs),
     /// Convert a mesh between OBJ, PLY, OFF and STL (format by extension).
     Convert(convert::ConvertArgs),
+    /// Build the 4-k hierarchy and refine it back (the round trip; recipes add detail).
+    Detail(detail::DetailArgs),
     /// Run the built-in demonstration, writing results under an output folder.
     Demo(demo::DemoArgs),
     /// Write a noise image (Perlin family or Gabor) as 16-bit PNG or raw f32.
     Noise(noise::NoiseArgs),
+    /// Simplify to the 4-k hierarchy's base domain (feature-sensitive four-face clusters).
+    Simplify(simplify::SimplifyArgs),
     /// Generate a fractal terrain: mesh or heightmap, whole, tiled or streamed.
     Terrain(Box<terrain::TerrainArgs>),
 }
@@ -82,8 +91,11 @@ fn dispatch(cli: Cli) -> Result<()> {
         Command::Analyze(args) => analyze::run(args),
         Command::Clouds(args) => clouds::run(args),
         Command::Info(args) => info::run(args),
+        Command::Compare(args) => compare::run(args),
         Command::Convert(args) => convert::run(args),
         Command::Demo(args) => demo::run(args),
+        Command::Detail(args) => detail::run(args),
+        Command::Simplify(args) => simplify::run(args),
         Command::Noise(args) => noise::run(args),
         Command::Terrain(args) => terrain::run(*args),
     }

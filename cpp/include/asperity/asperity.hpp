@@ -2,3 +2,4 @@
 #pragma once
 #include "asperity/cgal_ops.hpp"
 #include "asperity/halfedge_mesh.hpp"
+#include "asperity/reference_decimators.hpp"

@@ -36,6 +36,9 @@ std::vector<double> quadric_errors(const double* quadrics, std::size_t n_quadric
 double symmetric_hausdorff(const TriangleArrays& a, const TriangleArrays& b,
                            double points_per_area_unit, unsigned seed);
 
+/// Distance from each point (xyz) to the nearest point of the mesh (CGAL AABB tree).
+std::vector<double> point_distances(const double* xyz, std::size_t n_coords, const TriangleArrays& mesh);
+
 /// Pairs of intersecting faces (f0 g0 f1 g1 ..., each pair with f < g, sorted).
 std::vector<std::uint32_t> self_intersections(const TriangleArrays& mesh);
 

@@ -36,6 +36,7 @@ enum class OpStatus : std::uint8_t {
   Deleted = 4,       ///< a vertex was already removed by an earlier operation
   OutOfRange = 5,    ///< a vertex index beyond the vertex count
   FlipsNormal = 6,   ///< the collapse would turn a surviving face upside down
+  NotIsolated = 7,   ///< the vertex to insert already has incident edges
 };
 
 /// Vertex adjacency in compressed sparse row form: the neighbours of query i are
@@ -89,6 +90,12 @@ class HalfEdgeMesh {
   std::vector<OpStatus> split_edges(const std::uint32_t* pairs, std::size_t n_values,
                                     const double* xyz, std::size_t n_coords,
                                     std::vector<std::uint32_t>& new_vertices);
+  /// Splits the edges given as vertex pairs by inserting existing isolated vertices (one
+  /// per pair), moved to the given points (xyz per pair), in order: the refinement of a
+  /// hierarchy whose vertex indices are fixed for its whole life.
+  std::vector<OpStatus> insert_on_edges(const std::uint32_t* pairs, std::size_t n_values,
+                                        const std::uint32_t* vertices, std::size_t n_vertices,
+                                        const double* xyz, std::size_t n_coords);
   /// Collapses half-edges from -> to (pairs), removing `from`; `to` keeps its position.
   /// `required_degree` > 0 restricts to vertices of that valence (4: four-face-cluster
   /// welds). With `check_normals`, a collapse that flips a surviving face is refused.

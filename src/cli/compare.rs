@@ -1,0 +1,51 @@
+//! `asperity compare IN --target-vertices V [--json]`: ours against OpenMesh, CGAL and
+//! meshoptimizer at the same vertex count, one line each.
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use crate::error::Result;
+use crate::hierarchy::compare::{METHODS, compare};
+use crate::io;
+
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    /// Input mesh.
+    input: PathBuf,
+    /// Vertex budget: a count ("377") or a share of the input's vertices ("1%").
+    #[arg(long, default_value = "1%")]
+    target_vertices: String,
+    /// Methods to run, comma-separated (asperity, openmesh, cgal, meshoptimizer).
+    #[arg(long, value_delimiter = ',', default_values_t = METHODS.map(String::from))]
+    methods: Vec<String>,
+    /// Print a JSON array of results.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(args: CompareArgs) -> Result<()> {
+    let mesh = io::read(&args.input)?.mesh;
+    let target = super::simplify::resolve_target(&args.target_vertices, mesh.vertex_count())?;
+    let methods: Vec<&str> = args.methods.iter().map(String::as_str).collect();
+    let rows = compare(&mesh, target, &methods)?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&rows).expect("report serialises"));
+    } else {
+        for r in &rows {
+            println!(
+                "{:<13} {} tris => {} tris, {} vertices (hausdorff {:.3}%, rms {:.4}%, min angle {:.2}°, {} features kept) in {:.0} ms",
+                format!("{}:", r.method),
+                mesh.face_count(),
+                r.faces,
+                r.vertices,
+                r.hausdorff * 100.0,
+                r.rms * 100.0,
+                r.min_angle_deg,
+                r.features_kept,
+                r.seconds * 1e3
+            );
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,217 @@
+//! `asperity simplify IN (--target-vertices V | --levels L | --max-error E) -o BASE`: the 4-k
+//! hierarchy's base domain, optionally every level and the parametrization.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::Args;
+use serde_json::json;
+
+use crate::error::{Error, Result};
+use crate::ffi::{HausdorffOptions, hausdorff_distance};
+use crate::hierarchy::{Hierarchy, KeepFeatures, SimplifyOptions, build};
+use crate::io::{self, WriteOptions};
+use crate::mesh::Mesh;
+
+/// How far to simplify, and what to keep: shared by `simplify` and `detail`.
+#[derive(Debug, Args)]
+pub struct HierarchyArgs {
+    /// Stop at this many vertices ("377") or this share of the input's ("1%").
+    #[arg(long, value_parser = parse_target)]
+    target_vertices: Option<Target>,
+    /// Stop after this many levels.
+    #[arg(long)]
+    levels: Option<usize>,
+    /// Never remove a vertex whose error exceeds this fraction of the bounding-box diagonal.
+    #[arg(long)]
+    max_error: Option<f64>,
+    /// Feature vertices kept in the base domain (thesis §4.4.1.1).
+    #[arg(long, value_enum, default_value_t = KeepArg::Strong)]
+    keep_features: KeepArg,
+    /// Weight of the removal error in E(v) (eq. 4.1).
+    #[arg(long, default_value_t = 0.75)]
+    removal_weight: f64,
+    /// Weight of the swap error in E(v) (eq. 4.1).
+    #[arg(long, default_value_t = 0.25)]
+    swap_weight: f64,
+}
+
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+enum KeepArg {
+    None,
+    Strong,
+    All,
+}
+
+/// A vertex budget, absolute or relative.
+#[derive(Debug, Clone, Copy)]
+pub enum Target {
+    Vertices(usize),
+    Percent(f64),
+}
+
+fn parse_target(s: &str) -> std::result::Result<Target, String> {
+    if let Some(p) = s.strip_suffix('%') {
+        let p: f64 = p.trim().parse().map_err(|_| format!("'{s}' is not a percentage"))?;
+        if !(p > 0.0 && p <= 100.0) {
+            return Err(format!("'{s}' must be above 0% and at most 100%"));
+        }
+        Ok(Target::Percent(p))
+    } else {
+        s.trim().parse().map(Target::Vertices).map_err(|_| format!("'{s}' is not a vertex count or a percentage"))
+    }
+}
+
+/// A `--target-vertices` value resolved against an input of `vertices` vertices.
+pub fn resolve_target(text: &str, vertices: usize) -> Result<usize> {
+    let target = parse_target(text).map_err(|e| Error::InvalidInput(format!("--target-vertices: {e}")))?;
+    Ok(target.resolve(vertices))
+}
+
+impl Target {
+    fn resolve(self, vertices: usize) -> usize {
+        match self {
+            Target::Vertices(v) => v,
+            Target::Percent(p) => ((vertices as f64 * p / 100.0).round() as usize).max(4),
+        }
+    }
+}
+
+impl HierarchyArgs {
+    /// The library options for a mesh of `vertices` vertices.
+    pub fn options(&self, vertices: usize, record_levels: bool) -> Result<SimplifyOptions> {
+        if let Some(e) = self.max_error {
+            if !(e >= 0.0 && e.is_finite()) {
+                return Err(Error::InvalidInput(format!("--max-error {e} must be a non-negative fraction")));
+            }
+        }
+        for (name, w) in [("--removal-weight", self.removal_weight), ("--swap-weight", self.swap_weight)] {
+            if !(w >= 0.0 && w.is_finite()) {
+                return Err(Error::InvalidInput(format!("{name} {w} must be non-negative")));
+            }
+        }
+        let target_vertices = self.target_vertices.map(|t| t.resolve(vertices));
+        Ok(SimplifyOptions {
+            target_vertices,
+            levels: self.levels,
+            max_error: self.max_error,
+            keep_features: match self.keep_features {
+                KeepArg::None => KeepFeatures::None,
+                KeepArg::Strong => KeepFeatures::Strong,
+                KeepArg::All => KeepFeatures::All,
+            },
+            removal_weight: self.removal_weight,
+            swap_weight: self.swap_weight,
+            record_levels,
+            ..SimplifyOptions::default()
+        })
+    }
+}
+
+#[derive(Debug, Args)]
+pub struct SimplifyArgs {
+    /// Input mesh.
+    input: PathBuf,
+    /// Base domain output (format by extension).
+    #[arg(short, long)]
+    output: PathBuf,
+    #[command(flatten)]
+    hierarchy: HierarchyArgs,
+    /// Write every level as DIR/level_NN.ply (00 = base domain).
+    #[arg(long)]
+    levels_out: Option<PathBuf>,
+    /// Write the input mesh as PLY with each vertex's base face, barycentric coordinates
+    /// and level as vertex properties.
+    #[arg(long)]
+    param_out: Option<PathBuf>,
+    /// Print a JSON report.
+    #[arg(long)]
+    json: bool,
+    /// Allow an output to overwrite the input.
+    #[arg(long)]
+    force: bool,
+}
+
+pub fn run(args: SimplifyArgs) -> Result<()> {
+    let start = Instant::now();
+    io::Format::from_path(&args.output)?;
+    super::guard_overwrite(&args.input, &args.output, args.force)?;
+    if let Some(p) = &args.param_out {
+        io::Format::from_path(p)?;
+        super::guard_overwrite(&args.input, p, args.force)?;
+    }
+    let mesh = io::read(&args.input)?.mesh;
+    let options = args.hierarchy.options(mesh.vertex_count(), args.levels_out.is_some())?;
+    let hierarchy = build(&mesh, &options)?;
+    let base = hierarchy.base_mesh().mesh;
+    io::write(&base, &args.output, WriteOptions::default())?;
+    if let Some(dir) = &args.levels_out {
+        write_levels(&hierarchy, dir)?;
+    }
+    if let Some(p) = &args.param_out {
+        io::write(&parametrization_mesh(&mesh, &hierarchy), p, WriteOptions::default())?;
+    }
+    let hausdorff = relative_hausdorff(&mesh, &base)?;
+    if args.json {
+        let report = json!({
+            "input": args.input.display().to_string(),
+            "output": args.output.display().to_string(),
+            "input_vertices": mesh.vertex_count(),
+            "output_vertices": base.vertex_count(),
+            "input_faces": mesh.face_count(),
+            "output_faces": base.face_count(),
+            "levels": hierarchy.steps(),
+            "feature_vertices_kept": hierarchy.feature_vertices,
+            "hausdorff": hausdorff,
+            "seconds": hierarchy.seconds,
+            "total_seconds": start.elapsed().as_secs_f64(),
+        });
+        println!("{}", serde_json::to_string_pretty(&report).expect("report serialises"));
+    } else {
+        println!(
+            "simplify: {} tris => {} tris, {} levels, {} feature vertices kept (hausdorff {:.2}%) in {} ms",
+            mesh.face_count(),
+            base.face_count(),
+            hierarchy.steps(),
+            hierarchy.feature_vertices,
+            hausdorff * 100.0,
+            super::millis(start)
+        );
+    }
+    Ok(())
+}
+
+/// Symmetric Hausdorff distance (CGAL) as a fraction of `reference`'s bounding-box diagonal.
+pub fn relative_hausdorff(reference: &Mesh, other: &Mesh) -> Result<f64> {
+    let diagonal = reference.bounding_box().map_or(0.0, |(lo, hi)| (hi - lo).length());
+    if diagonal == 0.0 {
+        return Ok(0.0);
+    }
+    Ok(hausdorff_distance(reference, other, HausdorffOptions::default())? / diagonal)
+}
+
+fn write_levels(hierarchy: &Hierarchy, dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let steps = hierarchy.steps();
+    for (k, level) in hierarchy.levels.iter().enumerate() {
+        let path = dir.join(format!("level_{:02}.ply", steps - k));
+        io::write(&level.mesh, &path, WriteOptions::default())?;
+    }
+    Ok(())
+}
+
+/// The input mesh carrying the parametrization as vertex properties: `level`,
+/// `base_v0..2` (base face, input vertex ids) and `bary0..2`; −1 for unparametrized vertices.
+fn parametrization_mesh(mesh: &Mesh, hierarchy: &Hierarchy) -> Mesh {
+    let points = hierarchy.base_parametrization();
+    let mut out = Mesh::new(mesh.positions.clone(), mesh.triangles.clone());
+    let column = |f: &dyn Fn(&crate::hierarchy::BasePoint) -> f64| -> Vec<f64> {
+        points.iter().map(|p| p.as_ref().map_or(-1.0, f)).collect()
+    };
+    out.scalars.insert("level".into(), column(&|p| f64::from(p.level)));
+    for i in 0..3 {
+        out.scalars.insert(format!("base_v{i}"), column(&|p| f64::from(p.point.face[i])));
+        out.scalars.insert(format!("bary{i}"), column(&|p| p.point.bary[i]));
+    }
+    out
+}

@@ -1,0 +1,199 @@
+//! The variable-resolution 4-k mesh hierarchy (thesis §4.4, §4.6; Velho [13], Velho &
+//! Gomes [3], MAPS [4]): feature-sensitive four-face-cluster simplification down to a base
+//! domain, the hierarchical parametrization of every removed vertex, and adaptive
+//! refinement back to full resolution (or to any level, or only where a selection asks).
+//!
+//! Stages: [`build`] (simplify + parametrize) → [`Hierarchy`] → [`Refiner`] (refine, with
+//! room for deformations between levels).
+//!
+//! Levels are numbered from the base domain (0) to the input (`steps`); a vertex removed by
+//! simplification step s (0 = the first, finest step) belongs to level `steps − s`.
+
+mod cluster;
+pub mod compare;
+mod conformal;
+mod param;
+mod refine;
+mod rings;
+mod simplify;
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+pub use cluster::{ClusterPlan, ClusterRules, nearest_edge, widest_link_edge};
+pub use conformal::{Flattening, barycentric, clamp_barycentric, interpolate, locate};
+pub use param::ParamPoint;
+pub use refine::{LevelMesh, LevelReport, Refiner, connectivity_match};
+pub use rings::Rings;
+pub use simplify::build;
+
+/// Which feature classes (§4.4.1.1, Algorithm 1) simplification never removes.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum KeepFeatures {
+    /// Every interior vertex may be removed.
+    None,
+    /// Corners and strong edges (the thesis' choice).
+    #[default]
+    Strong,
+    /// Corners, strong edges and weak features.
+    All,
+}
+
+/// Options of [`build`]. Simplification stops at the first limit reached, or when a
+/// level can remove nothing more.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimplifyOptions {
+    /// Stop at this many vertices.
+    pub target_vertices: Option<usize>,
+    /// Stop after this many levels (simplification steps).
+    pub levels: Option<usize>,
+    /// Never remove a vertex whose E(v) exceeds this distance, as a fraction of the
+    /// bounding-box diagonal (E is a squared distance; it is compared squared).
+    pub max_error: Option<f64>,
+    /// Feature classes kept in the base domain.
+    pub keep_features: KeepFeatures,
+    /// Vertices the user marked as unremovable.
+    pub keep_vertices: Vec<u32>,
+    /// Weight of the removal error in E(v) (eq. 4.1).
+    pub removal_weight: f64,
+    /// Weight of the swap error in E(v) (eq. 4.1).
+    pub swap_weight: f64,
+    /// Algorithm 3's angle threshold, degrees.
+    pub fix_threshold_degrees: f64,
+    /// Keep a copy of every level's mesh (for `--levels-out`).
+    pub record_levels: bool,
+    /// Test each level as planned for self-intersections (CGAL) and leave out the clusters
+    /// whose new faces would cut the surface.
+    pub prevent_intersections: bool,
+}
+
+impl Default for SimplifyOptions {
+    fn default() -> Self {
+        SimplifyOptions {
+            target_vertices: None,
+            levels: None,
+            max_error: None,
+            keep_features: KeepFeatures::Strong,
+            keep_vertices: Vec::new(),
+            removal_weight: 0.75,
+            swap_weight: 0.25,
+            fix_threshold_degrees: 90.0,
+            record_levels: false,
+            prevent_intersections: true,
+        }
+    }
+}
+
+/// One removed vertex, in removal order.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Removal {
+    /// The vertex (index in the input mesh).
+    pub vertex: u32,
+    /// The simplification step that removed it (0 = first).
+    pub step: u32,
+    /// Its degree on the level it was removed from (restored by refinement, Algorithm 3).
+    pub degree: u32,
+    /// Where it lies on the next coarser level: the face the weld left and barycentric
+    /// coordinates (refinement re-inserts it there).
+    pub local: ParamPoint,
+    /// The edge its weld created, which refinement splits.
+    pub diagonal: [u32; 2],
+    /// `Hierarchy::restore[restore[0]..restore[1]]`: the link edges refinement flips, in
+    /// order, to restore the degree (Algorithm 3), each as (its first vertex in the ring,
+    /// the ring vertex across it).
+    pub restore: [u32; 2],
+}
+
+/// A vertex's place in the base domain.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct BasePoint {
+    /// Face of the base domain (input vertex ids) and barycentric coordinates.
+    pub point: ParamPoint,
+    /// The level at which the vertex appears (0: a base vertex).
+    pub level: u32,
+}
+
+/// A built hierarchy: the input, the base domain, the removals and the parametrization.
+#[derive(Debug, Clone)]
+pub struct Hierarchy {
+    /// Input positions (simplification never moves a vertex).
+    pub positions: Vec<DVec3>,
+    /// Input triangles.
+    pub input_triangles: Vec<[u32; 3]>,
+    /// The base domain's triangles, in input vertex ids.
+    pub base_triangles: Vec<[u32; 3]>,
+    /// Every removed vertex, in removal order.
+    pub removals: Vec<Removal>,
+    /// The link edges each removal's refinement flips (see [`Removal::restore`]).
+    pub restore: Vec<[u32; 2]>,
+    /// `removals[step_starts[s]..step_starts[s + 1]]` were removed by step s.
+    pub step_starts: Vec<usize>,
+    /// Final base-domain point of each removed vertex (`None` for base vertices).
+    pub params: Vec<Option<ParamPoint>>,
+    /// Vertices that could not be removed (features, user marks).
+    pub kept: Vec<bool>,
+    /// Number of feature vertices kept.
+    pub feature_vertices: usize,
+    /// Every level's mesh, finest (the input) first, when recorded.
+    pub levels: Vec<LevelMesh>,
+    /// Algorithm 3's angle threshold, radians (used where a recorded face is gone).
+    pub fix_threshold: f64,
+    /// Build time.
+    pub seconds: f64,
+}
+
+impl Hierarchy {
+    /// Number of simplification steps (the input is level `steps()`, the base level 0).
+    pub fn steps(&self) -> usize {
+        self.step_starts.len() - 1
+    }
+
+    /// The link edges (first vertex, vertex across) refinement flips for `r`, in order.
+    pub fn restore_of(&self, r: &Removal) -> &[[u32; 2]] {
+        &self.restore[r.restore[0] as usize..r.restore[1] as usize]
+    }
+
+    /// The removals of step `s`.
+    pub fn step(&self, s: usize) -> &[Removal] {
+        &self.removals[self.step_starts[s]..self.step_starts[s + 1]]
+    }
+
+    /// Number of vertices of the base domain.
+    pub fn base_vertex_count(&self) -> usize {
+        let mut used = vec![false; self.positions.len()];
+        for t in &self.base_triangles {
+            for &v in t {
+                used[v as usize] = true;
+            }
+        }
+        used.iter().filter(|&&u| u).count()
+    }
+
+    /// The base domain as a compact mesh, with each vertex's input id.
+    pub fn base_mesh(&self) -> LevelMesh {
+        LevelMesh::compact(&self.positions, &self.base_triangles)
+    }
+
+    /// Every input vertex's base-domain point and level (base vertices sit on a corner of
+    /// one of their faces); `None` for vertices on no face.
+    pub fn base_parametrization(&self) -> Vec<Option<BasePoint>> {
+        let steps = self.steps() as u32;
+        let mut out: Vec<Option<BasePoint>> = vec![None; self.positions.len()];
+        for t in &self.base_triangles {
+            for (i, &v) in t.iter().enumerate() {
+                if out[v as usize].is_none() {
+                    let mut bary = [0.0; 3];
+                    bary[i] = 1.0;
+                    out[v as usize] = Some(BasePoint { point: ParamPoint { face: *t, bary }, level: 0 });
+                }
+            }
+        }
+        for r in &self.removals {
+            if let Some(point) = self.params[r.vertex as usize] {
+                out[r.vertex as usize] = Some(BasePoint { point, level: steps - r.step });
+            }
+        }
+        out
+    }
+}

@@ -1,0 +1,79 @@
+//! The hierarchical parametrization built during simplification (MAPS, Lee et al. 1998;
+//! thesis §4.4.1.2): every removed vertex is a point (face, barycentric coordinates) on the
+//! current coarse level, and when a face it lies on disappears its point is carried through
+//! the conformal flattening of the removed vertex onto the face that replaces it.
+
+use glam::DVec2;
+use rustc_hash::FxHashMap;
+use serde::Serialize;
+
+use super::cluster::ClusterPlan;
+use super::conformal::locate;
+
+/// A point on a level of the hierarchy: a face (counter-clockwise vertex ids) and
+/// barycentric coordinates (non-negative, summing to one).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ParamPoint {
+    /// The face's vertices.
+    pub face: [u32; 3],
+    /// Barycentric coordinates with respect to `face`.
+    pub bary: [f64; 3],
+}
+
+/// The face key shared by all rotations of a counter-clockwise triangle.
+fn face_key(f: [u32; 3]) -> [u32; 3] {
+    let i = (0..3).min_by_key(|&i| f[i]).unwrap_or(0);
+    [f[i], f[(i + 1) % 3], f[(i + 2) % 3]]
+}
+
+/// Parameter points of the removed vertices, bucketed by the face they lie on.
+#[derive(Debug, Default)]
+pub struct ParamBuckets {
+    buckets: FxHashMap<[u32; 3], Vec<u32>>,
+    points: Vec<Option<ParamPoint>>,
+}
+
+impl ParamBuckets {
+    /// No vertex parametrized yet, room for `vertices`.
+    pub fn new(vertices: usize) -> Self {
+        ParamBuckets { buckets: FxHashMap::default(), points: vec![None; vertices] }
+    }
+
+    fn insert(&mut self, vertex: u32, point: ParamPoint) {
+        self.buckets.entry(face_key(point.face)).or_default().push(vertex);
+        self.points[vertex as usize] = Some(point);
+    }
+
+    /// Applies one removal (the three categories of Lee et al.): the vertices on the
+    /// removed vertex's star faces are re-mapped through its flattening onto the
+    /// retriangulated ring, and the removed vertex is placed where its image (the origin)
+    /// falls. Returns the removed vertex's own point.
+    pub fn apply_removal(&mut self, plan: &ClusterPlan) -> ParamPoint {
+        let v = plan.vertex;
+        let d = plan.ring.len();
+        let flat_of = |id: u32| -> DVec2 {
+            if id == v {
+                return DVec2::ZERO;
+            }
+            plan.ring.iter().position(|&r| r == id).map_or(DVec2::ZERO, |j| plan.flat[j])
+        };
+        for k in 0..d {
+            let star_face = [v, plan.ring[k], plan.ring[(k + 1) % d]];
+            let Some(moved) = self.buckets.remove(&face_key(star_face)) else { continue };
+            for w in moved {
+                let Some(old) = self.points[w as usize] else { continue };
+                let image = old.face.iter().zip(old.bary).fold(DVec2::ZERO, |acc, (&id, b)| acc + flat_of(id) * b);
+                let (t, bary) = locate(image, &plan.flat_triangles);
+                self.insert(w, ParamPoint { face: plan.triangles[t], bary });
+            }
+        }
+        let own = ParamPoint { face: plan.triangles[plan.location.0], bary: plan.location.1 };
+        self.insert(v, own);
+        own
+    }
+
+    /// The final points: `None` for vertices never removed.
+    pub fn into_points(self) -> Vec<Option<ParamPoint>> {
+        self.points
+    }
+}

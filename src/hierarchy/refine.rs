@@ -1,0 +1,359 @@
+//! Adaptive refinement (thesis §4.6): from the base domain, each level's removed vertices
+//! are re-inserted in removal order by splitting the edge of their parameter face nearest
+//! to their parameter point (Algorithm 2), then each inserted vertex's degree is restored
+//! to its degree on that level by flipping the link edge opposite its widest angle
+//! (Algorithm 3). Insertions whose face no longer exists — after a deformation, or when
+//! only a region is refined — search the neighbouring faces for the edge nearest to the
+//! vertex (the overlap check of Fig. 4.10).
+//!
+//! A vertex is placed at its input position plus the displacement of its parameter point
+//! (the interpolated face moved from where it was at simplification): without deformation
+//! that displacement is exactly zero and every input position comes back bit for bit.
+
+use std::collections::HashSet;
+
+use glam::DVec3;
+use serde::Serialize;
+
+use super::cluster::widest_link_edge;
+use super::conformal::interpolate;
+use super::rings::Rings;
+use super::simplify::{expect_done, exported_triangles};
+use super::{Hierarchy, Removal};
+use crate::error::{Error, Result};
+use crate::ffi::HalfEdgeMesh;
+use crate::mesh::Mesh;
+
+/// A level's mesh, compacted, with each vertex's input id.
+#[derive(Debug, Clone)]
+pub struct LevelMesh {
+    /// The mesh (vertices on at least one face).
+    pub mesh: Mesh,
+    /// Input id of each vertex of `mesh`.
+    pub ids: Vec<u32>,
+}
+
+impl LevelMesh {
+    /// Keeps the vertices `triangles` use, in id order.
+    pub fn compact(positions: &[DVec3], triangles: &[[u32; 3]]) -> Self {
+        let mut index = vec![u32::MAX; positions.len()];
+        for t in triangles {
+            for &v in t {
+                index[v as usize] = 0;
+            }
+        }
+        let mut ids = Vec::new();
+        for (v, slot) in index.iter_mut().enumerate() {
+            if *slot == 0 {
+                *slot = ids.len() as u32;
+                ids.push(v as u32);
+            }
+        }
+        let mesh = Mesh::new(
+            ids.iter().map(|&v| positions[v as usize]).collect(),
+            triangles.iter().map(|t| t.map(|v| index[v as usize])).collect(),
+        );
+        LevelMesh { mesh, ids }
+    }
+}
+
+/// What one refinement level did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct LevelReport {
+    /// The level reached.
+    pub level: usize,
+    /// Vertices inserted.
+    pub inserted: usize,
+    /// Of those, inserted through the neighbour search (their face was gone).
+    pub relocated: usize,
+    /// Vertices left out (not selected, or no face near them).
+    pub skipped: usize,
+    /// Degree-fix flips.
+    pub flips: usize,
+    /// Inserted vertices whose level degree could not be restored.
+    pub degree_misses: usize,
+}
+
+/// Walks a hierarchy from its base domain towards the input, one level at a time.
+pub struct Refiner<'h> {
+    hierarchy: &'h Hierarchy,
+    store: HalfEdgeMesh,
+    rings: Rings,
+    positions: Vec<DVec3>,
+    present: Vec<bool>,
+    live: Vec<u32>,
+    level: usize,
+}
+
+impl std::fmt::Debug for Refiner<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Refiner {{ level: {}, vertices: {} }}", self.level, self.live.len())
+    }
+}
+
+impl<'h> Refiner<'h> {
+    /// Starts at the base domain (level 0).
+    ///
+    /// # Errors
+    /// [`Error::Native`] if OpenMesh refuses the base domain.
+    pub fn new(hierarchy: &'h Hierarchy) -> Result<Self> {
+        // Every input vertex gets its slot now (removed ones isolated), so store indices
+        // are input ids for the refiner's whole life.
+        let all = Mesh::new(hierarchy.positions.clone(), hierarchy.base_triangles.clone());
+        let store = HalfEdgeMesh::from_mesh(&all)?;
+        let n = hierarchy.positions.len();
+        let mut present = vec![false; n];
+        for t in &hierarchy.base_triangles {
+            for &v in t {
+                present[v as usize] = true;
+            }
+        }
+        let live: Vec<u32> = (0..n as u32).filter(|&v| present[v as usize]).collect();
+        let rings = Rings::fetch(&store, &live, n)?;
+        Ok(Refiner { hierarchy, store, rings, positions: hierarchy.positions.clone(), present, live, level: 0 })
+    }
+
+    /// The current level (0: base domain; `hierarchy.steps()`: fully refined).
+    pub fn level(&self) -> usize {
+        self.level
+    }
+
+    /// Whether refinement has reached the input's level.
+    pub fn is_finished(&self) -> bool {
+        self.level >= self.hierarchy.steps()
+    }
+
+    /// Current vertex positions, by input id (absent vertices keep their input position).
+    pub fn positions(&self) -> &[DVec3] {
+        &self.positions
+    }
+
+    /// Mutable positions: deformations applied between levels move vertices here; later
+    /// insertions follow the moved surface.
+    pub fn positions_mut(&mut self) -> &mut [DVec3] {
+        &mut self.positions
+    }
+
+    /// Whether vertex `v` is in the current mesh.
+    pub fn is_present(&self, v: u32) -> bool {
+        self.present[v as usize]
+    }
+
+    /// The current level's vertices (input ids, ascending).
+    pub fn vertices(&self) -> &[u32] {
+        &self.live
+    }
+
+    /// The current 1-rings.
+    pub fn rings(&self) -> &Rings {
+        &self.rings
+    }
+
+    /// Refines every remaining level.
+    ///
+    /// # Errors
+    /// As [`Refiner::refine_level`].
+    pub fn refine_all(&mut self) -> Result<Vec<LevelReport>> {
+        let mut reports = Vec::new();
+        while !self.is_finished() {
+            reports.push(self.refine_level(&|_| true)?);
+        }
+        Ok(reports)
+    }
+
+    /// Refines one level, inserting only the vertices `select` accepts.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] when already at the input level; [`Error::Internal`] if
+    /// OpenMesh refuses a planned operation.
+    pub fn refine_level(&mut self, select: &dyn Fn(u32) -> bool) -> Result<LevelReport> {
+        if self.is_finished() {
+            return Err(Error::InvalidInput("the hierarchy is already fully refined".into()));
+        }
+        let hierarchy = self.hierarchy;
+        let step = hierarchy.steps() - 1 - self.level;
+        let mut report = LevelReport { level: self.level + 1, ..Default::default() };
+        let mut edges = Vec::new();
+        let mut vertices = Vec::new();
+        let mut points = Vec::new();
+        let mut inserted: Vec<&Removal> = Vec::new();
+        for r in hierarchy.step(step) {
+            if !select(r.vertex) {
+                report.skipped += 1;
+                continue;
+            }
+            let point = self.insertion_point(r);
+            let Some((edge, relocated)) = self.insertion_edge(r, point) else {
+                report.skipped += 1;
+                continue;
+            };
+            self.rings.split(edge[0], edge[1], r.vertex)?;
+            self.positions[r.vertex as usize] = point;
+            self.present[r.vertex as usize] = true;
+            report.relocated += usize::from(relocated);
+            edges.push(edge);
+            vertices.push(r.vertex);
+            points.push(point);
+            inserted.push(r);
+        }
+        report.inserted = inserted.len();
+        let flips = self.fix_degrees(&inserted, &mut report)?;
+        expect_done("insertion", &edges, &self.store.insert_on_edges(&edges, &vertices, &points)?)?;
+        expect_done("degree-fix flip", &flips, &self.store.flip_edges(&flips)?)?;
+        report.flips = flips.len();
+        self.live = (0..self.present.len() as u32).filter(|&v| self.present[v as usize]).collect();
+        self.rings = Rings::fetch(&self.store, &self.live, self.present.len())?;
+        self.level += 1;
+        Ok(report)
+    }
+
+    /// Where `r` goes: its input position plus the displacement of its parameter point
+    /// (exactly its input position when nothing moved).
+    fn insertion_point(&self, r: &Removal) -> DVec3 {
+        let f = r.local.face;
+        let original = self.hierarchy.positions[r.vertex as usize];
+        let shift = if f.iter().all(|&v| self.present[v as usize]) {
+            let now = interpolate(f.map(|v| self.positions[v as usize]), r.local.bary);
+            let then = interpolate(f.map(|v| self.hierarchy.positions[v as usize]), r.local.bary);
+            now - then
+        } else {
+            let moved: Vec<DVec3> = f
+                .iter()
+                .filter(|&&v| self.present[v as usize])
+                .map(|&v| self.positions[v as usize] - self.hierarchy.positions[v as usize])
+                .collect();
+            if moved.is_empty() { DVec3::ZERO } else { moved.iter().sum::<DVec3>() / moved.len() as f64 }
+        };
+        if shift == DVec3::ZERO { original } else { original + shift }
+    }
+
+    /// The edge to split and whether the neighbour search chose it: the weld's diagonal
+    /// while the recorded face exists, else the nearest interior edge around it
+    /// (Algorithm 2 over the neighbouring faces, with the overlap check of Fig. 4.10).
+    fn insertion_edge(&self, r: &Removal, point: DVec3) -> Option<([u32; 2], bool)> {
+        let f = r.local.face;
+        if self.rings.has_face(f[0], f[1], f[2]) && self.rings.has_edge(r.diagonal[0], r.diagonal[1]) {
+            return Some((r.diagonal, false));
+        }
+        let edge = self.nearest_interior_edge(&f, point)?;
+        (!self.overlaps(edge, point)).then_some((edge, true))
+    }
+
+    /// Fig. 4.10: the insertion overlaps when the point is farther from the split edge's
+    /// midpoint than the longest edge of the triangles the split would create.
+    fn overlaps(&self, edge: [u32; 2], point: DVec3) -> bool {
+        let (Some(c), Some(d)) = (self.rings.left_of(edge[0], edge[1]), self.rings.right_of(edge[0], edge[1])) else {
+            return true;
+        };
+        let p = |v: u32| self.positions[v as usize];
+        let mid = (p(edge[0]) + p(edge[1])) * 0.5;
+        let longest = [p(edge[0]), p(edge[1]), p(c), p(d)]
+            .iter()
+            .map(|&q| q.distance(point))
+            .chain([
+                p(edge[0]).distance(p(c)),
+                p(edge[1]).distance(p(c)),
+                p(edge[0]).distance(p(d)),
+                p(edge[1]).distance(p(d)),
+            ])
+            .fold(0.0, f64::max);
+        point.distance(mid) > longest
+    }
+
+    /// The interior edge nearest `point` among the edges around the present vertices of
+    /// `face` (ties by vertex ids).
+    fn nearest_interior_edge(&self, face: &[u32; 3], point: DVec3) -> Option<[u32; 2]> {
+        let mut best: Option<(f64, [u32; 2])> = None;
+        for &u in face.iter().filter(|&&u| self.present[u as usize]) {
+            for &x in self.rings.ring(u) {
+                if self.rings.left_of(u, x).is_none() || self.rings.right_of(u, x).is_none() {
+                    continue;
+                }
+                let a = self.positions[u as usize];
+                let b = self.positions[x as usize];
+                let ab = b - a;
+                let t = ((point - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+                let d = (a + ab * t).distance_squared(point);
+                let key = [u.min(x), u.max(x)];
+                if best.is_none_or(|(bd, bk)| d < bd || (d == bd && key < bk)) {
+                    best = Some((d, key));
+                }
+            }
+        }
+        best.map(|(_, e)| e)
+    }
+
+    /// Restores every inserted vertex's level degree (Algorithm 3): first by flipping back
+    /// the link edges across its recorded ring vertices, then — where those are gone — by
+    /// flipping the link edge opposite its widest angle, if that angle reaches the
+    /// threshold. Returns the flips, applied to the rings already.
+    fn fix_degrees(&mut self, inserted: &[&Removal], report: &mut LevelReport) -> Result<Vec<[u32; 2]>> {
+        let fresh: HashSet<u32> = inserted.iter().map(|r| r.vertex).collect();
+        let mut flips = Vec::new();
+        for r in inserted {
+            let v = r.vertex;
+            let mut recorded = self.hierarchy.restore_of(r).iter();
+            while self.rings.degree(v) < r.degree as usize {
+                let ring = self.rings.ring(v).to_vec();
+                let m = ring.len();
+                let link = |j: usize| (ring[j], ring[(j + 1) % m]);
+                let wanted = recorded
+                    .next()
+                    .and_then(|&[a, x]| (0..m).find(|&j| ring[j] == a && self.rings.right_of(a, link(j).1) == Some(x)));
+                let chosen = wanted.or_else(|| {
+                    widest_link_edge(self.positions[v as usize], &ring, &self.positions, self.hierarchy.fix_threshold)
+                });
+                let Some((a, b)) = chosen.map(link).filter(|&(a, b)| self.can_flip_link(v, a, b, &fresh)) else {
+                    report.degree_misses += 1;
+                    break;
+                };
+                self.rings.flip(a, b)?;
+                flips.push([a, b]);
+            }
+        }
+        Ok(flips)
+    }
+
+    /// Whether flipping v's link edge a–b (giving v a new neighbour across it) is valid.
+    fn can_flip_link(&self, v: u32, a: u32, b: u32, fresh: &HashSet<u32>) -> bool {
+        match self.rings.right_of(a, b) {
+            Some(x) => {
+                x != v
+                    && !fresh.contains(&x)
+                    && !self.rings.has_edge(v, x)
+                    && self.rings.degree(a) > 3
+                    && self.rings.degree(b) > 3
+            }
+            None => false,
+        }
+    }
+
+    /// The current mesh, compacted, with input ids.
+    ///
+    /// # Errors
+    /// [`Error::Native`] if the export fails.
+    pub fn mesh(&self) -> Result<LevelMesh> {
+        Ok(LevelMesh::compact(&self.positions, &self.triangles()?))
+    }
+
+    /// The current faces in input ids.
+    ///
+    /// # Errors
+    /// [`Error::Native`] if the export fails.
+    pub fn triangles(&self) -> Result<Vec<[u32; 3]>> {
+        exported_triangles(&self.store)
+    }
+}
+
+/// Fraction of `original`'s faces (as oriented triangles, any rotation) found in `refined`.
+pub fn connectivity_match(original: &[[u32; 3]], refined: &[[u32; 3]]) -> f64 {
+    if original.is_empty() {
+        return 1.0;
+    }
+    let key = |t: &[u32; 3]| {
+        let i = (0..3).min_by_key(|&i| t[i]).unwrap_or(0);
+        [t[i], t[(i + 1) % 3], t[(i + 2) % 3]]
+    };
+    let have: HashSet<[u32; 3]> = refined.iter().map(key).collect();
+    original.iter().filter(|t| have.contains(&key(t))).count() as f64 / original.len() as f64
+}

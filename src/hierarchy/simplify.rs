@@ -1,0 +1,293 @@
+//! Feature-sensitive four-face-cluster simplification (thesis §3.1.7, §4.4.1, Algorithm 2
+//! of §3.1.7): per level, vertices ranked by E(v) (eq. 4.1), a maximal independent set of
+//! clusters chosen greedily, each brought to degree 4 by spoke flips and removed by an edge
+//! weld, all applied to the OpenMesh store in one batched call per operation.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use super::cluster::{ClusterPlan, ClusterRules, LevelGeometry, estimate_error, plan_cluster};
+use super::param::ParamBuckets;
+use super::rings::Rings;
+use super::{Hierarchy, KeepFeatures, LevelMesh, Removal, SimplifyOptions};
+use crate::analysis::{FaceGeometry, FeatureClass, classify, voting_tensors};
+use crate::error::{Error, Result};
+use crate::ffi::{self, CollapseOptions, HalfEdgeMesh, OpStatus};
+use crate::mesh::{Adjacency, Mesh, ValidationReport};
+
+/// Builds the 4-k hierarchy of `mesh`: simplification down to the base domain, with the
+/// parametrization of every removed vertex.
+///
+/// # Errors
+/// [`Error::InvalidInput`] for an inconsistent mesh or options; [`Error::Topology`] for a
+/// non-manifold mesh; [`Error::Native`] if OpenMesh or CGAL refuse it.
+pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
+    let started = Instant::now();
+    prepare_input(mesh)?;
+    let n = mesh.vertex_count();
+    let mut store = HalfEdgeMesh::from_mesh(mesh)?;
+    let mut quadrics = ffi::vertex_quadrics(mesh, 100.0)?;
+    let (kept, feature_vertices) = unremovable_vertices(mesh, options)?;
+    let rules = ClusterRules { removal_weight: options.removal_weight, swap_weight: options.swap_weight };
+    let diagonal = mesh.bounding_box().map_or(0.0, |(lo, hi)| (hi - lo).length());
+    let max_error = options.max_error.map(|f| (f * diagonal).powi(2));
+
+    let referenced = referenced_vertices(mesh);
+    let mut live: Vec<u32> = (0..n as u32).filter(|&v| referenced[v as usize]).collect();
+    let mut params = ParamBuckets::new(n);
+    let mut removals: Vec<Removal> = Vec::new();
+    let mut restore: Vec<[u32; 2]> = Vec::new();
+    let mut step_starts = vec![0];
+    let mut levels = Vec::new();
+    if options.record_levels {
+        levels.push(LevelMesh::compact(&mesh.positions, &exported_triangles(&store)?));
+    }
+    let mut locked = vec![false; n];
+    while options.levels.is_none_or(|l| step_starts.len() - 1 < l) {
+        if options.target_vertices.is_some_and(|t| live.len() <= t) {
+            break;
+        }
+        let geometry = LevelGeometry { positions: &mesh.positions, quadrics: &quadrics };
+        let rings = Rings::fetch(&store, &live, n)?;
+        let mut order = candidate_order(&live, &rings, &kept, geometry, &rules);
+        let level_faces = if options.prevent_intersections { exported_triangles(&store)? } else { Vec::new() };
+        let plans = loop {
+            let mut rings = rings.clone();
+            let plans =
+                select_clusters(&order, &mut rings, geometry, &rules, &mut locked, live.len(), options, max_error)?;
+            for &v in &live {
+                locked[v as usize] = false;
+            }
+            if !options.prevent_intersections || plans.is_empty() {
+                break plans;
+            }
+            let offending = intersecting_plans(&mesh.positions, &level_faces, &plans)?;
+            if offending.is_empty() {
+                break plans;
+            }
+            order.retain(|v| !offending.contains(v));
+        };
+        if plans.is_empty() {
+            break;
+        }
+        apply_to_store(&mut store, &plans)?;
+        let step = (step_starts.len() - 1) as u32;
+        for plan in &plans {
+            let point = params.apply_removal(plan);
+            let restore_start = restore.len() as u32;
+            restore.extend(plan.triangles[..plan.flips.len()].iter().rev().map(|ear| [ear[0], ear[1]]));
+            removals.push(Removal {
+                vertex: plan.vertex,
+                step,
+                degree: plan.ring.len() as u32,
+                local: point,
+                diagonal: plan.diagonal,
+                restore: [restore_start, restore.len() as u32],
+            });
+            let q = quadrics[plan.vertex as usize];
+            for end in plan.diagonal {
+                quadrics[end as usize].add_scaled(&q, 0.5);
+            }
+        }
+        let removed: rustc_hash::FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
+        live.retain(|v| !removed.contains(v));
+        step_starts.push(removals.len());
+        if options.record_levels {
+            levels.push(LevelMesh::compact(&mesh.positions, &exported_triangles(&store)?));
+        }
+    }
+    let base_triangles = exported_triangles(&store)?;
+    Ok(Hierarchy {
+        positions: mesh.positions.clone(),
+        input_triangles: mesh.triangles.clone(),
+        base_triangles,
+        removals,
+        restore,
+        step_starts,
+        params: params.into_points(),
+        kept,
+        feature_vertices,
+        levels,
+        fix_threshold: options.fix_threshold_degrees.to_radians(),
+        seconds: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// Input preparation (§4.3): the mesh must be a consistently oriented manifold triangle
+/// mesh (polygons are triangulated by the readers); degree-4 clusters are then made by
+/// flips during simplification.
+fn prepare_input(mesh: &Mesh) -> Result<()> {
+    mesh.check()?;
+    if mesh.face_count() == 0 {
+        return Err(Error::InvalidInput("the mesh has no faces to simplify".into()));
+    }
+    let report = ValidationReport::of(mesh);
+    if !report.is_manifold() || report.inconsistently_oriented_edges > 0 {
+        return Err(Error::Topology {
+            msg: format!(
+                "the mesh is not an oriented manifold ({} non-manifold edges, {} non-manifold vertices, {} inconsistently oriented edges); run with --repair",
+                report.non_manifold_edges, report.non_manifold_vertices, report.inconsistently_oriented_edges
+            ),
+            faces: Vec::new(),
+        });
+    }
+    Ok(())
+}
+
+/// Vertices never removed: feature vertices (§4.4.1.1, Algorithm 1 classes) and those
+/// the user marked. Returns the flags and the number of feature vertices.
+fn unremovable_vertices(mesh: &Mesh, options: &SimplifyOptions) -> Result<(Vec<bool>, usize)> {
+    let n = mesh.vertex_count();
+    let mut kept = vec![false; n];
+    let mut features = 0;
+    if options.keep_features != KeepFeatures::None {
+        let adjacency = Adjacency::of(mesh);
+        let classes =
+            classify(&adjacency, &voting_tensors(mesh, &adjacency, &FaceGeometry::of(mesh)), &Default::default());
+        for (v, class) in classes.into_iter().enumerate() {
+            let keep = match options.keep_features {
+                KeepFeatures::None => false,
+                KeepFeatures::Strong => class.is_sharp(),
+                KeepFeatures::All => class != FeatureClass::Face,
+            };
+            if keep {
+                kept[v] = true;
+                features += 1;
+            }
+        }
+    }
+    for &v in &options.keep_vertices {
+        let slot = kept
+            .get_mut(v as usize)
+            .ok_or_else(|| Error::InvalidInput(format!("vertex {v} marked to keep is out of range ({n} vertices)")))?;
+        *slot = true;
+    }
+    Ok((kept, features))
+}
+
+fn referenced_vertices(mesh: &Mesh) -> Vec<bool> {
+    let mut used = vec![false; mesh.vertex_count()];
+    for t in &mesh.triangles {
+        for &v in t {
+            used[v as usize] = true;
+        }
+    }
+    used
+}
+
+/// Removable candidates in order of increasing estimated E(v), ties by vertex id.
+fn candidate_order(
+    live: &[u32],
+    rings: &Rings,
+    kept: &[bool],
+    geometry: LevelGeometry<'_>,
+    rules: &ClusterRules,
+) -> Vec<u32> {
+    let mut ranked: Vec<(f64, u32)> = live
+        .par_iter()
+        .filter(|&&v| !kept[v as usize] && !rings.is_boundary(v) && rings.degree(v) >= 4)
+        .map(|&v| (estimate_error(v, rings, geometry, rules), v))
+        .collect();
+    ranked.par_sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    ranked.into_iter().map(|(_, v)| v).collect()
+}
+
+/// Greedy maximal independent set of clusters (Velho & Gomes' marking): take the cheapest
+/// unmarked vertex, plan its cluster, and mark it and its ring.
+#[allow(clippy::too_many_arguments)]
+fn select_clusters(
+    order: &[u32],
+    rings: &mut Rings,
+    geometry: LevelGeometry<'_>,
+    rules: &ClusterRules,
+    locked: &mut [bool],
+    live: usize,
+    options: &SimplifyOptions,
+    max_error: Option<f64>,
+) -> Result<Vec<ClusterPlan>> {
+    let mut plans: Vec<ClusterPlan> = Vec::new();
+    for &v in order {
+        if options.target_vertices.is_some_and(|t| live - plans.len() <= t) {
+            break;
+        }
+        if locked[v as usize] {
+            continue;
+        }
+        let Some(plan) = plan_cluster(v, rings, geometry, rules) else { continue };
+        if max_error.is_some_and(|m| plan.error > m) {
+            continue;
+        }
+        for &apex in &plan.flips {
+            rings.flip(v, apex)?;
+        }
+        rings.weld(v, plan.weld_to)?;
+        locked[v as usize] = true;
+        for &r in &plan.ring {
+            locked[r as usize] = true;
+        }
+        plans.push(plan);
+    }
+    Ok(plans)
+}
+
+/// The planned vertices whose new triangles would intersect the level's surface (CGAL's
+/// self-intersection test on the level as planned; intersections already in the input
+/// are not counted).
+fn intersecting_plans(
+    positions: &[glam::DVec3],
+    level_faces: &[[u32; 3]],
+    plans: &[ClusterPlan],
+) -> Result<rustc_hash::FxHashSet<u32>> {
+    let removed: rustc_hash::FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
+    let mut faces: Vec<[u32; 3]> =
+        level_faces.iter().filter(|t| !t.iter().any(|v| removed.contains(v))).copied().collect();
+    let old = faces.len();
+    let mut owner = Vec::new();
+    for plan in plans {
+        faces.extend(&plan.triangles);
+        owner.extend(std::iter::repeat_n(plan.vertex, plan.triangles.len()));
+    }
+    let planned = Mesh::new(positions.to_vec(), faces);
+    let mut offending = rustc_hash::FxHashSet::default();
+    for [a, b] in ffi::self_intersections(&planned)? {
+        for f in [a, b] {
+            if f.index() >= old {
+                offending.insert(owner[f.index() - old]);
+            }
+        }
+    }
+    Ok(offending)
+}
+
+/// Replays the planned flips, then the welds, on the store (one call each).
+fn apply_to_store(store: &mut HalfEdgeMesh, plans: &[ClusterPlan]) -> Result<()> {
+    let flips: Vec<[u32; 2]> = plans.iter().flat_map(|p| p.flips.iter().map(move |&a| [p.vertex, a])).collect();
+    expect_done("flip", &flips, &store.flip_edges(&flips)?)?;
+    let welds: Vec<[u32; 2]> = plans.iter().map(|p| [p.vertex, p.weld_to]).collect();
+    let status = store.collapse_halfedges(&welds, CollapseOptions { required_degree: 4, check_normals: false })?;
+    expect_done("weld", &welds, &status)
+}
+
+/// Planning checks every condition OpenMesh checks, so a refusal is a bug.
+pub(super) fn expect_done(what: &str, pairs: &[[u32; 2]], status: &[OpStatus]) -> Result<()> {
+    match status.iter().position(|&s| s != OpStatus::Done) {
+        None => Ok(()),
+        Some(i) => Err(Error::Internal(format!(
+            "OpenMesh refused the planned {what} {}–{} ({:?})",
+            pairs[i][0], pairs[i][1], status[i]
+        ))),
+    }
+}
+
+/// The store's live faces in store vertex indices.
+pub(super) fn exported_triangles(store: &HalfEdgeMesh) -> Result<Vec<[u32; 3]>> {
+    let exported = store.export()?;
+    let mut store_index = vec![0u32; exported.mesh.vertex_count()];
+    for (i, &e) in exported.vertex_remap.iter().enumerate() {
+        if e != ffi::INVALID_INDEX {
+            store_index[e as usize] = i as u32;
+        }
+    }
+    Ok(exported.mesh.triangles.iter().map(|t| t.map(|v| store_index[v as usize])).collect())
+}

@@ -1,0 +1,248 @@
+//! The 4-k hierarchy (#6): topology kept at every level, features and boundaries kept,
+//! the parametrization valid, and the round trip exact.
+
+use std::collections::HashSet;
+
+use asperity::ffi::{self, HalfEdgeMesh};
+use asperity::hierarchy::{KeepFeatures, Refiner, Rings, SimplifyOptions, build, connectivity_match};
+use asperity::mesh::primitives::{icosphere, torus};
+use asperity::mesh::{Mesh, ValidationReport};
+use asperity::{analysis, io};
+
+use crate::common::shared_meshes;
+
+fn shared(name: &str) -> Option<Mesh> {
+    let dir = shared_meshes()?;
+    Some(io::read(&dir.join(name)).expect("shared mesh reads").mesh)
+}
+
+fn options() -> SimplifyOptions {
+    SimplifyOptions { record_levels: true, ..SimplifyOptions::default() }
+}
+
+fn cyclic_equal(a: &[u32], b: &[u32]) -> bool {
+    a.len() == b.len() && (a.is_empty() || (0..a.len()).any(|s| (0..a.len()).all(|i| a[(s + i) % a.len()] == b[i])))
+}
+
+#[test]
+fn planning_rings_follow_openmesh_through_flips_splits_and_welds() {
+    let mesh = torus(1.0, 0.4, 12, 8);
+    let n = mesh.vertex_count();
+    let mut grown = mesh.clone();
+    grown.positions.push(glam::DVec3::new(0.0, 0.0, 5.0)); // an isolated vertex to insert
+    let mut store = HalfEdgeMesh::from_mesh(&grown).unwrap();
+    let live: Vec<u32> = (0..n as u32).collect();
+    let mut rings = Rings::fetch(&store, &live, n + 1).unwrap();
+    // A flip, a split with the isolated vertex, then spoke flips down to degree 4 and a weld.
+    let (a, b) = (0, rings.ring(0)[0]);
+    rings.flip(a, b).unwrap();
+    assert_eq!(store.flip_edges(&[[a, b]]).unwrap(), vec![ffi::OpStatus::Done]);
+    let (c, d) = (5, rings.ring(5)[2]);
+    rings.split(c, d, n as u32).unwrap();
+    assert_eq!(store.insert_on_edges(&[[c, d]], &[n as u32], &[glam::DVec3::ZERO]).unwrap(), vec![ffi::OpStatus::Done]);
+    let v = 40;
+    while rings.degree(v) > 4 {
+        let apex = rings.ring(v)[0];
+        rings.flip(v, apex).unwrap();
+        assert_eq!(store.flip_edges(&[[v, apex]]).unwrap(), vec![ffi::OpStatus::Done]);
+    }
+    let to = rings.ring(v)[1];
+    rings.weld(v, to).unwrap();
+    let status =
+        store.collapse_halfedges(&[[v, to]], ffi::CollapseOptions { required_degree: 4, check_normals: false });
+    assert_eq!(status.unwrap(), vec![ffi::OpStatus::Done]);
+    let now: Vec<u32> = (0..=n as u32).filter(|&x| x != v).collect();
+    let fresh = Rings::fetch(&store, &now, n + 1).unwrap();
+    for &x in &now {
+        assert!(cyclic_equal(rings.ring(x), fresh.ring(x)), "vertex {x}: {:?} vs {:?}", rings.ring(x), fresh.ring(x));
+    }
+}
+
+fn assert_levels_keep_topology(name: &str, mesh: &Mesh, options: &SimplifyOptions) {
+    let input = ValidationReport::of(mesh);
+    let h = build(mesh, options).unwrap();
+    assert!(h.steps() > 0, "{name}: nothing simplified");
+    assert_eq!(h.levels.len(), h.steps() + 1);
+    for (k, level) in h.levels.iter().enumerate() {
+        let r = ValidationReport::of(&level.mesh);
+        assert!(r.is_manifold() && r.inconsistently_oriented_edges == 0, "{name} level {k}: not an oriented manifold");
+        assert_eq!(
+            (r.genus, r.boundary_loops, r.components),
+            (input.genus, input.boundary_loops, input.components),
+            "{name} level {k}"
+        );
+        assert_eq!(r.degenerate_faces, 0, "{name} level {k}: degenerate faces");
+    }
+}
+
+#[test]
+fn every_level_keeps_genus_and_manifoldness() {
+    assert_levels_keep_topology("torus", &torus(1.0, 0.35, 48, 24), &options());
+    for name in ["eight.off", "elephant.off", "femur.off", "blade.off", "mushroom.off"] {
+        let Some(mesh) = shared(name) else { return };
+        assert_levels_keep_topology(name, &mesh, &options());
+        assert_levels_keep_topology(name, &mesh, &SimplifyOptions { keep_features: KeepFeatures::None, ..options() });
+    }
+}
+
+#[test]
+fn boundary_loops_and_boundary_vertices_survive() {
+    for name in ["blade.off", "mushroom.off", "double-torus-3-holes.off"] {
+        let Some(mesh) = shared(name) else { return };
+        let h =
+            build(&mesh, &SimplifyOptions { keep_features: KeepFeatures::None, ..SimplifyOptions::default() }).unwrap();
+        let base = h.base_mesh();
+        let adjacency = asperity::mesh::Adjacency::of(&mesh);
+        let kept: HashSet<u32> = base.ids.iter().copied().collect();
+        for v in 0..mesh.vertex_count() {
+            if adjacency.is_boundary(v) {
+                assert!(kept.contains(&(v as u32)), "{name}: boundary vertex {v} removed");
+            }
+        }
+        assert_eq!(
+            ValidationReport::of(&base.mesh).boundary_loops,
+            ValidationReport::of(&mesh).boundary_loops,
+            "{name}"
+        );
+    }
+}
+
+#[test]
+fn no_level_intersects_itself() {
+    for name in ["eight.off", "elephant.off", "fandisk.off"] {
+        let Some(mesh) = shared(name) else { return };
+        assert!(ffi::self_intersections(&mesh).unwrap().is_empty(), "{name} input");
+        let h = build(&mesh, &options()).unwrap();
+        for (k, level) in h.levels.iter().enumerate() {
+            let hits = ffi::self_intersections(&level.mesh).unwrap();
+            assert!(hits.is_empty(), "{name} level {k}: {} intersecting face pairs", hits.len());
+        }
+    }
+}
+
+#[test]
+fn fandisk_corners_reach_the_base_domain() {
+    let Some(mesh) = shared("fandisk.off") else { return };
+    let analysis = analysis::analyze(&mesh, &Default::default()).unwrap();
+    let h = build(&mesh, &SimplifyOptions::default()).unwrap();
+    let base: HashSet<u32> = h.base_mesh().ids.into_iter().collect();
+    let corners: Vec<usize> =
+        (0..mesh.vertex_count()).filter(|&v| analysis.classes[v] == analysis::FeatureClass::Corner).collect();
+    assert!(!corners.is_empty());
+    for v in corners {
+        assert!(base.contains(&(v as u32)), "corner {v} was removed");
+    }
+    assert!(h.feature_vertices > 0 && base.len() < mesh.vertex_count() / 4);
+}
+
+#[test]
+fn bunny_reaches_one_percent_of_its_vertices() {
+    let Some(mesh) = shared("bunny00.off") else { return };
+    let target = mesh.vertex_count() / 100;
+    let h = build(&mesh, &SimplifyOptions { target_vertices: Some(target), ..SimplifyOptions::default() }).unwrap();
+    assert!(h.base_vertex_count() <= target, "{} vertices left", h.base_vertex_count());
+}
+
+fn assert_parameter_points_valid(name: &str, mesh: &Mesh) {
+    let h = build(mesh, &SimplifyOptions::default()).unwrap();
+    let key = |t: [u32; 3]| {
+        let i = (0..3).min_by_key(|&i| t[i]).unwrap();
+        [t[i], t[(i + 1) % 3], t[(i + 2) % 3]]
+    };
+    let base_faces: HashSet<[u32; 3]> = h.base_triangles.iter().map(|&t| key(t)).collect();
+    let points = h.base_parametrization();
+    for (v, p) in points.iter().enumerate() {
+        let p = p.unwrap_or_else(|| panic!("{name}: vertex {v} has no parameter point"));
+        assert!(base_faces.contains(&key(p.point.face)), "{name}: vertex {v} on a face not in the base domain");
+        assert!(p.point.bary.iter().all(|&b| b >= -1e-9), "{name}: vertex {v} bary {:?}", p.point.bary);
+        assert!((p.point.bary.iter().sum::<f64>() - 1.0).abs() <= 1e-12, "{name}: vertex {v} bary sum");
+        assert!(p.level as usize <= h.steps());
+    }
+    for r in &h.removals {
+        assert!(r.local.bary.iter().all(|&b| b >= -1e-9) && (r.local.bary.iter().sum::<f64>() - 1.0).abs() <= 1e-12);
+    }
+}
+
+#[test]
+fn every_vertex_has_a_valid_base_domain_point() {
+    assert_parameter_points_valid("torus", &torus(1.0, 0.35, 48, 24));
+    for name in ["fandisk.off", "femur.off", "mushroom.off"] {
+        let Some(mesh) = shared(name) else { return };
+        assert_parameter_points_valid(name, &mesh);
+    }
+}
+
+/// Builds, refines all the way and checks positions bit for bit; returns the share of
+/// input faces restored.
+fn round_trip(mesh: &Mesh, options: &SimplifyOptions) -> f64 {
+    let h = build(mesh, options).unwrap();
+    let mut refiner = Refiner::new(&h).unwrap();
+    refiner.refine_all().unwrap();
+    let out = refiner.mesh().unwrap();
+    assert_eq!(out.ids, (0..mesh.vertex_count() as u32).collect::<Vec<_>>());
+    for (v, (a, b)) in out.mesh.positions.iter().zip(&mesh.positions).enumerate() {
+        assert_eq!(a.to_array().map(f64::to_bits), b.to_array().map(f64::to_bits), "vertex {v}");
+    }
+    let triangles: Vec<[u32; 3]> = out.mesh.triangles.iter().map(|t| t.map(|v| out.ids[v as usize])).collect();
+    connectivity_match(&mesh.triangles, &triangles)
+}
+
+#[test]
+fn round_trip_restores_positions_and_connectivity() {
+    assert_eq!(round_trip(&torus(1.0, 0.35, 48, 24), &SimplifyOptions::default()), 1.0);
+    assert_eq!(
+        round_trip(&icosphere(1.0, 3), &SimplifyOptions { keep_features: KeepFeatures::None, ..Default::default() }),
+        1.0
+    );
+    let Some(dir) = shared_meshes() else { return };
+    for path in crate::common::shared_mesh_files() {
+        let mesh = io::read(&path).unwrap().mesh;
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        for keep in [KeepFeatures::Strong, KeepFeatures::None] {
+            let matched = round_trip(&mesh, &SimplifyOptions { keep_features: keep, ..Default::default() });
+            eprintln!("round trip {name} ({keep:?}): {:.3}% of faces restored", matched * 100.0);
+            assert!(matched >= 0.95, "{name}: only {:.2}% of faces restored", matched * 100.0);
+        }
+    }
+    let _ = dir;
+}
+
+#[test]
+fn refining_a_region_only_inserts_vertices_there() {
+    let mesh = torus(1.0, 0.35, 48, 24);
+    let h = build(&mesh, &SimplifyOptions::default()).unwrap();
+    let mut refiner = Refiner::new(&h).unwrap();
+    let positions = mesh.positions.clone();
+    let inside = |v: u32| positions[v as usize].x > 0.0;
+    while !refiner.is_finished() {
+        refiner.refine_level(&inside).unwrap();
+    }
+    let out = refiner.mesh().unwrap();
+    let r = ValidationReport::of(&out.mesh);
+    assert!(r.is_manifold() && r.genus == Some(1), "{r:?}");
+    let base: HashSet<u32> = h.base_mesh().ids.into_iter().collect();
+    let right = (0..mesh.vertex_count() as u32).filter(|&v| inside(v)).count();
+    let present_right = out.ids.iter().filter(|&&v| inside(v)).count();
+    let present_left_fine = out.ids.iter().filter(|&&v| !inside(v) && !base.contains(&v)).count();
+    assert!(present_right * 10 >= right * 9, "{present_right} of {right} selected vertices inserted");
+    assert_eq!(present_left_fine, 0, "unselected vertices were inserted");
+}
+
+#[test]
+fn building_twice_gives_the_same_hierarchy() {
+    let Some(mesh) = shared("elephant.off") else { return };
+    let a = build(&mesh, &SimplifyOptions::default()).unwrap();
+    let b = build(&mesh, &SimplifyOptions::default()).unwrap();
+    assert_eq!(a.removals, b.removals);
+    assert_eq!(a.base_triangles, b.base_triangles);
+}
+
+#[test]
+fn non_manifold_input_is_refused_with_a_hint() {
+    let mut mesh = icosphere(1.0, 1);
+    let t = mesh.triangles[0];
+    mesh.positions.push(glam::DVec3::new(3.0, 0.0, 0.0));
+    mesh.triangles.push([t[0], t[1], mesh.positions.len() as u32 - 1]);
+    let err = build(&mesh, &SimplifyOptions::default()).unwrap_err();
+    assert!(err.to_string().contains("--repair"), "{err}");
+}
