@@ -105,13 +105,23 @@ fn demo_writes_its_meshes() {
         "terrain.ply",
         "terrain-height.png",
         "clouds.png",
+        "torus-base.ply",
         // The feature analysis uses fandisk when the shared meshes are there.
         if shared_meshes().is_some() { "fandisk-features.ply" } else { "torus-features.ply" },
     ] {
         assert!(tmp.path().join("results").join(file).is_file(), "{file}");
     }
     let stdout = String::from_utf8_lossy(&out.stdout);
-    for stage in ["round trip exact", "hausdorff", "noise:", "terrain:", "clouds:", "analyze:"] {
+    for stage in [
+        "round trip exact",
+        "hausdorff",
+        "noise:",
+        "terrain:",
+        "clouds:",
+        "analyze:",
+        "simplify: torus",
+        "positions exact",
+    ] {
         assert!(stdout.contains(stage), "missing `{stage}` in {stdout}");
     }
 }

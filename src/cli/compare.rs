@@ -19,6 +19,9 @@ pub struct CompareArgs {
     /// Methods to run, comma-separated (asperity, openmesh, cgal, meshoptimizer).
     #[arg(long, value_delimiter = ',', default_values_t = METHODS.map(String::from))]
     methods: Vec<String>,
+    /// Feature vertices our simplification keeps (they can stop it above the budget).
+    #[arg(long, value_enum, default_value_t = super::simplify::KeepArg::Strong)]
+    keep_features: super::simplify::KeepArg,
     /// Print a JSON array of results.
     #[arg(long)]
     json: bool,
@@ -28,7 +31,7 @@ pub fn run(args: CompareArgs) -> Result<()> {
     let mesh = io::read(&args.input)?.mesh;
     let target = super::simplify::resolve_target(&args.target_vertices, mesh.vertex_count())?;
     let methods: Vec<&str> = args.methods.iter().map(String::as_str).collect();
-    let rows = compare(&mesh, target, &methods)?;
+    let rows = compare(&mesh, target, &methods, args.keep_features.into())?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&rows).expect("report serialises"));
     } else {

@@ -11,6 +11,7 @@ use clap::Args;
 use crate::analysis::{AnalysisOptions, analyze};
 use crate::error::{Error, Result};
 use crate::ffi::{self, HalfEdgeMesh, HausdorffOptions};
+use crate::hierarchy::{Refiner, SimplifyOptions, build, connectivity_match};
 use crate::io::image::{value_range, write_png16};
 use crate::io::{self, WriteOptions};
 use crate::mesh::{Mesh, primitives};
@@ -62,6 +63,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
     write_result(&sphere, &args.out.join("icosphere.obj"))?;
     write_result(&coarse, &args.out.join("icosphere-coarse.off"))?;
 
+    write_hierarchy("torus", &torus, &args.out)?;
     write_noise_panel(&args.out)?;
     write_terrain(&args.out)?;
 
@@ -79,10 +81,49 @@ pub fn run(args: DemoArgs) -> Result<()> {
         );
         openmesh_round_trip("fandisk", &outcome.mesh)?;
         write_features(&outcome.mesh, &args.out.join("fandisk-features.ply"))?;
+        write_hierarchy("fandisk", &outcome.mesh, &args.out)?;
     } else {
         write_features(&torus, &args.out.join("torus-features.ply"))?;
     }
     println!("demo: results in {}", args.out.display());
+    Ok(())
+}
+
+/// The 4-k hierarchy of `mesh` to 5 % of its vertices: the base domain and the level
+/// halfway, then the round trip back to the input.
+fn write_hierarchy(name: &str, mesh: &Mesh, out: &Path) -> Result<()> {
+    let start = Instant::now();
+    let target = (mesh.vertex_count() / 20).max(4);
+    let options = SimplifyOptions { target_vertices: Some(target), record_levels: true, ..SimplifyOptions::default() };
+    let h = build(mesh, &options)?;
+    let base = h.base_mesh().mesh;
+    let hausdorff = super::simplify::relative_hausdorff(mesh, &base)?;
+    println!(
+        "simplify: {name} {} tris => {} tris, {} levels (hausdorff {:.2}%) in {} ms",
+        mesh.face_count(),
+        base.face_count(),
+        h.steps(),
+        100.0 * hausdorff,
+        super::millis(start)
+    );
+    write_result(&base, &out.join(format!("{name}-base.ply")))?;
+    if let Some(middle) = h.levels.get(h.steps() / 2) {
+        write_result(&middle.mesh, &out.join(format!("{name}-level-{}.ply", h.steps() - h.steps() / 2)))?;
+    }
+    let start = Instant::now();
+    let mut refiner = Refiner::new(&h)?;
+    refiner.refine_all()?;
+    let back = refiner.mesh()?;
+    let triangles: Vec<[u32; 3]> = back.mesh.triangles.iter().map(|t| t.map(|v| back.ids[v as usize])).collect();
+    let exact = back.mesh.positions == mesh.positions;
+    println!(
+        "refine: {name} {} tris => {} tris, positions {}, {:.2}% faces restored in {} ms",
+        base.face_count(),
+        back.mesh.face_count(),
+        if exact { "exact" } else { "moved" },
+        100.0 * connectivity_match(&mesh.triangles, &triangles),
+        super::millis(start)
+    );
     Ok(())
 }
 

@@ -37,10 +37,20 @@ pub struct HierarchyArgs {
 }
 
 #[derive(Debug, Clone, Copy, clap::ValueEnum)]
-enum KeepArg {
+pub enum KeepArg {
     None,
     Strong,
     All,
+}
+
+impl From<KeepArg> for KeepFeatures {
+    fn from(k: KeepArg) -> Self {
+        match k {
+            KeepArg::None => KeepFeatures::None,
+            KeepArg::Strong => KeepFeatures::Strong,
+            KeepArg::All => KeepFeatures::All,
+        }
+    }
 }
 
 /// A vertex budget, absolute or relative.
@@ -95,11 +105,7 @@ impl HierarchyArgs {
             target_vertices,
             levels: self.levels,
             max_error: self.max_error,
-            keep_features: match self.keep_features {
-                KeepArg::None => KeepFeatures::None,
-                KeepArg::Strong => KeepFeatures::Strong,
-                KeepArg::All => KeepFeatures::All,
-            },
+            keep_features: self.keep_features.into(),
             removal_weight: self.removal_weight,
             swap_weight: self.swap_weight,
             record_levels,

@@ -9,7 +9,7 @@ use std::time::Instant;
 use glam::DVec3;
 use serde::Serialize;
 
-use super::{LevelMesh, SimplifyOptions, build};
+use super::{KeepFeatures, LevelMesh, SimplifyOptions, build};
 use crate::analysis::{FaceGeometry, classify, voting_tensors};
 use crate::error::Result;
 use crate::ffi::{self, HausdorffOptions};
@@ -39,11 +39,12 @@ pub struct CompareRow {
 /// The reference decimators run by [`compare`].
 pub const METHODS: [&str; 4] = ["asperity", "openmesh", "cgal", "meshoptimizer"];
 
-/// Runs `methods` (names from [`METHODS`]) on `mesh` down to `target_vertices`.
+/// Runs `methods` (names from [`METHODS`]) on `mesh` down to `target_vertices`; ours keeps
+/// the `keep` feature classes (which can stop it above the budget).
 ///
 /// # Errors
 /// Whatever a decimator or a measure reports for this mesh.
-pub fn compare(mesh: &Mesh, target_vertices: usize, methods: &[&str]) -> Result<Vec<CompareRow>> {
+pub fn compare(mesh: &Mesh, target_vertices: usize, methods: &[&str], keep: KeepFeatures) -> Result<Vec<CompareRow>> {
     let diagonal = mesh.bounding_box().map_or(1.0, |(lo, hi)| (hi - lo).length()).max(f64::MIN_POSITIVE);
     let adjacency = Adjacency::of(mesh);
     let classes = classify(&adjacency, &voting_tensors(mesh, &adjacency, &FaceGeometry::of(mesh)), &Default::default());
@@ -54,7 +55,11 @@ pub fn compare(mesh: &Mesh, target_vertices: usize, methods: &[&str]) -> Result<
         let start = Instant::now();
         let result = match method {
             "asperity" => {
-                let options = SimplifyOptions { target_vertices: Some(target_vertices), ..SimplifyOptions::default() };
+                let options = SimplifyOptions {
+                    target_vertices: Some(target_vertices),
+                    keep_features: keep,
+                    ..SimplifyOptions::default()
+                };
                 build(mesh, &options)?.base_mesh().mesh
             }
             "openmesh" => ffi::openmesh_decimate(mesh, target_vertices)?,

@@ -1,4 +1,8 @@
-//! Builds the hierarchy of a mesh and refines it back, printing what each stage did.
+//! Builds the hierarchy of a mesh and refines it back, checking every refined level against
+//! the level simplification recorded, and printing what each stage did.
+//!
+//! `cargo run --release --example hierarchy_round_trip -- [MESH|torus] [TARGET_VERTICES] [none]`
+//! (`THR=degrees` sets Algorithm 3's angle threshold).
 use std::time::Instant;
 
 use asperity::hierarchy::{KeepFeatures, Refiner, SimplifyOptions, build, connectivity_match};
