@@ -238,11 +238,14 @@ fn building_twice_gives_the_same_hierarchy() {
 }
 
 #[test]
-fn non_manifold_input_is_refused_with_a_hint() {
+fn non_manifold_input_is_refused_with_the_reason() {
     let mut mesh = icosphere(1.0, 1);
     let t = mesh.triangles[0];
     mesh.positions.push(glam::DVec3::new(3.0, 0.0, 0.0));
     mesh.triangles.push([t[0], t[1], mesh.positions.len() as u32 - 1]);
     let err = build(&mesh, &SimplifyOptions::default()).unwrap_err();
-    assert!(err.to_string().contains("--repair"), "{err}");
+    assert!(
+        err.to_string().contains("not an oriented manifold") && err.to_string().contains("1 non-manifold edges"),
+        "{err}"
+    );
 }

@@ -126,7 +126,7 @@ fn prepare_input(mesh: &Mesh) -> Result<()> {
     if !report.is_manifold() || report.inconsistently_oriented_edges > 0 {
         return Err(Error::Topology {
             msg: format!(
-                "the mesh is not an oriented manifold ({} non-manifold edges, {} non-manifold vertices, {} inconsistently oriented edges); run with --repair",
+                "the mesh is not an oriented manifold ({} non-manifold edges, {} non-manifold vertices, {} inconsistently oriented edges; `asperity info` lists them)",
                 report.non_manifold_edges, report.non_manifold_vertices, report.inconsistently_oriented_edges
             ),
             faces: Vec::new(),
