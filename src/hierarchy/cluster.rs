@@ -196,7 +196,7 @@ pub fn plan_cluster(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules: &
         swap_error += cost;
     }
 
-    // The weld: the cheaper of the two diagonals whose plan refinement can undo.
+    // The weld: the cheaper of the two diagonals that keeps the ring valid.
     let mut options: Vec<(f64, usize)> = Vec::with_capacity(2);
     for k in 0..2 {
         let c = [current[k], current[k + 1], current[(k + 2) % 4], current[(k + 3) % 4]];

@@ -240,24 +240,16 @@ impl<'h> Refiner<'h> {
     }
 
     /// Fig. 4.10: the insertion overlaps when the point is farther from the split edge's
-    /// midpoint than the longest edge of the triangles the split would create.
+    /// midpoint than the longest edge of the two triangles the split divides.
     fn overlaps(&self, edge: [u32; 2], point: DVec3) -> bool {
         let (Some(c), Some(d)) = (self.rings.left_of(edge[0], edge[1]), self.rings.right_of(edge[0], edge[1])) else {
             return true;
         };
         let p = |v: u32| self.positions[v as usize];
-        let mid = (p(edge[0]) + p(edge[1])) * 0.5;
-        let longest = [p(edge[0]), p(edge[1]), p(c), p(d)]
-            .iter()
-            .map(|&q| q.distance(point))
-            .chain([
-                p(edge[0]).distance(p(c)),
-                p(edge[1]).distance(p(c)),
-                p(edge[0]).distance(p(d)),
-                p(edge[1]).distance(p(d)),
-            ])
-            .fold(0.0, f64::max);
-        point.distance(mid) > longest
+        let [a, b] = edge;
+        let longest =
+            [(a, b), (a, c), (b, c), (a, d), (b, d)].iter().map(|&(x, y)| p(x).distance(p(y))).fold(0.0, f64::max);
+        point.distance((p(a) + p(b)) * 0.5) > longest
     }
 
     /// The interior edge nearest `point` among the edges around the present vertices of
