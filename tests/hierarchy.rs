@@ -4,7 +4,7 @@
 use std::collections::HashSet;
 
 use asperity::ffi::{self, HalfEdgeMesh};
-use asperity::hierarchy::{KeepFeatures, Refiner, Rings, SimplifyOptions, build, connectivity_match};
+use asperity::hierarchy::{KeepFeatures, Refiner, Rings, SimplifyOptions, build, connectivity_match, face_key};
 use asperity::mesh::primitives::{icosphere, torus};
 use asperity::mesh::{Mesh, ValidationReport};
 use asperity::{analysis, io};
@@ -145,15 +145,11 @@ fn bunny_reaches_one_percent_of_its_vertices() {
 
 fn assert_parameter_points_valid(name: &str, mesh: &Mesh) {
     let h = build(mesh, &SimplifyOptions::default()).unwrap();
-    let key = |t: [u32; 3]| {
-        let i = (0..3).min_by_key(|&i| t[i]).unwrap();
-        [t[i], t[(i + 1) % 3], t[(i + 2) % 3]]
-    };
-    let base_faces: HashSet<[u32; 3]> = h.base_triangles.iter().map(|&t| key(t)).collect();
+    let base_faces: HashSet<[u32; 3]> = h.base_triangles.iter().map(|&t| face_key(t)).collect();
     let points = h.base_parametrization();
     for (v, p) in points.iter().enumerate() {
         let p = p.unwrap_or_else(|| panic!("{name}: vertex {v} has no parameter point"));
-        assert!(base_faces.contains(&key(p.point.face)), "{name}: vertex {v} on a face not in the base domain");
+        assert!(base_faces.contains(&face_key(p.point.face)), "{name}: vertex {v} on a face not in the base domain");
         assert!(p.point.bary.iter().all(|&b| b >= -1e-9), "{name}: vertex {v} bary {:?}", p.point.bary);
         assert!((p.point.bary.iter().sum::<f64>() - 1.0).abs() <= 1e-12, "{name}: vertex {v} bary sum");
         assert!(p.level as usize <= h.steps());
@@ -183,8 +179,7 @@ fn round_trip(mesh: &Mesh, options: &SimplifyOptions) -> f64 {
     for (v, (a, b)) in out.mesh.positions.iter().zip(&mesh.positions).enumerate() {
         assert_eq!(a.to_array().map(f64::to_bits), b.to_array().map(f64::to_bits), "vertex {v}");
     }
-    let triangles: Vec<[u32; 3]> = out.mesh.triangles.iter().map(|t| t.map(|v| out.ids[v as usize])).collect();
-    connectivity_match(&mesh.triangles, &triangles)
+    connectivity_match(&mesh.triangles, &out.triangles_in_ids())
 }
 
 #[test]

@@ -114,14 +114,13 @@ fn write_hierarchy(name: &str, mesh: &Mesh, out: &Path) -> Result<()> {
     let mut refiner = Refiner::new(&h)?;
     refiner.refine_all()?;
     let back = refiner.mesh()?;
-    let triangles: Vec<[u32; 3]> = back.mesh.triangles.iter().map(|t| t.map(|v| back.ids[v as usize])).collect();
-    let exact = back.mesh.positions == mesh.positions;
+    let exact = back.has_input_positions(mesh);
     println!(
         "refine: {name} {} tris => {} tris, positions {}, {:.2}% faces restored in {} ms",
         base.face_count(),
         back.mesh.face_count(),
         if exact { "exact" } else { "moved" },
-        100.0 * connectivity_match(&mesh.triangles, &triangles),
+        100.0 * connectivity_match(&mesh.triangles, &back.triangles_in_ids()),
         super::millis(start)
     );
     Ok(())

@@ -41,10 +41,8 @@ pub fn run(args: DetailArgs) -> Result<()> {
     let refined = refiner.mesh()?;
     let refine_seconds = refine_start.elapsed().as_secs_f64();
     io::write(&refined.mesh, &args.output, WriteOptions::default())?;
-    let exact = refined.ids.len() == mesh.vertex_count()
-        && refined.ids.iter().zip(&refined.mesh.positions).all(|(&id, p)| *p == mesh.positions[id as usize]);
-    let triangles: Vec<[u32; 3]> = refined.mesh.triangles.iter().map(|t| t.map(|v| refined.ids[v as usize])).collect();
-    let matched = connectivity_match(&mesh.triangles, &triangles);
+    let exact = refined.has_input_positions(&mesh);
+    let matched = connectivity_match(&mesh.triangles, &refined.triangles_in_ids());
     let relocated: usize = reports.iter().map(|r| r.relocated).sum();
     if args.json {
         let report = json!({

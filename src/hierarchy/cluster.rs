@@ -114,7 +114,7 @@ pub fn nearest_edge(t: [DVec3; 3], p: DVec3) -> usize {
     best.0
 }
 
-fn point_segment_distance_squared(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+pub(super) fn point_segment_distance_squared(p: DVec3, a: DVec3, b: DVec3) -> f64 {
     let ab = b - a;
     let len2 = ab.length_squared();
     let t = if len2 > 0.0 { ((p - a).dot(ab) / len2).clamp(0.0, 1.0) } else { 0.0 };

@@ -27,6 +27,24 @@ pub use refine::{LevelMesh, LevelReport, Refiner, connectivity_match};
 pub use rings::Rings;
 pub use simplify::build;
 
+/// Which of `vertex_count` vertices the triangles use.
+pub fn used_vertices(vertex_count: usize, triangles: &[[u32; 3]]) -> Vec<bool> {
+    let mut used = vec![false; vertex_count];
+    for t in triangles {
+        for &v in t {
+            used[v as usize] = true;
+        }
+    }
+    used
+}
+
+/// The key shared by all rotations of an oriented triangle: rotated to start at its
+/// smallest vertex id.
+pub fn face_key(t: [u32; 3]) -> [u32; 3] {
+    let i = (0..3).min_by_key(|&i| t[i]).unwrap_or(0);
+    [t[i], t[(i + 1) % 3], t[(i + 2) % 3]]
+}
+
 /// Which feature classes (§4.4.1.1, Algorithm 1) simplification never removes.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -161,13 +179,7 @@ impl Hierarchy {
 
     /// Number of vertices of the base domain.
     pub fn base_vertex_count(&self) -> usize {
-        let mut used = vec![false; self.positions.len()];
-        for t in &self.base_triangles {
-            for &v in t {
-                used[v as usize] = true;
-            }
-        }
-        used.iter().filter(|&&u| u).count()
+        used_vertices(self.positions.len(), &self.base_triangles).iter().filter(|&&u| u).count()
     }
 
     /// The base domain as a compact mesh, with each vertex's input id.

@@ -9,6 +9,7 @@ use serde::Serialize;
 
 use super::cluster::ClusterPlan;
 use super::conformal::locate;
+use super::face_key;
 
 /// A point on a level of the hierarchy: a face (counter-clockwise vertex ids) and
 /// barycentric coordinates (non-negative, summing to one).
@@ -18,12 +19,6 @@ pub struct ParamPoint {
     pub face: [u32; 3],
     /// Barycentric coordinates with respect to `face`.
     pub bary: [f64; 3],
-}
-
-/// The face key shared by all rotations of a counter-clockwise triangle.
-fn face_key(f: [u32; 3]) -> [u32; 3] {
-    let i = (0..3).min_by_key(|&i| f[i]).unwrap_or(0);
-    [f[i], f[(i + 1) % 3], f[(i + 2) % 3]]
 }
 
 /// Parameter points of the removed vertices, bucketed by the face they lie on.

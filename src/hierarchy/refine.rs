@@ -15,11 +15,11 @@ use std::collections::HashSet;
 use glam::DVec3;
 use serde::Serialize;
 
-use super::cluster::widest_link_edge;
+use super::cluster::{point_segment_distance_squared, widest_link_edge};
 use super::conformal::interpolate;
 use super::rings::Rings;
 use super::simplify::{expect_done, exported_triangles};
-use super::{Hierarchy, Removal};
+use super::{Hierarchy, Removal, face_key, used_vertices};
 use crate::error::{Error, Result};
 use crate::ffi::HalfEdgeMesh;
 use crate::mesh::Mesh;
@@ -37,15 +37,10 @@ impl LevelMesh {
     /// Keeps the vertices `triangles` use, in id order.
     pub fn compact(positions: &[DVec3], triangles: &[[u32; 3]]) -> Self {
         let mut index = vec![u32::MAX; positions.len()];
-        for t in triangles {
-            for &v in t {
-                index[v as usize] = 0;
-            }
-        }
         let mut ids = Vec::new();
-        for (v, slot) in index.iter_mut().enumerate() {
-            if *slot == 0 {
-                *slot = ids.len() as u32;
+        for (v, used) in used_vertices(positions.len(), triangles).into_iter().enumerate() {
+            if used {
+                index[v] = ids.len() as u32;
                 ids.push(v as u32);
             }
         }
@@ -54,6 +49,17 @@ impl LevelMesh {
             triangles.iter().map(|t| t.map(|v| index[v as usize])).collect(),
         );
         LevelMesh { mesh, ids }
+    }
+
+    /// The faces in input ids.
+    pub fn triangles_in_ids(&self) -> Vec<[u32; 3]> {
+        self.mesh.triangles.iter().map(|t| t.map(|v| self.ids[v as usize])).collect()
+    }
+
+    /// Whether this holds every vertex of `input` at its input position.
+    pub fn has_input_positions(&self, input: &Mesh) -> bool {
+        self.ids.len() == input.vertex_count()
+            && self.ids.iter().zip(&self.mesh.positions).all(|(&id, p)| *p == input.positions[id as usize])
     }
 }
 
@@ -102,12 +108,7 @@ impl<'h> Refiner<'h> {
         let all = Mesh::new(hierarchy.positions.clone(), hierarchy.base_triangles.clone());
         let store = HalfEdgeMesh::from_mesh(&all)?;
         let n = hierarchy.positions.len();
-        let mut present = vec![false; n];
-        for t in &hierarchy.base_triangles {
-            for &v in t {
-                present[v as usize] = true;
-            }
-        }
+        let present = used_vertices(n, &hierarchy.base_triangles);
         let live: Vec<u32> = (0..n as u32).filter(|&v| present[v as usize]).collect();
         let rings = Rings::fetch(&store, &live, n)?;
         Ok(Refiner { hierarchy, store, rings, positions: hierarchy.positions.clone(), present, live, level: 0 })
@@ -261,11 +262,7 @@ impl<'h> Refiner<'h> {
                 if self.rings.left_of(u, x).is_none() || self.rings.right_of(u, x).is_none() {
                     continue;
                 }
-                let a = self.positions[u as usize];
-                let b = self.positions[x as usize];
-                let ab = b - a;
-                let t = ((point - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
-                let d = (a + ab * t).distance_squared(point);
+                let d = point_segment_distance_squared(point, self.positions[u as usize], self.positions[x as usize]);
                 let key = [u.min(x), u.max(x)];
                 if best.is_none_or(|(bd, bk)| d < bd || (d == bd && key < bk)) {
                     best = Some((d, key));
@@ -342,10 +339,6 @@ pub fn connectivity_match(original: &[[u32; 3]], refined: &[[u32; 3]]) -> f64 {
     if original.is_empty() {
         return 1.0;
     }
-    let key = |t: &[u32; 3]| {
-        let i = (0..3).min_by_key(|&i| t[i]).unwrap_or(0);
-        [t[i], t[(i + 1) % 3], t[(i + 2) % 3]]
-    };
-    let have: HashSet<[u32; 3]> = refined.iter().map(key).collect();
-    original.iter().filter(|t| have.contains(&key(t))).count() as f64 / original.len() as f64
+    let have: HashSet<[u32; 3]> = refined.iter().map(|&t| face_key(t)).collect();
+    original.iter().filter(|&&t| have.contains(&face_key(t))).count() as f64 / original.len() as f64
 }

@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use super::cluster::{ClusterPlan, ClusterRules, LevelGeometry, estimate_error, plan_cluster};
 use super::param::ParamBuckets;
 use super::rings::Rings;
-use super::{Hierarchy, KeepFeatures, LevelMesh, Removal, SimplifyOptions};
+use super::{Hierarchy, KeepFeatures, LevelMesh, Removal, SimplifyOptions, used_vertices};
 use crate::analysis::{FaceGeometry, FeatureClass, classify, voting_tensors};
 use crate::error::{Error, Result};
 use crate::ffi::{self, CollapseOptions, HalfEdgeMesh, OpStatus};
@@ -33,7 +33,7 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
     let diagonal = mesh.bounding_box().map_or(0.0, |(lo, hi)| (hi - lo).length());
     let max_error = options.max_error.map(|f| (f * diagonal).powi(2));
 
-    let referenced = referenced_vertices(mesh);
+    let referenced = used_vertices(n, &mesh.triangles);
     let mut live: Vec<u32> = (0..n as u32).filter(|&v| referenced[v as usize]).collect();
     let mut params = ParamBuckets::new(n);
     let mut removals: Vec<Removal> = Vec::new();
@@ -164,16 +164,6 @@ fn unremovable_vertices(mesh: &Mesh, options: &SimplifyOptions) -> Result<(Vec<b
         *slot = true;
     }
     Ok((kept, features))
-}
-
-fn referenced_vertices(mesh: &Mesh) -> Vec<bool> {
-    let mut used = vec![false; mesh.vertex_count()];
-    for t in &mesh.triangles {
-        for &v in t {
-            used[v as usize] = true;
-        }
-    }
-    used
 }
 
 /// Removable candidates in order of increasing estimated E(v), ties by vertex id.
