@@ -8,6 +8,7 @@
 
 pub mod analysis;
 pub mod cli;
+pub mod detail;
 pub mod error;
 #[allow(unsafe_code)]
 pub mod ffi;

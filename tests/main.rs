@@ -4,6 +4,7 @@ mod analysis;
 mod bad_input;
 mod cli;
 mod common;
+mod detail;
 mod ffi;
 mod hierarchy;
 mod io_roundtrip;

@@ -1,7 +1,8 @@
 //! `asperity demo [--out DIR]`: the main job on built-in inputs. It builds a torus and an
 //! icosphere in code, round-trips them through OpenMesh, measures them with CGAL, writes a
 //! panel of noise images, a terrain, and the feature analysis of fandisk (or of the torus
-//! when the shared meshes are absent) under `DIR`; the detail pipeline will extend it.
+//! when the shared meshes are absent), the 4-k hierarchies, and the results of several
+//! detail recipes under `DIR`.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -9,6 +10,7 @@ use std::time::Instant;
 use clap::Args;
 
 use crate::analysis::{AnalysisOptions, analyze};
+use crate::detail::{self, DetailOptions, Recipe};
 use crate::error::{Error, Result};
 use crate::ffi::{self, HalfEdgeMesh, HausdorffOptions};
 use crate::hierarchy::{Refiner, SimplifyOptions, build, connectivity_match};
@@ -85,6 +87,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
     } else {
         write_features(&torus, &args.out.join("torus-features.ply"))?;
     }
+    write_detail_recipes(&args.out)?;
     println!("demo: results in {}", args.out.display());
     Ok(())
 }
@@ -221,6 +224,54 @@ fn write_features(mesh: &Mesh, path: &Path) -> Result<()> {
         path.display(),
         super::millis(start)
     );
+    Ok(())
+}
+
+/// Example recipes the demo runs (the files of `recipes/`, built in).
+const DEMO_RECIPES: [(&str, &str); 4] = [
+    ("torus-variation", include_str!("../../recipes/torus-variation.toml")),
+    ("sphere-marble", include_str!("../../recipes/sphere-marble.toml")),
+    ("mushroom-planet", include_str!("../../recipes/mushroom-planet.toml")),
+    ("femur-wearing", include_str!("../../recipes/femur-wearing.toml")),
+];
+
+/// Runs the demo recipes on the meshes their first line names (skipping shared meshes
+/// that are absent), writing `detail-NAME.ply` with self-intersections damped away.
+fn write_detail_recipes(out: &Path) -> Result<()> {
+    for (name, text) in DEMO_RECIPES {
+        let recipe = Recipe::parse(text)
+            .map_err(|(line, msg)| Error::Internal(format!("built-in recipe {name} (line {line:?}): {msg}")))?;
+        let mesh_name = text.lines().next().and_then(|l| l.strip_prefix("# mesh: ")).unwrap_or("sphere").trim();
+        let mesh = match super::detail::builtin_mesh(Path::new(&format!("builtin:{mesh_name}"))) {
+            Ok(Some(mesh)) => mesh,
+            _ => match shared_mesh(mesh_name) {
+                Some(path) => io::read(&path)?.mesh,
+                None => continue,
+            },
+        };
+        let start = Instant::now();
+        let target = recipe
+            .hierarchy
+            .target_vertices
+            .as_deref()
+            .map(|t| super::resolve_target(t, mesh.vertex_count()))
+            .transpose()?;
+        let simplify = SimplifyOptions { target_vertices: target, ..SimplifyOptions::default() };
+        let options = DetailOptions { simplify, no_self_intersections: true, ..DetailOptions::default() };
+        let outcome = detail::apply(&mesh, &recipe, &options)?;
+        let path = out.join(format!("detail-{name}.ply"));
+        io::write(&outcome.result.mesh, &path, WriteOptions::default())?;
+        let touched: usize = outcome.steps.iter().map(|s| s.touched).sum();
+        println!(
+            "detail: {name} on {mesh_name}: {} steps over {} levels, {touched} vertex moves, {} self-intersections damped ({} vertices) => {} in {} ms",
+            outcome.steps.len(),
+            outcome.levels,
+            outcome.intersections.found,
+            outcome.intersections.damped,
+            path.display(),
+            super::millis(start)
+        );
+    }
     Ok(())
 }
 

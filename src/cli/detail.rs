@@ -1,5 +1,6 @@
-//! `asperity detail IN -o OUT`: builds the 4-k hierarchy and refines it back to full
-//! resolution. Without a recipe this is the round trip, which must give back the input.
+//! `asperity detail IN [--recipe R.toml] -o OUT`: builds the 4-k hierarchy and refines it
+//! back to full resolution, applying the recipe's steps at their levels. Without a recipe
+//! this is the round trip, which must give back the input.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -8,17 +9,25 @@ use clap::Args;
 use serde_json::json;
 
 use super::simplify::HierarchyArgs;
-use crate::error::Result;
-use crate::hierarchy::{Refiner, build, connectivity_match};
+use crate::detail::{DetailOptions, Recipe, apply_to};
+use crate::error::{Error, Result};
+use crate::hierarchy::{build, connectivity_match};
 use crate::io::{self, WriteOptions};
+use crate::mesh::{Mesh, primitives};
 
 #[derive(Debug, Args)]
 pub struct DetailArgs {
-    /// Input mesh.
+    /// Input mesh, or `builtin:sphere` (icosphere, 10 242 vertices) or `builtin:torus`.
     input: PathBuf,
     /// Output mesh (format by extension).
     #[arg(short, long)]
     output: PathBuf,
+    /// Recipe (TOML, see docs/recipes.md); without one, the round trip.
+    #[arg(long)]
+    recipe: Option<PathBuf>,
+    /// Damp displacements until the result has no self-intersections.
+    #[arg(long)]
+    no_self_intersections: bool,
     #[command(flatten)]
     hierarchy: HierarchyArgs,
     /// Print a JSON report.
@@ -33,44 +42,90 @@ pub fn run(args: DetailArgs) -> Result<()> {
     let start = Instant::now();
     io::Format::from_path(&args.output)?;
     super::guard_overwrite(&args.input, &args.output, args.force)?;
-    let mesh = io::read(&args.input)?.mesh;
-    let hierarchy = build(&mesh, &args.hierarchy.options(mesh.vertex_count(), false)?)?;
-    let refine_start = Instant::now();
-    let mut refiner = Refiner::new(&hierarchy)?;
-    let reports = refiner.refine_all()?;
-    let refined = refiner.mesh()?;
-    let refine_seconds = refine_start.elapsed().as_secs_f64();
-    io::write(&refined.mesh, &args.output, WriteOptions::default())?;
-    let exact = refined.has_input_positions(&mesh);
-    let matched = connectivity_match(&mesh.triangles, &refined.triangles_in_ids());
-    let relocated: usize = reports.iter().map(|r| r.relocated).sum();
+    let recipe = match &args.recipe {
+        Some(path) => Recipe::read(path)?,
+        None => Recipe::default(),
+    };
+    let mesh = match builtin_mesh(&args.input)? {
+        Some(mesh) => mesh,
+        None => io::read(&args.input)?.mesh,
+    };
+    let simplify = args.hierarchy.options_over(mesh.vertex_count(), false, &recipe.hierarchy)?;
+    let hierarchy = build(&mesh, &simplify)?;
+    let options = DetailOptions { simplify, no_self_intersections: args.no_self_intersections, ..Default::default() };
+    let outcome = apply_to(&hierarchy, &mesh, &recipe, &options)?;
+    io::write(&outcome.result.mesh, &args.output, WriteOptions::default())?;
+    let exact = outcome.result.has_input_positions(&mesh);
+    let matched = connectivity_match(&mesh.triangles, &outcome.result.triangles_in_ids());
+    let seconds = json!({
+        "hierarchy": hierarchy.seconds,
+        "detail": outcome.seconds.detail,
+        "refine": outcome.seconds.refine,
+        "self_intersections": outcome.seconds.intersections,
+    });
     if args.json {
         let report = json!({
             "input": args.input.display().to_string(),
             "output": args.output.display().to_string(),
+            "recipe": args.recipe.as_ref().map(|p| p.display().to_string()),
             "input_vertices": mesh.vertex_count(),
-            "base_vertices": hierarchy.base_vertex_count(),
-            "output_vertices": refined.mesh.vertex_count(),
-            "levels": hierarchy.steps(),
+            "base_vertices": outcome.base_vertices,
+            "output_vertices": outcome.result.mesh.vertex_count(),
+            "levels": outcome.levels,
             "positions_exact": exact,
             "faces_matched": matched,
-            "relocated": relocated,
-            "build_seconds": hierarchy.seconds,
-            "refine_seconds": refine_seconds,
-            "levels_report": reports,
+            "steps": outcome.steps,
+            "self_intersections": outcome.intersections,
+            "seconds": seconds,
         });
         println!("{}", serde_json::to_string_pretty(&report).expect("report serialises"));
-    } else {
+        return Ok(());
+    }
+    for s in &outcome.steps {
         println!(
-            "detail: {} vertices => base {} => {} vertices over {} levels (positions {}, {:.2}% faces restored) in {} ms",
-            mesh.vertex_count(),
-            hierarchy.base_vertex_count(),
-            refined.mesh.vertex_count(),
-            hierarchy.steps(),
-            if exact { "exact" } else { "moved" },
-            matched * 100.0,
-            super::millis(start)
+            "step {}: {} at level {} ({} vertices): {} selected, {} touched in {:.0} ms",
+            s.step,
+            s.op,
+            s.level,
+            s.level_vertices,
+            s.selected,
+            s.touched,
+            s.seconds * 1e3
         );
     }
+    let i = outcome.intersections;
+    let intersections = if args.no_self_intersections {
+        format!("{} self-intersections, {} damped to {} in {} passes", i.found, i.damped, i.remaining, i.passes)
+    } else {
+        format!("{} self-intersections", i.found)
+    };
+    let shape = if recipe.steps.is_empty() {
+        format!("positions {}, {:.2}% faces restored", if exact { "exact" } else { "moved" }, matched * 100.0)
+    } else {
+        format!("{} steps", recipe.steps.len())
+    };
+    println!(
+        "detail: {} vertices => base {} => {} vertices over {} levels ({shape}; {intersections}) in {} ms",
+        mesh.vertex_count(),
+        outcome.base_vertices,
+        outcome.result.mesh.vertex_count(),
+        outcome.levels,
+        super::millis(start)
+    );
     Ok(())
+}
+
+/// The surfaces made in code that recipes can run on (`builtin:NAME`), `None` for a path.
+///
+/// # Errors
+/// [`Error::InvalidInput`] for an unknown built-in name.
+pub fn builtin_mesh(input: &std::path::Path) -> Result<Option<Mesh>> {
+    let Some(name) = input.to_str().and_then(|s| s.strip_prefix("builtin:")) else {
+        return Ok(None);
+    };
+    match name {
+        "sphere" => Ok(Some(primitives::icosphere(1.0, 5))),
+        "torus" => Ok(Some(primitives::torus(1.0, 0.35, 96, 48))),
+        _ => Err(Error::InvalidInput(format!("unknown built-in mesh '{name}' (use builtin:sphere or builtin:torus)"))),
+    }
 }

@@ -17,6 +17,8 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
 
+pub use simplify::resolve_target;
+
 use crate::error::{Error, Result};
 
 /// asperity — procedural detail on 3D surfaces.

@@ -7,6 +7,7 @@ use std::time::Instant;
 use clap::Args;
 use serde_json::json;
 
+use crate::detail::HierarchySection;
 use crate::error::{Error, Result};
 use crate::ffi::{HausdorffOptions, hausdorff_distance};
 use crate::hierarchy::{Hierarchy, KeepFeatures, SimplifyOptions, build};
@@ -25,9 +26,9 @@ pub struct HierarchyArgs {
     /// Never remove a vertex whose error exceeds this fraction of the bounding-box diagonal.
     #[arg(long)]
     max_error: Option<f64>,
-    /// Feature vertices kept in the base domain (thesis §4.4.1.1).
-    #[arg(long, value_enum, default_value_t = KeepArg::Strong)]
-    keep_features: KeepArg,
+    /// Feature vertices kept in the base domain (thesis §4.4.1.1) [default: strong].
+    #[arg(long, value_enum)]
+    keep_features: Option<KeepArg>,
     /// Weight of the removal error in E(v) (eq. 4.1).
     #[arg(long, default_value_t = 0.75)]
     removal_weight: f64,
@@ -90,7 +91,34 @@ impl Target {
 impl HierarchyArgs {
     /// The library options for a mesh of `vertices` vertices.
     pub fn options(&self, vertices: usize, record_levels: bool) -> Result<SimplifyOptions> {
-        if let Some(e) = self.max_error {
+        self.options_over(vertices, record_levels, &HierarchySection::default())
+    }
+
+    /// The library options, taking what the flags leave unset from a recipe's
+    /// `[hierarchy]` table.
+    pub fn options_over(
+        &self,
+        vertices: usize,
+        record_levels: bool,
+        section: &HierarchySection,
+    ) -> Result<SimplifyOptions> {
+        let keep = match (self.keep_features, section.keep_features.as_deref()) {
+            (Some(k), _) => k,
+            (None, None) => KeepArg::Strong,
+            (None, Some(name)) => <KeepArg as clap::ValueEnum>::from_str(name, true).map_err(|_| {
+                Error::InvalidInput(format!("[hierarchy] keep_features = \"{name}\": use none, strong or all"))
+            })?,
+        };
+        let target = match (self.target_vertices, section.target_vertices.as_deref()) {
+            (Some(t), _) => Some(t),
+            (None, Some(text)) => {
+                Some(parse_target(text).map_err(|e| Error::InvalidInput(format!("[hierarchy] target_vertices: {e}")))?)
+            }
+            (None, None) => None,
+        };
+        let levels = self.levels.or(section.levels);
+        let max_error = self.max_error.or(section.max_error);
+        if let Some(e) = max_error {
             if !(e >= 0.0 && e.is_finite()) {
                 return Err(Error::InvalidInput(format!("--max-error {e} must be a non-negative fraction")));
             }
@@ -100,12 +128,12 @@ impl HierarchyArgs {
                 return Err(Error::InvalidInput(format!("{name} {w} must be non-negative")));
             }
         }
-        let target_vertices = self.target_vertices.map(|t| t.resolve(vertices));
+        let target_vertices = target.map(|t| t.resolve(vertices));
         Ok(SimplifyOptions {
             target_vertices,
-            levels: self.levels,
-            max_error: self.max_error,
-            keep_features: self.keep_features.into(),
+            levels,
+            max_error,
+            keep_features: keep.into(),
             removal_weight: self.removal_weight,
             swap_weight: self.swap_weight,
             record_levels,

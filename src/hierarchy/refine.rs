@@ -89,6 +89,7 @@ pub struct Refiner<'h> {
     present: Vec<bool>,
     live: Vec<u32>,
     level: usize,
+    follow_deformation: bool,
 }
 
 impl std::fmt::Debug for Refiner<'_> {
@@ -111,7 +112,16 @@ impl<'h> Refiner<'h> {
         let present = used_vertices(n, &hierarchy.base_triangles);
         let live: Vec<u32> = (0..n as u32).filter(|&v| present[v as usize]).collect();
         let rings = Rings::fetch(&store, &live, n)?;
-        Ok(Refiner { hierarchy, store, rings, positions: hierarchy.positions.clone(), present, live, level: 0 })
+        Ok(Refiner {
+            hierarchy,
+            store,
+            rings,
+            positions: hierarchy.positions.clone(),
+            present,
+            live,
+            level: 0,
+            follow_deformation: true,
+        })
     }
 
     /// The current level (0: base domain; `hierarchy.steps()`: fully refined).
@@ -133,6 +143,44 @@ impl<'h> Refiner<'h> {
     /// insertions follow the moved surface.
     pub fn positions_mut(&mut self) -> &mut [DVec3] {
         &mut self.positions
+    }
+
+    /// Whether later insertions follow the deformed surface (the parametrization update of
+    /// §4.5.1, on by default). Off, every vertex returns to its input position, which is
+    /// what Fig. 4.7(a) shows going wrong after a deformation.
+    pub fn set_follow_deformation(&mut self, follow: bool) {
+        self.follow_deformation = follow;
+    }
+
+    /// Number of vertex slots: input vertices plus those operators have added.
+    pub fn vertex_slots(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Splits `edges` (in order) at their current midpoints, making new vertices with ids
+    /// from [`Refiner::vertex_slots`] up; returns them. Operators that add resolution
+    /// between levels (local subdivision, §4.7.1.1) use this; later insertions whose
+    /// recorded face was split find their edge through the neighbour search.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] if OpenMesh refuses a split (an edge that is not in the mesh).
+    pub fn split_at_midpoints(&mut self, edges: &[[u32; 2]]) -> Result<Vec<u32>> {
+        let mut made = Vec::with_capacity(edges.len());
+        for chunk in edges.chunks(4096) {
+            let points: Vec<DVec3> =
+                chunk.iter().map(|e| (self.positions[e[0] as usize] + self.positions[e[1] as usize]) * 0.5).collect();
+            for ((edge, (status, vertex)), p) in chunk.iter().zip(self.store.split_edges(chunk, &points)?).zip(points) {
+                let Some(v) = vertex.filter(|v| v.index() == self.positions.len()) else {
+                    return Err(Error::InvalidInput(format!("cannot split edge {}–{} ({status:?})", edge[0], edge[1])));
+                };
+                self.positions.push(p);
+                self.present.push(true);
+                made.push(v.0);
+            }
+        }
+        self.live = (0..self.present.len() as u32).filter(|&v| self.present[v as usize]).collect();
+        self.rings = Rings::fetch(&self.store, &self.live, self.present.len())?;
+        Ok(made)
     }
 
     /// Whether vertex `v` is in the current mesh.
@@ -213,6 +261,9 @@ impl<'h> Refiner<'h> {
     fn insertion_point(&self, r: &Removal) -> DVec3 {
         let f = r.local.face;
         let original = self.hierarchy.positions[r.vertex as usize];
+        if !self.follow_deformation {
+            return original;
+        }
         let shift = if f.iter().all(|&v| self.present[v as usize]) {
             let now = interpolate(f.map(|v| self.positions[v as usize]), r.local.bary);
             let then = interpolate(f.map(|v| self.hierarchy.positions[v as usize]), r.local.bary);

@@ -1,0 +1,193 @@
+//! Procedural displacement (thesis §4.5, §4.7.3, §4.7.5.2): p ← p + (nl/l)·d(p) with nl a
+//! noise value, l the level number (eq. 4.5) and d the normal, its opposite (eq. 4.14), the
+//! diffusion direction or normal × diffusion (§5.2.2). Noise spreads from the selected
+//! centres over k rings with per-ring influence and per-ring Gabor parameters (Table 5.1),
+//! attenuated by distance (eq. 4.15). Parameters follow the level (§4.7.3.1): the fractal
+//! kinds take lacunarity 1.1 + (l+1)/10 and gain 0.8/(l+1); Gabor noise doubles its impulse
+//! density per coarser level, up to four times. Gabor kernels are oriented by each vertex's
+//! diffusion direction in its tangent plane (§4.7.3.2).
+
+use glam::DVec3;
+
+use super::level::{BoxFrame, LevelView};
+use super::recipe::{Attenuation, Direction, NoiseParams, OperatorKind};
+use crate::error::Result;
+use crate::noise::hash::{Stream, derive_seed, hash_coords};
+use crate::noise::{Fractal, FractalKind, Frame, GaborParams, NoiseField, NoiseKind, NoiseSpec, fill_parallel};
+
+/// A noise evaluated on a level in the recipe's units: coordinates scaled so that
+/// `frequency` features span the bounding-box diagonal.
+pub struct LevelNoise {
+    field: NoiseField,
+    origin: DVec3,
+    scale: f64,
+}
+
+impl LevelNoise {
+    /// The noise of `params` at `depth` levels above the input, optionally with Gabor
+    /// parameters overridden (one propagation ring of Table 5.1).
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidInput`] for invalid Gabor parameters.
+    pub fn new(params: &NoiseParams, modulate: bool, depth: usize, frame: &BoxFrame, seed: u64) -> Result<Self> {
+        let mut fractal = Fractal {
+            kind: fractal_kind(params.kind),
+            octaves: params.octaves,
+            lacunarity: params.lacunarity,
+            gain: params.gain,
+            offset: params.offset,
+        };
+        let mut impulses = params.impulses;
+        if modulate {
+            fractal = fractal.for_level(depth as u32);
+            impulses *= f64::from(1u32 << depth.min(2));
+        }
+        let gabor = GaborParams {
+            k: params.k,
+            a: params.a,
+            f0: params.f0,
+            omega0: params.omega,
+            impulses_per_kernel: impulses,
+            isotropic: params.isotropic,
+        };
+        let field = NoiseField::new(&NoiseSpec { kind: params.kind, fractal, gabor, seed })?;
+        let per_unit = params.frequency / frame.diagonal;
+        let scale =
+            if params.kind == NoiseKind::Gabor { per_unit / params.f0.max(f64::MIN_POSITIVE) } else { per_unit };
+        Ok(LevelNoise { field, origin: frame.min, scale })
+    }
+
+    /// The noise value at `p` with the tangent frame `frame` (Gabor orientation).
+    pub fn at(&self, p: DVec3, frame: Frame) -> f64 {
+        self.field.sample3((p - self.origin) * self.scale, frame)
+    }
+
+    /// The fractal value at `p` with a shifted lacunarity (variation operator); plain
+    /// noise and Gabor noise ignore the shift.
+    fn at_shifted(&self, p: DVec3, frame: Frame, lacunarity_shift: f64) -> f64 {
+        match &self.field {
+            NoiseField::Perlin { basis, fractal: Some(f) } if lacunarity_shift != 0.0 => {
+                let q = (p - self.origin) * self.scale;
+                let shifted = Fractal { lacunarity: (f.lacunarity + lacunarity_shift).max(1.0), ..*f };
+                shifted.eval(q.x, |s| basis.sample3(q * s))
+            }
+            _ => self.at(p, frame),
+        }
+    }
+}
+
+fn fractal_kind(kind: NoiseKind) -> FractalKind {
+    match kind {
+        NoiseKind::Turbulence => FractalKind::Turbulence,
+        NoiseKind::Marble => FractalKind::Marble,
+        NoiseKind::Multifractal => FractalKind::Multifractal,
+        NoiseKind::Wood => FractalKind::Wood,
+        NoiseKind::Perlin | NoiseKind::Fbm | NoiseKind::Gabor => FractalKind::Fbm,
+    }
+}
+
+/// The tangent frame at a vertex: the diffusion direction projected on the tangent plane
+/// (or any tangent when it vanishes or `follow` is off) and normal × that.
+pub fn tangent_frame(normal: DVec3, diffusion: Option<DVec3>, follow: bool) -> Frame {
+    let n = if normal.length_squared() > 0.0 { normal } else { DVec3::Z };
+    let projected = diffusion.filter(|_| follow).map(|d| (d - n * n.dot(d)).normalize_or_zero());
+    let tangent = match projected {
+        Some(t) if t != DVec3::ZERO => t,
+        _ => n.any_orthonormal_vector(),
+    };
+    Frame { tangent, bitangent: n.cross(tangent).normalize_or_zero() }
+}
+
+/// Unit displacement directions of every vertex of the level.
+///
+/// # Errors
+/// [`crate::Error::InvalidInput`] if the level's analysis fails.
+pub fn directions(view: &LevelView, direction: Direction) -> Result<Vec<DVec3>> {
+    Ok(match direction {
+        Direction::Normal => view.normals.clone(),
+        Direction::Inward => view.normals.iter().map(|n| -*n).collect(),
+        Direction::Diffusion => view.analysis()?.diffusion(),
+        Direction::NormalCrossDiffusion => view.analysis()?.normal_cross_diffusion(),
+    })
+}
+
+/// The displacement of one noise step: new positions of the vertices it moves (local
+/// indices, ascending). `selected` are the centres; `noised` (local) are skipped unless
+/// the step accumulates.
+///
+/// # Errors
+/// [`crate::Error::InvalidInput`] for invalid noise parameters.
+pub fn noise_displacements(
+    op: OperatorKind,
+    params: &NoiseParams,
+    view: &LevelView,
+    frame: &BoxFrame,
+    selected: &[bool],
+    noised: &[bool],
+    seed: u64,
+) -> Result<Vec<(usize, DVec3)>> {
+    let variation = op == OperatorKind::Variation;
+    let modulate = params.modulate.unwrap_or(variation);
+    let shift = params.shift.unwrap_or(if variation { 0.5 } else { 0.0 });
+    let free = |v: usize| params.accumulate || !noised[v];
+    let centres: Vec<usize> = (0..selected.len()).filter(|&v| selected[v] && free(v)).collect();
+    let reach = view.rings_from(&centres, params.rings.len());
+    let targets: Vec<usize> = (0..reach.len()).filter(|&v| reach[v].is_some() && free(v)).collect();
+    if targets.is_empty() {
+        return Ok(Vec::new());
+    }
+    let ring_noise = ring_fields(params, modulate, view.depth, frame, seed)?;
+    let dirs = directions(view, params.direction)?;
+    let diffusion = if params.kind == NoiseKind::Gabor && params.follow_diffusion {
+        Some(view.analysis()?.diffusion())
+    } else {
+        None
+    };
+    let amplitude = params.amplitude * frame.diagonal / if params.attenuate { view.thesis_level() } else { 1.0 };
+    let edge = view.mean_edge_length();
+    let positions = &view.mesh.positions;
+    let mut values = vec![0.0; targets.len()];
+    fill_parallel(&mut values, |i| {
+        let v = targets[i];
+        let (ring, centre) = reach[v].expect("targets are reached");
+        let tangent = tangent_frame(view.normals[v], diffusion.as_ref().map(|d| d[v]), params.follow_diffusion);
+        let u = if shift != 0.0 { centre_shift(seed, view.ids[centre]) } else { 0.0 };
+        let value = ring_noise[ring].at_shifted(positions[v], tangent, shift * u) * (1.0 + shift * u);
+        let influence = if ring == 0 { 1.0 } else { params.rings[ring - 1].influence };
+        let falloff = match params.attenuation {
+            Attenuation::InverseDistance if ring > 0 => {
+                1.0 / (positions[v].distance(positions[centre]) / edge).max(1.0)
+            }
+            _ => 1.0,
+        };
+        value * influence * falloff
+    });
+    Ok(targets.iter().zip(values).map(|(&v, value)| (v, positions[v] + dirs[v] * (amplitude * value))).collect())
+}
+
+/// One noise per ring: ring 0 uses the step's parameters, ring k those of Table 5.1's row k.
+fn ring_fields(
+    params: &NoiseParams,
+    modulate: bool,
+    depth: usize,
+    frame: &BoxFrame,
+    seed: u64,
+) -> Result<Vec<LevelNoise>> {
+    let mut fields = vec![LevelNoise::new(params, modulate, depth, frame, seed)?];
+    for ring in &params.rings {
+        let p = NoiseParams {
+            k: ring.k.unwrap_or(params.k),
+            a: ring.a.unwrap_or(params.a),
+            f0: ring.f0.unwrap_or(params.f0),
+            ..params.clone()
+        };
+        fields.push(LevelNoise::new(&p, modulate, depth, frame, seed)?);
+    }
+    Ok(fields)
+}
+
+/// A centre's random shift in [-1, 1] (the variation operator's per-area shift).
+pub fn centre_shift(seed: u64, id: u32) -> f64 {
+    let mut s = Stream::new(hash_coords(derive_seed(seed, "variation shift"), &[i64::from(id)]));
+    s.uniform(-1.0, 1.0)
+}

@@ -1,0 +1,287 @@
+//! Detail mapping (thesis §4.5, §4.7, chapter 5): the deformation operator D(VS, l, f)
+//! (eq. 4.4) applied at chosen levels of the 4-k hierarchy while it is refined back to
+//! full resolution. Each recipe step runs when refinement reaches its level: VS comes from
+//! the step's selection, f from its operator (procedural noise, variation, feature-based,
+//! organic, taper, twist, smoothing, local subdivision). Vertices inserted by later levels
+//! are placed on the deformed surface (the parametrization update of §4.5.1, see
+//! [`Refiner::set_follow_deformation`]). After the last level, CGAL counts
+//! self-intersections and, when asked, displacements are damped until there are none.
+
+mod displace;
+mod geometric;
+mod intersections;
+mod level;
+mod organic;
+mod recipe;
+mod select;
+mod smooth;
+mod subdivide;
+
+use std::time::Instant;
+
+use glam::DVec3;
+use serde::Serialize;
+
+pub use displace::{LevelNoise, noise_displacements, tangent_frame};
+pub use geometric::{taper, twist};
+pub use intersections::{IntersectionReport, resolve_self_intersections};
+pub use level::{BoxFrame, LevelView};
+pub use organic::organic_displacements;
+pub use recipe::*;
+pub use select::{independent_set, select};
+pub use smooth::{laplacian_energy, loop_beta, loop_smooth};
+pub use subdivide::{Subdivision, subdivide_around};
+
+use crate::analysis::{AnalysisOptions, FeatureClass, analyze};
+use crate::error::Result;
+use crate::hierarchy::{Hierarchy, LevelMesh, Refiner, SimplifyOptions, build};
+use crate::mesh::Mesh;
+use crate::noise::hash::derive_seed;
+
+/// Options of [`apply`] beyond the recipe.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DetailOptions {
+    /// How the hierarchy is built.
+    pub simplify: SimplifyOptions,
+    /// Damp displacements until the result has no self-intersections.
+    pub no_self_intersections: bool,
+    /// Place later insertions on the deformed surface (§4.5.1); off only to show why.
+    pub follow_deformation: bool,
+}
+
+impl Default for DetailOptions {
+    fn default() -> Self {
+        DetailOptions { simplify: SimplifyOptions::default(), no_self_intersections: false, follow_deformation: true }
+    }
+}
+
+/// What one recipe step did.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StepReport {
+    /// 1-based index in the recipe.
+    pub step: usize,
+    /// Operator name.
+    pub op: String,
+    /// Level it ran at (0: base domain).
+    pub level: usize,
+    /// Vertices in the level's mesh.
+    pub level_vertices: usize,
+    /// Vertices selected.
+    pub selected: usize,
+    /// Vertices moved or created.
+    pub touched: usize,
+    /// Time, seconds.
+    pub seconds: f64,
+}
+
+/// The result of [`apply`].
+#[derive(Debug, Clone)]
+pub struct DetailOutcome {
+    /// The detailed mesh at full resolution, with each vertex's id.
+    pub result: LevelMesh,
+    /// Undeformed position of each vertex of `result` (input position, or the subdivided
+    /// undeformed surface for vertices made by subdivision).
+    pub rest: Vec<DVec3>,
+    /// One report per step, in the order they ran.
+    pub steps: Vec<StepReport>,
+    /// The self-intersection stage.
+    pub intersections: IntersectionReport,
+    /// Hierarchy levels.
+    pub levels: usize,
+    /// Base-domain vertices.
+    pub base_vertices: usize,
+    /// Stage times, seconds: hierarchy build, steps, refinement, self-intersections.
+    pub seconds: StageSeconds,
+}
+
+/// Time per stage.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct StageSeconds {
+    /// Hierarchy build.
+    pub hierarchy: f64,
+    /// All detail steps.
+    pub detail: f64,
+    /// Refinement (without the steps).
+    pub refine: f64,
+    /// Self-intersection detection and damping.
+    pub intersections: f64,
+}
+
+/// Builds the hierarchy of `mesh` and applies `recipe` while refining it.
+///
+/// # Errors
+/// Those of [`build`] and [`apply_to`].
+pub fn apply(mesh: &Mesh, recipe: &Recipe, options: &DetailOptions) -> Result<DetailOutcome> {
+    let hierarchy = build(mesh, &options.simplify)?;
+    let mut outcome = apply_to(&hierarchy, mesh, recipe, options)?;
+    outcome.seconds.hierarchy = hierarchy.seconds;
+    Ok(outcome)
+}
+
+/// Per-run state the steps share: the input's frame and feature classes, each vertex's
+/// undeformed position and "noised" mark (§4.5), by id.
+struct RunState {
+    frame: BoxFrame,
+    classes: Vec<FeatureClass>,
+    rest: Vec<DVec3>,
+    noised: Vec<bool>,
+    /// Closed 1-rings changed by local subdivision (see [`subdivide_around`]).
+    frozen: Vec<bool>,
+}
+
+/// Applies `recipe` to an already built hierarchy of `input`.
+///
+/// # Errors
+/// [`crate::Error::InvalidInput`] for a step whose selection names a missing vertex or
+/// whose noise parameters are invalid; native errors from OpenMesh and CGAL.
+pub fn apply_to(
+    hierarchy: &Hierarchy,
+    input: &Mesh,
+    recipe: &Recipe,
+    options: &DetailOptions,
+) -> Result<DetailOutcome> {
+    let analysis = analyze(input, &AnalysisOptions::default())?;
+    let mut state = RunState {
+        frame: BoxFrame::of(input),
+        classes: analysis.classes,
+        rest: hierarchy.positions.clone(),
+        noised: vec![false; hierarchy.positions.len()],
+        frozen: vec![false; hierarchy.positions.len()],
+    };
+    let steps = hierarchy.steps();
+    let mut order: Vec<(usize, usize)> =
+        recipe.steps.iter().enumerate().map(|(i, s)| (resolve_level(s.level, steps), i)).collect();
+    order.sort_unstable();
+    let mut refiner = Refiner::new(hierarchy)?;
+    refiner.set_follow_deformation(options.follow_deformation);
+    let mut seconds = StageSeconds::default();
+    let mut reports = Vec::new();
+    let mut next = order.iter().peekable();
+    loop {
+        let level = refiner.level();
+        while let Some(&&(_, i)) = next.peek().filter(|(l, _)| *l == level) {
+            next.next();
+            let start = Instant::now();
+            let seed = recipe.steps[i].seed.unwrap_or_else(|| derive_seed(recipe.seed, &format!("step {i}")));
+            let mut report = run_step(&recipe.steps[i], &mut refiner, &mut state, steps, seed)?;
+            report.step = i + 1;
+            report.seconds = start.elapsed().as_secs_f64();
+            seconds.detail += report.seconds;
+            reports.push(report);
+        }
+        if refiner.is_finished() {
+            break;
+        }
+        let start = Instant::now();
+        let allowed = insertable(hierarchy, &refiner, &state.frozen);
+        refiner.refine_level(&|v| allowed.binary_search(&v).is_ok())?;
+        seconds.refine += start.elapsed().as_secs_f64();
+    }
+    let mut result = refiner.mesh()?;
+    let rest: Vec<DVec3> = result.ids.iter().map(|&id| state.rest[id as usize]).collect();
+    let start = Instant::now();
+    let intersections = resolve_self_intersections(&mut result.mesh, &rest, options.no_self_intersections)?;
+    seconds.intersections = start.elapsed().as_secs_f64();
+    Ok(DetailOutcome {
+        result,
+        rest,
+        steps: reports,
+        intersections,
+        levels: steps,
+        base_vertices: hierarchy.base_vertex_count(),
+        seconds,
+    })
+}
+
+/// The vertices the next refinement level may insert (sorted): those whose parameter face
+/// is still whole — all its vertices present, at most one in a subdivided region.
+fn insertable(hierarchy: &Hierarchy, refiner: &Refiner, frozen: &[bool]) -> Vec<u32> {
+    let step = hierarchy.steps() - 1 - refiner.level();
+    let mut allowed: Vec<u32> = hierarchy
+        .step(step)
+        .iter()
+        .filter(|r| {
+            let f = r.local.face;
+            f.iter().all(|&v| refiner.is_present(v)) && f.iter().filter(|&&v| frozen[v as usize]).count() < 2
+        })
+        .map(|r| r.vertex)
+        .collect();
+    allowed.sort_unstable();
+    allowed
+}
+
+/// A recipe level (negative: from the input's level back) as a refinement level.
+pub fn resolve_level(level: i64, steps: usize) -> usize {
+    let steps = steps as i64;
+    (if level < 0 { steps + 1 + level } else { level }).clamp(0, steps) as usize
+}
+
+/// Runs one step on the refiner's current level.
+fn run_step(step: &Step, refiner: &mut Refiner, state: &mut RunState, steps: usize, seed: u64) -> Result<StepReport> {
+    let level = refiner.level();
+    let depth = steps - level;
+    let mut view = LevelView::new(level, depth, refiner.mesh()?);
+    let mut selected = select(&step.select, &view, &state.frame, &state.classes, seed)?;
+    let mut touched = 0;
+    let subdivide_steps = match step.op {
+        OperatorKind::Subdivide => step.subdivide.steps,
+        OperatorKind::Organic => step.organic.subdivide,
+        _ => 0,
+    };
+    if subdivide_steps > 0 {
+        let centres: Vec<u32> = (0..selected.len()).filter(|&v| selected[v]).map(|v| view.ids[v]).collect();
+        let made = subdivide_around(refiner, &centres, subdivide_steps)?;
+        for &([a, b], v) in &made.splits {
+            debug_assert_eq!(v as usize, state.rest.len());
+            state.rest.push((state.rest[a as usize] + state.rest[b as usize]) * 0.5);
+            state.noised.push(false);
+            state.frozen.push(true);
+        }
+        for &v in &made.region {
+            state.frozen[v as usize] = true;
+        }
+        touched += made.splits.len();
+        view = LevelView::new(level, depth, refiner.mesh()?);
+        selected = view.ids.iter().map(|id| made.centres.binary_search(id).is_ok()).collect();
+    }
+    let noised: Vec<bool> = view.ids.iter().map(|&id| state.noised[id as usize]).collect();
+    let moves: Vec<(usize, DVec3)> = match step.op {
+        OperatorKind::Noise | OperatorKind::Variation | OperatorKind::Feature => {
+            noise_displacements(step.op, &step.noise, &view, &state.frame, &selected, &noised, seed)?
+        }
+        OperatorKind::Organic => {
+            organic_displacements(&step.organic, &step.noise, &view, &state.frame, &selected, &noised, seed)?
+        }
+        OperatorKind::Taper | OperatorKind::Twist => {
+            let f = if step.op == OperatorKind::Taper { taper } else { twist };
+            (0..selected.len())
+                .filter(|&v| selected[v])
+                .map(|v| (v, f(view.mesh.positions[v], &step.geometric, &state.frame)))
+                .collect()
+        }
+        OperatorKind::Smooth => loop_smooth(&view, &selected, step.smooth.iterations),
+        OperatorKind::Subdivide => Vec::new(),
+    };
+    let marks_noise = matches!(
+        step.op,
+        OperatorKind::Noise | OperatorKind::Variation | OperatorKind::Feature | OperatorKind::Organic
+    );
+    let positions = refiner.positions_mut();
+    for &(v, p) in &moves {
+        let id = view.ids[v] as usize;
+        touched += usize::from(positions[id] != p);
+        positions[id] = p;
+        if marks_noise {
+            state.noised[id] = true;
+        }
+    }
+    Ok(StepReport {
+        step: 0,
+        op: format!("{:?}", step.op).to_lowercase(),
+        level,
+        level_vertices: view.ids.len(),
+        selected: selected.iter().filter(|&&s| s).count(),
+        touched,
+        seconds: 0.0,
+    })
+}

@@ -1,0 +1,544 @@
+//! Recipes: a TOML file listing detail steps (operator, level, selection, parameters,
+//! seed), documented in `docs/recipes.md`. Parsing rejects unknown keys, so a misspelt
+//! parameter is an error naming the line instead of a silently ignored setting.
+
+use std::path::Path;
+
+use serde::Deserialize;
+
+use crate::analysis::FeatureClass;
+use crate::error::{Error, Location, Result};
+use crate::noise::NoiseKind;
+
+/// A parsed recipe.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Recipe {
+    /// Seed of every step that does not name its own.
+    #[serde(default)]
+    pub seed: u64,
+    /// How to build the hierarchy (command-line flags override these).
+    #[serde(default)]
+    pub hierarchy: HierarchySection,
+    /// The steps, applied in order within each level, coarse levels first.
+    #[serde(default, rename = "step")]
+    pub steps: Vec<Step>,
+}
+
+/// The `[hierarchy]` table.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HierarchySection {
+    /// "377" or "1%".
+    pub target_vertices: Option<String>,
+    /// Number of levels.
+    pub levels: Option<usize>,
+    /// Maximum error, fraction of the bounding-box diagonal.
+    pub max_error: Option<f64>,
+    /// "none", "strong" or "all".
+    pub keep_features: Option<String>,
+}
+
+/// Which operator a step runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum OperatorKind {
+    /// Procedural displacement (eq. 4.5, 4.14, 4.15; §4.7.3).
+    Noise,
+    /// Noise with level-modulated parameters and a random per-centre shift (§4.7.5.2).
+    Variation,
+    /// Noise restricted by feature classes (§4.7.4); needs `select.features`.
+    Feature,
+    /// Extensions with 2-ring propagation (Algorithm 5).
+    Organic,
+    /// Tapering (eq. 4.6–4.7).
+    Taper,
+    /// Twisting (eq. 4.8–4.9).
+    Twist,
+    /// Loop-mask smoothing (§4.7.1.2).
+    Smooth,
+    /// Local 4-8 subdivision around vertices (§4.7.1.1).
+    Subdivide,
+}
+
+/// One step.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Step {
+    /// The operator.
+    pub op: OperatorKind,
+    /// Hierarchy level: 0 is the base domain, counting towards the input; negative values
+    /// count back from the input (-1 is the input's level). Clamped to the hierarchy.
+    #[serde(default = "finest")]
+    pub level: i64,
+    /// The step's seed (default: derived from the recipe's seed and the step's index).
+    pub seed: Option<u64>,
+    /// Which vertices (default: all).
+    #[serde(default)]
+    pub select: Selection,
+    /// Noise parameters (noise, variation, feature, organic).
+    #[serde(default)]
+    pub noise: NoiseParams,
+    /// Taper and twist parameters.
+    #[serde(default)]
+    pub geometric: GeometricParams,
+    /// Smoothing parameters.
+    #[serde(default)]
+    pub smooth: SmoothParams,
+    /// Subdivision parameters (also the organic operator's optional pre-subdivision).
+    #[serde(default)]
+    pub subdivide: SubdivideParams,
+    /// Organic operator parameters.
+    #[serde(default)]
+    pub organic: OrganicParams,
+}
+
+fn finest() -> i64 {
+    -1
+}
+
+/// A vertex selection: every clause given must hold (they combine by "and"); the
+/// independent-set clause, if any, thins the result last.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Selection {
+    /// Inside a box, in coordinates normalised to the input's bounding box (0 to 1).
+    pub r#box: Option<BoxClause>,
+    /// Inside a sphere: centre normalised to the bounding box, radius a fraction of its diagonal.
+    pub sphere: Option<SphereClause>,
+    /// One side of an axis-aligned plane, normalised coordinates ("vertical component above z").
+    pub half_space: Option<HalfSpaceClause>,
+    /// A curvature range (scale-free: mean, k1, k2 times the diagonal; Gaussian times its square).
+    pub curvature: Option<CurvatureClause>,
+    /// Feature classes on or off (Algorithm 4 propagation optional).
+    pub features: Option<FeatureClause>,
+    /// k-rings around seed vertices (input ids) or the vertices nearest given points.
+    pub around: Option<AroundClause>,
+    /// A maximal independent set with k-ring exclusion (§5.2.0.1).
+    pub independent: Option<IndependentClause>,
+}
+
+/// `box = { min = [x, y, z], max = [x, y, z] }`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoxClause {
+    /// Lower corner (normalised).
+    pub min: [f64; 3],
+    /// Upper corner (normalised).
+    pub max: [f64; 3],
+}
+
+/// `sphere = { center = [x, y, z], radius = r }`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphereClause {
+    /// Centre (normalised).
+    pub center: [f64; 3],
+    /// Radius, fraction of the diagonal.
+    pub radius: f64,
+}
+
+/// An axis name.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Axis {
+    /// x.
+    X,
+    /// y.
+    Y,
+    /// z.
+    #[default]
+    Z,
+}
+
+impl Axis {
+    /// 0, 1 or 2.
+    pub fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// `half_space = { axis = "z", above = 0.6 }` (or `below`).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HalfSpaceClause {
+    /// The axis.
+    #[serde(default)]
+    pub axis: Axis,
+    /// Keep vertices whose normalised coordinate is at least this.
+    pub above: Option<f64>,
+    /// Keep vertices whose normalised coordinate is at most this.
+    pub below: Option<f64>,
+}
+
+/// Which curvature.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CurvatureKind {
+    /// Mean curvature H.
+    Mean,
+    /// Gaussian curvature K.
+    Gaussian,
+    /// Maximum principal curvature.
+    K1,
+    /// Minimum principal curvature.
+    K2,
+}
+
+/// `curvature = { kind = "gaussian", min = -1.0, max = 0.0 }`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CurvatureClause {
+    /// Which curvature.
+    pub kind: CurvatureKind,
+    /// Lower bound (scale-free).
+    pub min: Option<f64>,
+    /// Upper bound (scale-free).
+    pub max: Option<f64>,
+}
+
+/// On the features, or off them.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FeatureMode {
+    /// Only feature vertices.
+    #[default]
+    On,
+    /// Only non-feature vertices.
+    Off,
+}
+
+/// `features = { classes = ["strong", "corner"], mode = "on", propagate = 1 }`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FeatureClause {
+    /// Classes that count as features: "corner", "strong", "weak".
+    #[serde(default = "sharp_classes")]
+    pub classes: Vec<ClassName>,
+    /// On or off the features.
+    #[serde(default)]
+    pub mode: FeatureMode,
+    /// Passes of Algorithm 4's propagation (a vertex with two feature neighbours joins).
+    #[serde(default)]
+    pub propagate: usize,
+}
+
+fn sharp_classes() -> Vec<ClassName> {
+    vec![ClassName::Corner, ClassName::Strong]
+}
+
+/// A feature class name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ClassName {
+    /// Corner vertices.
+    Corner,
+    /// Strong-edge vertices.
+    Strong,
+    /// Weak-edge vertices.
+    Weak,
+    /// Face (smooth) vertices.
+    Face,
+}
+
+impl ClassName {
+    /// The analysis class.
+    pub fn class(self) -> FeatureClass {
+        match self {
+            ClassName::Corner => FeatureClass::Corner,
+            ClassName::Strong => FeatureClass::StrongEdge,
+            ClassName::Weak => FeatureClass::Weak,
+            ClassName::Face => FeatureClass::Face,
+        }
+    }
+}
+
+/// `around = { vertices = [12, 40], points = [[0.5, 0.5, 1.0]], rings = 2 }`.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AroundClause {
+    /// Seed vertices, by input id.
+    #[serde(default)]
+    pub vertices: Vec<u32>,
+    /// Seed points (normalised); each picks its nearest vertex at the step's level.
+    #[serde(default)]
+    pub points: Vec<[f64; 3]>,
+    /// Rings around each seed (0: the seeds only).
+    #[serde(default)]
+    pub rings: usize,
+}
+
+/// `independent = { exclusion = 2 }`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IndependentClause {
+    /// Every chosen vertex removes its k-ring from the candidates.
+    #[serde(default = "two")]
+    pub exclusion: usize,
+    /// Visit candidates in a seeded random order instead of by id.
+    #[serde(default = "yes")]
+    pub shuffle: bool,
+}
+
+fn two() -> usize {
+    2
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// Displacement direction.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Direction {
+    /// Along the normal (eq. 4.5).
+    #[default]
+    Normal,
+    /// Against the normal (eq. 4.14).
+    Inward,
+    /// Along the diffusion direction (§5.2.2).
+    Diffusion,
+    /// Along normal × diffusion (§5.2.2).
+    NormalCrossDiffusion,
+}
+
+/// Distance attenuation of propagated noise.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Attenuation {
+    /// Only the ring's influence.
+    None,
+    /// Influence / max(1, d / mean edge length) (eq. 4.15).
+    #[default]
+    InverseDistance,
+}
+
+/// Per-ring propagation parameters (Table 5.1).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RingParams {
+    /// Share of the noise this ring receives.
+    pub influence: f64,
+    /// Gabor K for this ring (default: the step's).
+    pub k: Option<f64>,
+    /// Gabor a for this ring (default: the step's).
+    pub a: Option<f64>,
+    /// Gabor F0 for this ring (default: the step's).
+    pub f0: Option<f64>,
+}
+
+/// The `noise` table.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct NoiseParams {
+    /// Noise kind.
+    pub kind: NoiseKind,
+    /// Peak displacement, fraction of the bounding-box diagonal.
+    pub amplitude: f64,
+    /// Features per bounding-box diagonal (Perlin lattice cells, Gabor cycles).
+    pub frequency: f64,
+    /// Octaves of the fractal kinds.
+    pub octaves: u32,
+    /// Lacunarity.
+    pub lacunarity: f64,
+    /// Gain.
+    pub gain: f64,
+    /// Multifractal offset.
+    pub offset: f64,
+    /// Gabor K.
+    pub k: f64,
+    /// Gabor a (relative to F0 = 0.0625: the kernel's width in cycles is kept).
+    pub a: f64,
+    /// Gabor F0 (reference 0.0625; the frequency above sets the scale).
+    pub f0: f64,
+    /// Gabor ω0, radians.
+    pub omega: f64,
+    /// Gabor impulses per kernel.
+    pub impulses: f64,
+    /// Gabor isotropic mode.
+    pub isotropic: bool,
+    /// Orient Gabor by the diffusion direction (else by a fixed tangent frame).
+    pub follow_diffusion: bool,
+    /// Displacement direction.
+    pub direction: Direction,
+    /// Divide by the level number l (eq. 4.5; l = 1 at the input level, growing coarser).
+    pub attenuate: bool,
+    /// Level-modulated lacunarity and gain (§4.7.3.1); default on for `variation`.
+    pub modulate: Option<bool>,
+    /// Displace vertices already noised by an earlier step.
+    pub accumulate: bool,
+    /// Propagation rings (Table 5.1); empty: no propagation.
+    pub rings: Vec<RingParams>,
+    /// Propagation attenuation (eq. 4.15).
+    pub attenuation: Attenuation,
+    /// Variation operator: random per-centre shift of lacunarity and amplitude (§5.2.0.1).
+    pub shift: Option<f64>,
+}
+
+impl Default for NoiseParams {
+    fn default() -> Self {
+        NoiseParams {
+            kind: NoiseKind::Turbulence,
+            amplitude: 0.01,
+            frequency: 8.0,
+            octaves: 4,
+            lacunarity: 2.0,
+            gain: 0.5,
+            offset: 1.0,
+            k: 1.0,
+            a: 0.05,
+            f0: 0.0625,
+            omega: std::f64::consts::FRAC_PI_4,
+            impulses: 64.0,
+            isotropic: false,
+            follow_diffusion: true,
+            direction: Direction::Normal,
+            attenuate: true,
+            modulate: None,
+            accumulate: false,
+            rings: Vec::new(),
+            attenuation: Attenuation::InverseDistance,
+            shift: None,
+        }
+    }
+}
+
+/// The `geometric` table (taper and twist).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct GeometricParams {
+    /// The axis kept unchanged.
+    pub axis: Axis,
+    /// Taper: r = (1 + z)/scale; twist: θ = z·scale degrees.
+    pub scale: f64,
+    /// Map the axis coordinate to [-1, 1] over the input's bounding box (§4.7.2.1).
+    pub normalize: bool,
+    /// Subtracted from z before the equations, so that a restricted region can start
+    /// unchanged (taper with scale 1, twist with any scale, are the identity at z = offset).
+    pub offset: f64,
+}
+
+impl Default for GeometricParams {
+    fn default() -> Self {
+        GeometricParams { axis: Axis::Z, scale: 2.0, normalize: true, offset: 0.0 }
+    }
+}
+
+/// The `smooth` table.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SmoothParams {
+    /// Passes of the Loop masks.
+    pub iterations: usize,
+}
+
+impl Default for SmoothParams {
+    fn default() -> Self {
+        SmoothParams { iterations: 1 }
+    }
+}
+
+/// The `subdivide` table.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SubdivideParams {
+    /// Concentric 4-8 steps (link edges, then alternately even and odd spokes).
+    pub steps: usize,
+}
+
+impl Default for SubdivideParams {
+    fn default() -> Self {
+        SubdivideParams { steps: 2 }
+    }
+}
+
+/// The `organic` table.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct OrganicParams {
+    /// Extension height, fraction of the diagonal (scaled by 0.5 + |noise| per centre).
+    pub height: f64,
+    /// How far a random vertex's normal bends each extension (0: straight out).
+    pub bend: f64,
+    /// Weights of the centre, its 1-ring and its 2-ring (thesis: 1, 1/1.5, 1/2).
+    pub rings: Vec<f64>,
+    /// Local subdivision steps before extending (0: none).
+    pub subdivide: usize,
+}
+
+impl Default for OrganicParams {
+    fn default() -> Self {
+        OrganicParams { height: 0.05, bend: 0.3, rings: vec![1.0, 1.0 / 1.5, 0.5], subdivide: 0 }
+    }
+}
+
+impl Recipe {
+    /// Reads and checks a recipe file.
+    ///
+    /// # Errors
+    /// [`Error::Parse`] naming the file and line for malformed TOML, unknown keys or
+    /// invalid values; [`Error::Io`] if the file cannot be read.
+    pub fn read(path: &Path) -> Result<Recipe> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        Recipe::parse(&text).map_err(|(line, msg)| Error::Parse {
+            path: path.to_path_buf(),
+            at: line.map_or(Location::File, Location::Line),
+            msg,
+        })
+    }
+
+    /// Parses and checks recipe text; errors carry the 1-based line when known.
+    pub fn parse(text: &str) -> std::result::Result<Recipe, (Option<usize>, String)> {
+        let recipe: Recipe = toml::from_str(text).map_err(|e| {
+            let line = e.span().map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
+            (line, e.message().to_string())
+        })?;
+        recipe.check().map_err(|msg| (None, msg))?;
+        Ok(recipe)
+    }
+
+    fn check(&self) -> std::result::Result<(), String> {
+        for (i, step) in self.steps.iter().enumerate() {
+            step.check().map_err(|m| format!("step {} ({:?}): {m}", i + 1, step.op).to_lowercase())?;
+        }
+        Ok(())
+    }
+}
+
+impl Step {
+    fn check(&self) -> std::result::Result<(), String> {
+        let n = &self.noise;
+        let finite = [n.amplitude, n.frequency, n.lacunarity, n.gain, n.offset, n.k, n.a, n.f0, n.omega, n.impulses];
+        if finite.iter().any(|v| !v.is_finite()) {
+            return Err("noise parameters must be finite".into());
+        }
+        if n.frequency <= 0.0 || n.octaves == 0 || n.octaves > 16 {
+            return Err("noise needs frequency > 0 and 1 to 16 octaves".into());
+        }
+        if n.rings.iter().any(|r| !(r.influence.is_finite() && r.influence >= 0.0)) {
+            return Err("ring influence must be a non-negative number".into());
+        }
+        if !(self.geometric.scale.is_finite() && self.geometric.offset.is_finite())
+            || (self.op == OperatorKind::Taper && self.geometric.scale == 0.0)
+        {
+            return Err("geometric scale must be finite (and non-zero for a taper)".into());
+        }
+        if self.op == OperatorKind::Feature && self.select.features.is_none() {
+            return Err("the feature operator needs select.features".into());
+        }
+        if self.smooth.iterations > 1000 || self.subdivide.steps > 8 || self.organic.subdivide > 8 {
+            return Err("at most 1000 smoothing passes and 8 subdivision steps".into());
+        }
+        let o = &self.organic;
+        if !(o.height.is_finite() && o.bend.is_finite()) || o.rings.iter().any(|w| !w.is_finite()) {
+            return Err("organic parameters must be finite".into());
+        }
+        if let Some(s) = &self.select.sphere {
+            if s.radius.is_nan() || s.radius <= 0.0 {
+                return Err("sphere radius must be positive".into());
+            }
+        }
+        Ok(())
+    }
+}

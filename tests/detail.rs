@@ -1,0 +1,405 @@
+//! Detail mapping (#7): operators against their closed forms, selections, the
+//! parametrization update, level-dependent frequency, every example recipe, determinism.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use asperity::analysis::FeatureClass;
+use asperity::detail::{
+    BoxFrame, DetailOptions, GeometricParams, LevelNoise, LevelView, NoiseParams, OperatorKind, Recipe, apply,
+    apply_to, laplacian_energy, loop_smooth, noise_displacements, select, subdivide_around, tangent_frame, taper,
+    twist,
+};
+use asperity::hierarchy::{LevelMesh, Refiner, SimplifyOptions, build};
+use asperity::mesh::Mesh;
+use asperity::mesh::primitives::{icosphere, torus};
+use asperity::{analysis, io};
+use glam::DVec3;
+
+use crate::common::{shared_meshes, temp_dir};
+
+fn level_view(mesh: &Mesh, depth: usize) -> LevelView {
+    LevelView::new(0, depth, LevelMesh::compact(&mesh.positions, &mesh.triangles))
+}
+
+fn recipe(text: &str) -> Recipe {
+    Recipe::parse(text).unwrap_or_else(|e| panic!("recipe: {e:?}"))
+}
+
+/// The mesh a recipe file names in its first line (`# mesh: NAME`).
+fn recipe_input(path: &Path) -> Option<Mesh> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let name = text.lines().next()?.strip_prefix("# mesh: ")?.trim().to_string();
+    match name.as_str() {
+        "sphere" => Some(icosphere(1.0, 5)),
+        "torus" => Some(torus(1.0, 0.35, 96, 48)),
+        file => Some(io::read(&shared_meshes()?.join(file)).unwrap().mesh),
+    }
+}
+
+fn recipes() -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("recipes"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    files
+}
+
+#[test]
+fn taper_and_twist_match_their_closed_forms() {
+    let frame = BoxFrame { min: DVec3::splat(-1.0), extent: DVec3::splat(2.0), diagonal: 12f64.sqrt() };
+    let params = GeometricParams { scale: 2.5, ..Default::default() };
+    for p in [DVec3::new(0.3, -0.7, 0.25), DVec3::new(-1.0, 1.0, -1.0), DVec3::new(0.9, 0.1, 1.0)] {
+        // Centre (0, 0, 0) and z already in [-1, 1]: eq. 4.6–4.7 read off directly.
+        let r = (1.0 + p.z) / 2.5;
+        let t = taper(p, &params, &frame);
+        assert!((t - DVec3::new(r * p.x, r * p.y, p.z)).abs().max_element() < 1e-15, "{t} at {p}");
+        let theta = p.z * 2.5 * std::f64::consts::PI / 180.0;
+        let w = twist(p, &params, &frame);
+        let expected = DVec3::new(p.x * theta.cos() - p.y * theta.sin(), p.x * theta.sin() + p.y * theta.cos(), p.z);
+        assert!((w - expected).abs().max_element() < 1e-15, "{w} at {p}");
+    }
+    // Another axis keeps its own coordinate and rotates the other two; an offset makes the
+    // operator the identity where z equals it.
+    let about_x = GeometricParams { axis: asperity::detail::Axis::X, scale: 90.0, normalize: true, offset: 0.5 };
+    let p = DVec3::new(0.5, 0.4, -0.2);
+    assert_eq!(twist(p, &about_x, &frame), p);
+    let p = DVec3::new(1.0, 0.4, -0.2);
+    let q = twist(p, &about_x, &frame);
+    assert_eq!(q.x, 1.0);
+    assert!((q.y.hypot(q.z) - p.y.hypot(p.z)).abs() < 1e-15);
+}
+
+#[test]
+fn a_taper_step_moves_exactly_the_selected_vertices_by_the_closed_form() {
+    let mesh = torus(1.0, 0.35, 48, 24);
+    let r = recipe(
+        "[[step]]\nop = \"taper\"\nlevel = -1\nselect = { half_space = { axis = \"x\", above = 0.5 } }\n\
+         geometric = { axis = \"z\", scale = 1.5 }\n",
+    );
+    let out = apply(&mesh, &r, &DetailOptions::default()).unwrap();
+    let frame = BoxFrame::of(&mesh);
+    let params = &r.steps[0].geometric;
+    for (k, &id) in out.result.ids.iter().enumerate() {
+        let p = mesh.positions[id as usize];
+        let expected = if frame.normalise(p).x >= 0.5 { taper(p, params, &frame) } else { p };
+        assert_eq!(out.result.mesh.positions[k], expected, "vertex {id}");
+    }
+}
+
+#[test]
+fn noise_displaces_along_the_direction_by_amplitude_over_level() {
+    let mesh = icosphere(1.0, 3);
+    let frame = BoxFrame::of(&mesh);
+    let params = NoiseParams { kind: asperity::noise::NoiseKind::Fbm, amplitude: 0.02, ..Default::default() };
+    let all = vec![true; mesh.vertex_count()];
+    let none = vec![false; mesh.vertex_count()];
+    let field = LevelNoise::new(&params, false, 0, &frame, 5).unwrap();
+    for depth in [0, 3] {
+        let view = level_view(&mesh, depth);
+        let moves = noise_displacements(OperatorKind::Noise, &params, &view, &frame, &all, &none, 5).unwrap();
+        assert_eq!(moves.len(), mesh.vertex_count());
+        for (v, p) in moves {
+            let value = field.at(mesh.positions[v], tangent_frame(view.normals[v], None, false));
+            // eq. 4.5: p + (nl / l)·n with l = depth + 1.
+            let expected = mesh.positions[v] + view.normals[v] * (0.02 * frame.diagonal * value / (depth + 1) as f64);
+            assert!((p - expected).length() < 1e-12, "vertex {v} at depth {depth}");
+        }
+    }
+    // Inward (eq. 4.14) is the mirror image; noised vertices are skipped.
+    let view = level_view(&mesh, 0);
+    let inward = NoiseParams { direction: asperity::detail::Direction::Inward, ..params.clone() };
+    let out = noise_displacements(OperatorKind::Noise, &params, &view, &frame, &all, &none, 5).unwrap();
+    let back = noise_displacements(OperatorKind::Noise, &inward, &view, &frame, &all, &none, 5).unwrap();
+    for ((v, p), (_, q)) in out.iter().zip(&back) {
+        assert!(((*p - mesh.positions[*v]) + (*q - mesh.positions[*v])).length() < 1e-15);
+    }
+    assert!(noise_displacements(OperatorKind::Noise, &params, &view, &frame, &all, &all, 5).unwrap().is_empty());
+}
+
+#[test]
+fn propagation_follows_table_5_1_influence_per_ring() {
+    let mesh = icosphere(1.0, 4);
+    let frame = BoxFrame::of(&mesh);
+    let view = level_view(&mesh, 0);
+    let text = "[[step]]\nop = \"noise\"\nnoise = { kind = \"gabor\", attenuation = \"none\", rings = [\
+                { influence = 0.8 }, { influence = 0.5 }, { influence = 0.25 }, { influence = 0.1 }] }\n";
+    let params = recipe(text).steps[0].noise.clone();
+    let mut centre = vec![false; mesh.vertex_count()];
+    centre[0] = true;
+    let moves =
+        noise_displacements(OperatorKind::Noise, &params, &view, &frame, &centre, &centre.map_false(), 3).unwrap();
+    let reach = view.rings_from(&[0], 4);
+    let reached = reach.iter().filter(|r| r.is_some()).count();
+    assert_eq!(moves.len(), reached, "the centre and its 4 rings move, nothing else");
+    let field = LevelNoise::new(&params, false, 0, &frame, 3).unwrap();
+    let diffusion = view.analysis().unwrap().diffusion();
+    for (v, p) in moves {
+        let (ring, _) = reach[v].unwrap();
+        let influence = [1.0, 0.8, 0.5, 0.25, 0.1][ring];
+        let value = field.at(mesh.positions[v], tangent_frame(view.normals[v], Some(diffusion[v]), true));
+        let expected = influence * value * params.amplitude * frame.diagonal;
+        assert!(((p - mesh.positions[v]).dot(view.normals[v]) - expected).abs() < 1e-12, "ring {ring}");
+    }
+}
+
+trait MapFalse {
+    fn map_false(&self) -> Vec<bool>;
+}
+
+impl MapFalse for Vec<bool> {
+    fn map_false(&self) -> Vec<bool> {
+        vec![false; self.len()]
+    }
+}
+
+#[test]
+fn smoothing_lowers_the_laplacian_energy() {
+    let mut mesh = icosphere(1.0, 3);
+    for (i, p) in mesh.positions.iter_mut().enumerate() {
+        *p *= 1.0 + 0.05 * ((i * 7919 % 13) as f64 / 13.0 - 0.5);
+    }
+    let view = level_view(&mesh, 0);
+    let before = laplacian_energy(&mesh.positions, &view);
+    let mut moved = mesh.positions.clone();
+    for (v, p) in loop_smooth(&view, &vec![true; mesh.vertex_count()], 2) {
+        moved[v] = p;
+    }
+    let after = laplacian_energy(&moved, &view);
+    assert!(after < 0.5 * before, "energy {before} -> {after}");
+    // Local smoothing leaves the unselected vertices alone.
+    let local: Vec<bool> = (0..mesh.vertex_count()).map(|v| v % 2 == 0).collect();
+    assert!(loop_smooth(&view, &local, 1).iter().all(|&(v, _)| v % 2 == 0));
+}
+
+#[test]
+fn local_subdivision_changes_only_the_one_ring() {
+    let mesh = torus(1.0, 0.35, 24, 12);
+    let hierarchy = build(&mesh, &SimplifyOptions { levels: Some(1), ..Default::default() }).unwrap();
+    let mut refiner = Refiner::new(&hierarchy).unwrap();
+    refiner.refine_all().unwrap();
+    let before = refiner.mesh().unwrap();
+    let centre = 100u32;
+    let ring = refiner.rings().ring(centre).to_vec();
+    let degree = ring.len();
+    let made = subdivide_around(&mut refiner, &[centre], 3).unwrap();
+    assert_eq!(made.centres, vec![centre]);
+    assert_eq!(made.splits.len(), degree * 2 + degree, "link edges, even spokes, odd spokes");
+    let after = refiner.mesh().unwrap();
+    // No vertex moves; every new vertex lies on the centre's star (a link edge or a spoke).
+    for (k, &id) in after.ids.iter().enumerate() {
+        if (id as usize) < mesh.vertex_count() {
+            assert_eq!(after.mesh.positions[k], mesh.positions[id as usize]);
+        }
+    }
+    let closed: Vec<u32> = std::iter::once(centre).chain(ring.iter().copied()).collect();
+    for &([a, b], v) in &made.splits {
+        let p = refiner.positions()[v as usize];
+        assert_eq!(p, (refiner.positions()[a as usize] + refiner.positions()[b as usize]) * 0.5);
+    }
+    // Faces away from the closed ring are untouched; the centre keeps degree 2·n.
+    let faces = |m: &LevelMesh| -> std::collections::HashSet<[u32; 3]> {
+        m.triangles_in_ids().into_iter().map(asperity::hierarchy::face_key).collect()
+    };
+    let (old, new) = (faces(&before), faces(&after));
+    for f in &old {
+        let inside = f.iter().filter(|v| closed.contains(v)).count();
+        if inside < 2 {
+            assert!(new.contains(f), "face {f:?} outside the ring changed");
+        }
+    }
+    assert_eq!(refiner.rings().degree(centre), 2 * degree);
+    assert!(after.mesh.validate().non_manifold_edges == 0 && after.mesh.validate().genus == Some(1));
+}
+
+#[test]
+fn feature_off_leaves_feature_vertices_bit_identical() {
+    let Some(dir) = shared_meshes() else { return };
+    let mesh = io::read(&dir.join("fandisk.off")).unwrap().mesh;
+    let r = recipe(
+        "[[step]]\nop = \"feature\"\nlevel = -1\nselect = { features = { mode = \"off\" } }\n\
+         noise = { kind = \"fbm\", amplitude = 0.004, frequency = 20.0 }\n",
+    );
+    let out = apply(&mesh, &r, &DetailOptions::default()).unwrap();
+    let classes = analysis::analyze(&mesh, &Default::default()).unwrap().classes;
+    let mut moved = 0;
+    for (k, &id) in out.result.ids.iter().enumerate() {
+        let (p, q) = (out.result.mesh.positions[k], mesh.positions[id as usize]);
+        if matches!(classes[id as usize], FeatureClass::Corner | FeatureClass::StrongEdge) {
+            assert_eq!(p, q, "feature vertex {id} moved");
+        } else {
+            moved += usize::from(p != q);
+        }
+    }
+    assert!(moved > mesh.vertex_count() / 2, "only {moved} vertices moved");
+}
+
+#[test]
+fn independent_sets_keep_their_exclusion_distance() {
+    let mesh = icosphere(1.0, 3);
+    let view = level_view(&mesh, 0);
+    let r = recipe("[[step]]\nop = \"noise\"\nselect = { independent = { exclusion = 2 } }\n");
+    let chosen = select(&r.steps[0].select, &view, &BoxFrame::of(&mesh), &[], 9).unwrap();
+    let picked: Vec<usize> = (0..chosen.len()).filter(|&v| chosen[v]).collect();
+    assert!(picked.len() > 20);
+    for &v in &picked {
+        for w in view.adjacency.k_ring(v, 2) {
+            assert!(!chosen[w as usize], "{v} and {w} are within 2 rings");
+        }
+    }
+    // Maximal: every vertex is within 2 rings of a chosen one.
+    let reach = view.rings_from(&picked, 2);
+    assert!(reach.iter().all(Option::is_some));
+}
+
+/// Σ over edges of (s_i − s_j)² / Σ s_i² for the normal displacement s: a discrete
+/// Rayleigh quotient, proportional to the squared spatial frequency of the field.
+fn displacement_frequency(out: &LevelMesh, input: &Mesh) -> f64 {
+    let normals = asperity::analysis::vertex_normals(
+        input,
+        &asperity::mesh::Adjacency::of(input),
+        &asperity::analysis::FaceGeometry::of(input),
+        Default::default(),
+    );
+    let s: Vec<f64> = out
+        .ids
+        .iter()
+        .enumerate()
+        .map(|(k, &id)| (out.mesh.positions[k] - input.positions[id as usize]).dot(normals[id as usize]))
+        .collect();
+    let mean = s.iter().sum::<f64>() / s.len() as f64;
+    let energy: f64 = s.iter().map(|x| (x - mean).powi(2)).sum();
+    let mut dirichlet = 0.0;
+    for t in &out.mesh.triangles {
+        for k in 0..3 {
+            dirichlet += (s[t[k] as usize] - s[t[(k + 1) % 3] as usize]).powi(2);
+        }
+    }
+    dirichlet / energy
+}
+
+#[test]
+fn noise_at_a_coarse_level_has_lower_frequency_than_at_the_input_level() {
+    let mesh = icosphere(1.0, 5);
+    let hierarchy = build(&mesh, &SimplifyOptions { target_vertices: Some(400), ..Default::default() }).unwrap();
+    let at = |level: i64| {
+        let text = format!(
+            "[[step]]\nop = \"noise\"\nlevel = {level}\nnoise = {{ kind = \"fbm\", frequency = 24.0, attenuate = false }}\n"
+        );
+        let out = apply_to(&hierarchy, &mesh, &recipe(&text), &DetailOptions::default()).unwrap();
+        displacement_frequency(&out.result, &mesh)
+    };
+    let (coarse, fine) = (at(0), at(-1));
+    eprintln!("displacement frequency: coarse {coarse:.4}, fine {fine:.4}");
+    assert!(coarse < 0.5 * fine, "coarse {coarse} vs fine {fine}");
+}
+
+/// Largest ratio of an edge's length after detail to its length in the input.
+fn max_edge_ratio(out: &LevelMesh, input: &Mesh) -> f64 {
+    let mut worst: f64 = 0.0;
+    for t in &out.mesh.triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
+            let now = out.mesh.positions[a].distance(out.mesh.positions[b]);
+            let then = input.positions[out.ids[a] as usize].distance(input.positions[out.ids[b] as usize]);
+            worst = worst.max(now / then);
+        }
+    }
+    worst
+}
+
+#[test]
+fn refining_after_a_deformation_follows_the_deformed_surface() {
+    // Fig. 4.7–4.8: a strong coarse deformation, then refinement. With the update, new
+    // vertices land on the moved surface; without it they return to the input surface
+    // and make spikes.
+    let mesh = torus(1.0, 0.35, 64, 32);
+    let hierarchy = build(&mesh, &SimplifyOptions { target_vertices: Some(150), ..Default::default() }).unwrap();
+    let r = recipe(
+        "[[step]]\nop = \"noise\"\nlevel = 0\nnoise = { kind = \"fbm\", amplitude = 0.1, frequency = 3.0, attenuate = false }\n",
+    );
+    let run = |follow: bool| {
+        let options = DetailOptions { follow_deformation: follow, ..Default::default() };
+        max_edge_ratio(&apply_to(&hierarchy, &mesh, &r, &options).unwrap().result, &mesh)
+    };
+    let (updated, stale) = (run(true), run(false));
+    eprintln!("max edge ratio: updated {updated:.3}, stale {stale:.3}");
+    assert!(updated < 3.0, "max edge ratio {updated} with the update");
+    assert!(stale > 1.5 * updated, "without the update {stale} vs {updated}");
+}
+
+#[test]
+fn every_example_recipe_runs_and_keeps_the_surface_valid() {
+    for path in recipes() {
+        let Some(mesh) = recipe_input(&path) else { continue };
+        let r = Recipe::read(&path).unwrap();
+        let simplify = SimplifyOptions {
+            target_vertices: r
+                .hierarchy
+                .target_vertices
+                .as_deref()
+                .map(|t| asperity::cli::resolve_target(t, mesh.vertex_count()).unwrap()),
+            ..Default::default()
+        };
+        let options = DetailOptions { simplify, no_self_intersections: true, ..Default::default() };
+        let out = apply(&mesh, &r, &options).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let (before, after) = (mesh.validate(), out.result.mesh.validate());
+        let name = path.display();
+        assert_eq!(after.non_manifold_edges + after.non_manifold_vertices, 0, "{name}");
+        assert_eq!(after.genus, before.genus, "{name}");
+        assert_eq!(after.boundary_loops, before.boundary_loops, "{name}");
+        assert_eq!(out.intersections.remaining, 0, "{name}: {:?}", out.intersections);
+        assert!(out.steps.iter().all(|s| s.touched > 0), "{name}: a step touched nothing: {:?}", out.steps);
+    }
+}
+
+#[test]
+fn detail_output_is_identical_at_one_and_two_threads() {
+    let tmp = temp_dir();
+    let recipe = Path::new(env!("CARGO_MANIFEST_DIR")).join("recipes/mushroom-planet.toml");
+    let mut outputs = Vec::new();
+    for threads in ["1", "2"] {
+        let out = tmp.path().join(format!("planet-{threads}.ply"));
+        let status = Command::new(env!("CARGO_BIN_EXE_asperity"))
+            .args(["detail", "builtin:sphere", "--recipe", recipe.to_str().unwrap(), "--no-self-intersections", "-o"])
+            .arg(&out)
+            .env("RAYON_NUM_THREADS", threads)
+            .output()
+            .unwrap();
+        assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
+        outputs.push(std::fs::read(&out).unwrap());
+    }
+    assert_eq!(outputs[0], outputs[1]);
+}
+
+#[test]
+fn recipe_mistakes_name_the_line_and_write_nothing() {
+    let tmp = temp_dir();
+    let bad = tmp.path().join("bad.toml");
+    std::fs::write(&bad, "seed = 1\n\n[[step]]\nop = \"noise\"\nnoise = { amplitdue = 0.1 }\n").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["detail", "builtin:torus", "--recipe", bad.to_str().unwrap(), "-o", "x.ply"])
+        .current_dir(tmp.path())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("bad.toml: line 5") && stderr.contains("amplitdue"), "{stderr}");
+    assert!(!tmp.path().join("x.ply").exists());
+    for (text, phrase) in [
+        ("[[step]]\nop = \"melt\"\n", "unknown variant"),
+        ("[[step]]\nop = \"feature\"\n", "needs select.features"),
+        ("[[step]]\nop = \"noise\"\nnoise = { frequency = 0.0 }\n", "frequency"),
+        ("[[step]]\nop = \"noise\"\nselect = { around = { vertices = [99999] } }\n", ""),
+    ] {
+        match Recipe::parse(text) {
+            Err((_, msg)) => assert!(msg.contains(phrase), "{msg}"),
+            Ok(r) => {
+                let e = apply(&torus(1.0, 0.3, 12, 8), &r, &DetailOptions::default()).unwrap_err();
+                assert!(e.to_string().contains("vertex 99999"), "{e}");
+            }
+        }
+    }
+}
