@@ -6,9 +6,9 @@ use std::process::Command;
 
 use asperity::analysis::FeatureClass;
 use asperity::detail::{
-    BoxFrame, DetailOptions, GeometricParams, LevelNoise, LevelView, NoiseParams, OperatorKind, Recipe, apply,
-    apply_to, laplacian_energy, loop_smooth, noise_displacements, select, subdivide_around, tangent_frame, taper,
-    twist,
+    BoxFrame, DetailOptions, FunctionStep, GeometricParams, LevelNoise, LevelView, NoiseParams, OperatorKind, Recipe,
+    apply, apply_to, apply_with, laplacian_energy, loop_smooth, noise_displacements, select, subdivide_around,
+    tangent_frame, taper, twist,
 };
 use asperity::hierarchy::{LevelMesh, Refiner, SimplifyOptions, build};
 use asperity::mesh::Mesh;
@@ -401,5 +401,26 @@ fn recipe_mistakes_name_the_line_and_write_nothing() {
                 assert!(e.to_string().contains("vertex 99999"), "{e}");
             }
         }
+    }
+}
+
+#[test]
+fn a_function_step_sees_position_level_and_attributes() {
+    // f(p, l, attributes): push vertices out by 0.01 × l along the normal where the level's
+    // mean curvature is positive (everywhere on a sphere).
+    let mesh = icosphere(1.0, 4);
+    let hierarchy = build(&mesh, &SimplifyOptions { target_vertices: Some(200), ..Default::default() }).unwrap();
+    let bump = |view: &LevelView, v: usize| {
+        let h = view.analysis().unwrap().curvatures.mean[v];
+        let lift = if h > 0.0 { 0.01 * view.thesis_level() } else { 0.0 };
+        view.mesh.positions[v] + view.normals[v] * lift
+    };
+    let steps = [FunctionStep { level: -1, select: Default::default(), f: &bump }];
+    let out = apply_with(&hierarchy, &mesh, &Recipe::default(), &steps, &DetailOptions::default()).unwrap();
+    assert_eq!(out.steps.len(), 1);
+    assert_eq!(out.steps[0].touched, mesh.vertex_count());
+    for (k, &id) in out.result.ids.iter().enumerate() {
+        let r = out.result.mesh.positions[k].length();
+        assert!((r - 1.01).abs() < 1e-3, "vertex {id} at radius {r}");
     }
 }

@@ -140,17 +140,49 @@ pub fn apply_to(
     recipe: &Recipe,
     options: &DetailOptions,
 ) -> Result<DetailOutcome> {
-    let analysis = analyze(input, &AnalysisOptions::default())?;
+    apply_with(hierarchy, input, recipe, &[], options)
+}
+
+/// A step whose f is a Rust function (eq. 4.4 allows any function of position, level and
+/// vertex attributes): called with the level's view and a selected vertex's local index,
+/// it returns that vertex's new position. Runs after the recipe's steps of its level.
+pub struct FunctionStep<'a> {
+    /// Level, as in recipes (negative: from the input's level back).
+    pub level: i64,
+    /// Which vertices.
+    pub select: Selection,
+    /// The function.
+    pub f: &'a (dyn Fn(&LevelView, usize) -> DVec3 + Sync),
+}
+
+/// [`apply_to`] with function steps besides the recipe's.
+///
+/// # Errors
+/// As [`apply_to`].
+pub fn apply_with(
+    hierarchy: &Hierarchy,
+    input: &Mesh,
+    recipe: &Recipe,
+    functions: &[FunctionStep],
+    options: &DetailOptions,
+) -> Result<DetailOutcome> {
+    // Feature classes of the input, computed only when a selection asks for them.
+    let wants_features = recipe.steps.iter().map(|s| &s.select).chain(functions.iter().map(|f| &f.select));
+    let classes = if wants_features.into_iter().any(|s| s.features.is_some()) {
+        analyze(input, &AnalysisOptions::default())?.classes
+    } else {
+        Vec::new()
+    };
     let mut state = RunState {
         frame: BoxFrame::of(input),
-        classes: analysis.classes,
+        classes,
         rest: hierarchy.positions.clone(),
         noised: vec![false; hierarchy.positions.len()],
         frozen: vec![false; hierarchy.positions.len()],
     };
     let steps = hierarchy.steps();
-    let mut order: Vec<(usize, usize)> =
-        recipe.steps.iter().enumerate().map(|(i, s)| (resolve_level(s.level, steps), i)).collect();
+    let levels = recipe.steps.iter().map(|s| s.level).chain(functions.iter().map(|f| f.level));
+    let mut order: Vec<(usize, usize)> = levels.enumerate().map(|(i, l)| (resolve_level(l, steps), i)).collect();
     order.sort_unstable();
     let mut refiner = Refiner::new(hierarchy)?;
     refiner.set_follow_deformation(options.follow_deformation);
@@ -162,8 +194,11 @@ pub fn apply_to(
         while let Some(&&(_, i)) = next.peek().filter(|(l, _)| *l == level) {
             next.next();
             let start = Instant::now();
-            let seed = recipe.steps[i].seed.unwrap_or_else(|| derive_seed(recipe.seed, &format!("step {i}")));
-            let mut report = run_step(&recipe.steps[i], &mut refiner, &mut state, steps, seed)?;
+            let seed = derive_seed(recipe.seed, &format!("step {i}"));
+            let mut report = match recipe.steps.get(i) {
+                Some(step) => run_step(step, &mut refiner, &mut state, steps, step.seed.unwrap_or(seed))?,
+                None => run_function(&functions[i - recipe.steps.len()], &mut refiner, &state, steps, seed)?,
+            };
             report.step = i + 1;
             report.seconds = start.elapsed().as_secs_f64();
             seconds.detail += report.seconds;
@@ -214,6 +249,40 @@ fn insertable(hierarchy: &Hierarchy, refiner: &Refiner, frozen: &[bool]) -> Vec<
 pub fn resolve_level(level: i64, steps: usize) -> usize {
     let steps = steps as i64;
     (if level < 0 { steps + 1 + level } else { level }).clamp(0, steps) as usize
+}
+
+/// Runs one function step on the refiner's current level.
+fn run_function(
+    step: &FunctionStep,
+    refiner: &mut Refiner,
+    state: &RunState,
+    steps: usize,
+    seed: u64,
+) -> Result<StepReport> {
+    let level = refiner.level();
+    let view = LevelView::new(level, steps - level, refiner.mesh()?);
+    let selected = select(&step.select, &view, &state.frame, &state.classes, seed)?;
+    let chosen: Vec<usize> = (0..selected.len()).filter(|&v| selected[v]).collect();
+    let moved: Vec<DVec3> = {
+        use rayon::prelude::*;
+        chosen.par_iter().map(|&v| (step.f)(&view, v)).collect()
+    };
+    let positions = refiner.positions_mut();
+    let mut touched = 0;
+    for (&v, p) in chosen.iter().zip(moved) {
+        let id = view.ids[v] as usize;
+        touched += usize::from(positions[id] != p);
+        positions[id] = p;
+    }
+    Ok(StepReport {
+        step: 0,
+        op: "function".into(),
+        level,
+        level_vertices: view.ids.len(),
+        selected: chosen.len(),
+        touched,
+        seconds: 0.0,
+    })
 }
 
 /// Runs one step on the refiner's current level.
