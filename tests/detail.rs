@@ -424,3 +424,25 @@ fn a_function_step_sees_position_level_and_attributes() {
         assert!((r - 1.01).abs() < 1e-3, "vertex {id} at radius {r}");
     }
 }
+
+#[test]
+fn subdividing_at_a_coarse_level_keeps_the_refined_surface_valid() {
+    let mesh = torus(1.0, 0.35, 64, 32);
+    let r = recipe(
+        "[hierarchy]\ntarget_vertices = \"5%\"\n\n[[step]]\nop = \"organic\"\nlevel = 2\n\
+         select = { independent = { exclusion = 3 } }\norganic = { height = 0.05, subdivide = 2 }\n",
+    );
+    let simplify = SimplifyOptions { target_vertices: Some(mesh.vertex_count() / 20), ..Default::default() };
+    let options = DetailOptions { simplify, no_self_intersections: true, ..Default::default() };
+    let out = apply(&mesh, &r, &options).unwrap();
+    let report = out.result.mesh.validate();
+    assert_eq!(report.non_manifold_edges + report.non_manifold_vertices, 0);
+    assert_eq!(report.genus, Some(1));
+    assert_eq!(out.intersections.remaining, 0);
+    let made = out.result.ids.iter().filter(|&&id| id as usize >= mesh.vertex_count()).count();
+    let kept = out.result.ids.len() - made;
+    assert!(made > 0, "the subdivision made no vertex");
+    // Away from the subdivided regions refinement goes on past the step's level.
+    let at_step = out.steps[0].level_vertices - made;
+    assert!(kept > at_step, "{kept} input vertices at the end, {at_step} at the step's level");
+}

@@ -229,7 +229,8 @@ pub fn apply_with(
 }
 
 /// The vertices the next refinement level may insert (sorted): those whose parameter face
-/// is still whole — all its vertices present, at most one in a subdivided region.
+/// and recorded degree-fix flips only involve vertices that are present and outside the
+/// subdivided regions (so every insertion restores its recorded neighbourhood exactly).
 fn insertable(hierarchy: &Hierarchy, refiner: &Refiner, frozen: &[bool]) -> Vec<u32> {
     let step = hierarchy.steps() - 1 - refiner.level();
     let mut allowed: Vec<u32> = hierarchy
@@ -237,7 +238,8 @@ fn insertable(hierarchy: &Hierarchy, refiner: &Refiner, frozen: &[bool]) -> Vec<
         .iter()
         .filter(|r| {
             let f = r.local.face;
-            f.iter().all(|&v| refiner.is_present(v)) && f.iter().filter(|&&v| frozen[v as usize]).count() < 2
+            let whole = |v: u32| refiner.is_present(v) && !frozen[v as usize];
+            f.iter().all(|&v| whole(v)) && hierarchy.restore_of(r).iter().flatten().all(|&v| whole(v))
         })
         .map(|r| r.vertex)
         .collect();

@@ -10,8 +10,9 @@
 //!
 //! Like the thesis' extensions (Fig. 5.9), a subdivided region keeps the resolution it was
 //! given: the detail pipeline does not re-insert the hierarchy's vertices whose parameter
-//! face had two vertices in it (those faces were split), nor any vertex whose parameter
-//! face lost a vertex that way.
+//! face or recorded degree-fix flips touch it, nor — level after level — those whose face
+//! or flips touch a vertex left out that way, so every insertion that happens restores its
+//! recorded neighbourhood and the refined surface does not fold.
 
 use crate::error::Result;
 use crate::hierarchy::Refiner;
