@@ -17,7 +17,8 @@ pub struct Recipe {
     /// Seed of every step that does not name its own.
     #[serde(default)]
     pub seed: u64,
-    /// How to build the hierarchy (command-line flags override these).
+    /// How to build the hierarchy: `asperity detail` reads it (its flags override it);
+    /// library callers pass [`super::DetailOptions::simplify`] instead.
     #[serde(default)]
     pub hierarchy: HierarchySection,
     /// The steps, applied in order within each level, coarse levels first.
