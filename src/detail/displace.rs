@@ -130,7 +130,7 @@ pub fn noise_displacements(
     let modulate = params.modulate.unwrap_or(variation);
     let shift = params.shift.unwrap_or(if variation { 0.5 } else { 0.0 });
     let free = |v: usize| params.accumulate || !noised[v];
-    let centres: Vec<usize> = (0..selected.len()).filter(|&v| selected[v] && free(v)).collect();
+    let centres = free_centres(selected, noised, params.accumulate);
     let reach = view.rings_from(&centres, params.rings.len());
     let targets: Vec<usize> = (0..reach.len()).filter(|&v| reach[v].is_some() && free(v)).collect();
     if targets.is_empty() {
@@ -163,6 +163,12 @@ pub fn noise_displacements(
         value * influence * falloff
     });
     Ok(targets.iter().zip(values).map(|(&v, value)| (v, positions[v] + dirs[v] * (amplitude * value))).collect())
+}
+
+/// The selected vertices a noise-family step may move: not noised before, unless the step
+/// accumulates (§4.5).
+pub fn free_centres(selected: &[bool], noised: &[bool], accumulate: bool) -> Vec<usize> {
+    (0..selected.len()).filter(|&v| selected[v] && (accumulate || !noised[v])).collect()
 }
 
 /// One noise per ring: ring 0 uses the step's parameters, ring k those of Table 5.1's row k.

@@ -269,13 +269,8 @@ fn run_function(
         use rayon::prelude::*;
         chosen.par_iter().map(|&v| (step.f)(&view, v)).collect()
     };
-    let positions = refiner.positions_mut();
-    let mut touched = 0;
-    for (&v, p) in chosen.iter().zip(moved) {
-        let id = view.ids[v] as usize;
-        touched += usize::from(positions[id] != p);
-        positions[id] = p;
-    }
+    let moves: Vec<(usize, DVec3)> = chosen.iter().copied().zip(moved).collect();
+    let touched = write_moves(refiner, &view, &moves, None);
     Ok(StepReport {
         step: 0,
         op: "function".into(),
@@ -285,6 +280,27 @@ fn run_function(
         touched,
         seconds: 0.0,
     })
+}
+
+/// Writes a step's new positions (local indices of `view`) into the refiner, marking the
+/// moved vertices noised when given the marks; returns how many positions changed.
+fn write_moves(
+    refiner: &mut Refiner,
+    view: &LevelView,
+    moves: &[(usize, DVec3)],
+    mut noised: Option<&mut Vec<bool>>,
+) -> usize {
+    let positions = refiner.positions_mut();
+    let mut touched = 0;
+    for &(v, p) in moves {
+        let id = view.ids[v] as usize;
+        touched += usize::from(positions[id] != p);
+        positions[id] = p;
+        if let Some(marks) = noised.as_deref_mut() {
+            marks[id] = true;
+        }
+    }
+    touched
 }
 
 /// Runs one step on the refiner's current level.
@@ -337,15 +353,7 @@ fn run_step(step: &Step, refiner: &mut Refiner, state: &mut RunState, steps: usi
         step.op,
         OperatorKind::Noise | OperatorKind::Variation | OperatorKind::Feature | OperatorKind::Organic
     );
-    let positions = refiner.positions_mut();
-    for &(v, p) in &moves {
-        let id = view.ids[v] as usize;
-        touched += usize::from(positions[id] != p);
-        positions[id] = p;
-        if marks_noise {
-            state.noised[id] = true;
-        }
-    }
+    touched += write_moves(refiner, &view, &moves, marks_noise.then_some(&mut state.noised));
     Ok(StepReport {
         step: 0,
         op: format!("{:?}", step.op).to_lowercase(),

@@ -8,7 +8,7 @@
 
 use glam::DVec3;
 
-use super::displace::{LevelNoise, tangent_frame};
+use super::displace::{LevelNoise, free_centres, tangent_frame};
 use super::level::{BoxFrame, LevelView};
 use super::recipe::{NoiseParams, OrganicParams};
 use crate::error::Result;
@@ -29,7 +29,7 @@ pub fn organic_displacements(
 ) -> Result<Vec<(usize, DVec3)>> {
     let n = view.ids.len();
     let free = |v: usize| noise.accumulate || !noised[v];
-    let centres: Vec<usize> = (0..n).filter(|&v| selected[v] && free(v)).collect();
+    let centres = free_centres(selected, noised, noise.accumulate);
     if centres.is_empty() || params.rings.is_empty() {
         return Ok(Vec::new());
     }

@@ -5,7 +5,6 @@
 //! result does not depend on vertex order.
 
 use glam::DVec3;
-use rustc_hash::FxHashMap;
 
 use super::level::LevelView;
 
@@ -19,7 +18,6 @@ pub fn loop_beta(n: usize) -> f64 {
 /// New positions of the selected vertices after `iterations` passes (local indices,
 /// ascending); unselected vertices stay where they are.
 pub fn loop_smooth(view: &LevelView, selected: &[bool], iterations: usize) -> Vec<(usize, DVec3)> {
-    let boundary = boundary_neighbours(view);
     let mut positions = view.mesh.positions.clone();
     let chosen: Vec<usize> = (0..selected.len()).filter(|&v| selected[v]).collect();
     for _ in 0..iterations {
@@ -27,12 +25,10 @@ pub fn loop_smooth(view: &LevelView, selected: &[bool], iterations: usize) -> Ve
             .iter()
             .map(|&v| {
                 let p = positions[v];
-                match boundary.get(&(v as u32)) {
-                    Some(ends) if ends.len() == 2 => {
-                        0.75 * p + 0.125 * (positions[ends[0] as usize] + positions[ends[1] as usize])
-                    }
-                    Some(_) => p,
-                    None => {
+                match view.adjacency.boundary_neighbours(&view.mesh, v).as_slice() {
+                    [a, b] => 0.75 * p + 0.125 * (positions[*a as usize] + positions[*b as usize]),
+                    [_, ..] => p,
+                    [] => {
                         let ring = view.adjacency.neighbours(v);
                         if ring.len() < 3 {
                             return p;
@@ -49,25 +45,6 @@ pub fn loop_smooth(view: &LevelView, selected: &[bool], iterations: usize) -> Ve
         }
     }
     chosen.into_iter().map(|v| (v, positions[v])).collect()
-}
-
-/// Each boundary vertex's neighbours along the boundary (edges with one face).
-fn boundary_neighbours(view: &LevelView) -> FxHashMap<u32, Vec<u32>> {
-    let mut count: FxHashMap<(u32, u32), u32> = FxHashMap::default();
-    for t in &view.mesh.triangles {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            *count.entry((a.min(b), a.max(b))).or_default() += 1;
-        }
-    }
-    let mut edges: Vec<(u32, u32)> = count.into_iter().filter(|&(_, c)| c == 1).map(|(e, _)| e).collect();
-    edges.sort_unstable();
-    let mut ends: FxHashMap<u32, Vec<u32>> = FxHashMap::default();
-    for (a, b) in edges {
-        ends.entry(a).or_default().push(b);
-        ends.entry(b).or_default().push(a);
-    }
-    ends
 }
 
 /// Σ over vertices of |p − mean of neighbours|²: the umbrella Laplacian's energy, which

@@ -99,6 +99,18 @@ impl Adjacency {
         self.boundary[v]
     }
 
+    /// The neighbours of `v` across its boundary edges (spokes on a single face of `v`), in
+    /// increasing order; empty for an interior vertex. `mesh` is the mesh this was built from.
+    pub fn boundary_neighbours(&self, mesh: &Mesh, v: usize) -> Vec<u32> {
+        if !self.boundary[v] {
+            return Vec::new();
+        }
+        let mut spokes: Vec<u32> =
+            self.faces(v).iter().flat_map(|&f| mesh.triangles[f as usize]).filter(|&w| w as usize != v).collect();
+        spokes.sort_unstable();
+        spokes.chunk_by(|a, b| a == b).filter(|run| run.len() == 1).map(|run| run[0]).collect()
+    }
+
     /// The vertices within `k` edges of `v` (excluding `v`), in increasing order.
     pub fn k_ring(&self, v: usize, k: usize) -> Vec<u32> {
         let mut ring = vec![v as u32];
