@@ -16,6 +16,7 @@ pub mod hierarchy;
 pub mod io;
 pub mod mesh;
 pub mod noise;
+pub mod render;
 pub mod terrain;
 
 pub use error::{Error, Location, Result};

@@ -111,6 +111,27 @@ fn demo_writes_its_meshes() {
     ] {
         assert!(tmp.path().join("results").join(file).is_file(), "{file}");
     }
+    // Every picture is a real picture: decodable, and not one flat colour.
+    let mut pictures = 0;
+    for entry in std::fs::read_dir(tmp.path().join("results")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "png") {
+            let mut reader =
+                png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&path).unwrap())).read_info().unwrap();
+            let mut data = vec![0; reader.output_buffer_size().unwrap()];
+            reader.next_frame(&mut data).unwrap();
+            let distinct: std::collections::HashSet<&[u8]> = data.chunks(3).collect();
+            assert!(distinct.len() > 16, "{} is nearly flat", path.display());
+            pictures += 1;
+        }
+    }
+    let expected = if shared_meshes().is_some() { 23 } else { 20 };
+    assert!(pictures >= expected, "{pictures} pictures");
+    for file in
+        ["noise-panel.png", "terrain-map.png", "terrain-views.png", "torus-hierarchy.png", "detail-sphere-marble.png"]
+    {
+        assert!(tmp.path().join("results").join(file).is_file(), "{file}");
+    }
     let stdout = String::from_utf8_lossy(&out.stdout);
     for stage in [
         "round trip exact",

@@ -9,5 +9,6 @@ mod ffi;
 mod hierarchy;
 mod io_roundtrip;
 mod noise;
+mod render;
 mod terrain;
 mod validation;

@@ -29,9 +29,6 @@ pub struct AnalyzeArgs {
     /// Strong edge when λ2 exceeds this.
     #[arg(long, default_value_t = 0.1)]
     strong: f64,
-    /// Print counts per class and curvature statistics as JSON.
-    #[arg(long)]
-    json: bool,
     /// Write text PLY.
     #[arg(long)]
     ascii: bool,
@@ -48,7 +45,7 @@ fn stats(values: &[f64]) -> serde_json::Value {
     json!({ "min": min, "max": max, "mean": mean })
 }
 
-pub fn run(args: AnalyzeArgs) -> Result<()> {
+pub fn run(args: AnalyzeArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     io::Format::from_path(&args.output)?;
     super::guard_overwrite(&args.input, &args.output, args.force)?;
@@ -66,7 +63,7 @@ pub fn run(args: AnalyzeArgs) -> Result<()> {
     analysis.attach_to(&mut mesh);
     io::write(&mesh, &args.output, WriteOptions { ascii: args.ascii })?;
     let [face, weak, strong, corner] = analysis.class_counts();
-    if args.json {
+    if ctx.json {
         let c = &analysis.curvatures;
         let report = json!({
             "input": args.input.display().to_string(),
@@ -80,7 +77,7 @@ pub fn run(args: AnalyzeArgs) -> Result<()> {
             "milliseconds": super::millis(start),
         });
         println!("{}", serde_json::to_string_pretty(&report).expect("report serialises"));
-    } else {
+    } else if !ctx.quiet {
         println!(
             "analyze: {} ({} vertices) => {corner} corners, {strong} strong edge, {weak} weak, {face} face vertices => {} in {} ms",
             args.input.display(),

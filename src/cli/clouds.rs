@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use clap::Args;
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::io::image::write_png_rgb8;
 use crate::terrain::{CloudParams, TerrainParams, clouds};
 
@@ -34,11 +34,9 @@ pub struct CloudArgs {
     output: PathBuf,
 }
 
-pub fn run(args: CloudArgs) -> Result<()> {
+pub fn run(args: CloudArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
-    if !args.output.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
-        return Err(Error::InvalidInput(format!("{}: clouds are written as .png", args.output.display())));
-    }
+    super::require_extension(&args.output, &["png"])?;
     let params = CloudParams {
         plasma: TerrainParams { size: args.size, hurst: args.hurst, seed: args.seed, ..TerrainParams::default() },
         threshold: args.threshold,
@@ -47,14 +45,24 @@ pub fn run(args: CloudArgs) -> Result<()> {
     };
     let (rgb, cover) = clouds(&params)?;
     write_png_rgb8(&args.output, &rgb, args.size as usize)?;
-    println!(
-        "clouds: {0}x{0} (H {1}, threshold {2}) => {3:.0}% cover => {4} in {5} ms",
-        args.size,
-        args.hurst,
-        args.threshold,
-        cover * 100.0,
-        args.output.display(),
-        super::millis(start)
+    ctx.report(
+        || {
+            format!(
+                "clouds: {0}x{0} (H {1}, threshold {2}) => {3:.0}% cover => {4} in {5} ms",
+                args.size,
+                args.hurst,
+                args.threshold,
+                cover * 100.0,
+                args.output.display(),
+                super::millis(start)
+            )
+        },
+        || {
+            serde_json::json!({
+                "output": args.output, "size": args.size, "hurst": args.hurst, "seed": args.seed,
+                "threshold": args.threshold, "cover": cover, "seconds": start.elapsed().as_secs_f64(),
+            })
+        },
     );
     Ok(())
 }

@@ -22,19 +22,17 @@ pub struct CompareArgs {
     /// Feature vertices our simplification keeps (they can stop it above the budget).
     #[arg(long, value_enum, default_value_t = super::simplify::KeepArg::Strong)]
     keep_features: super::simplify::KeepArg,
-    /// Print a JSON array of results.
-    #[arg(long)]
-    json: bool,
 }
 
-pub fn run(args: CompareArgs) -> Result<()> {
+pub fn run(args: CompareArgs, ctx: super::Context) -> Result<()> {
     let mesh = io::read(&args.input)?.mesh;
     let target = super::simplify::resolve_target(&args.target_vertices, mesh.vertex_count())?;
     let methods: Vec<&str> = args.methods.iter().map(String::as_str).collect();
-    let rows = compare(&mesh, target, &methods, args.keep_features.into())?;
-    if args.json {
+    let rows =
+        ctx.spin("compare", &methods.join(", "), || compare(&mesh, target, &methods, args.keep_features.into()))?;
+    if ctx.json {
         println!("{}", serde_json::to_string_pretty(&rows).expect("report serialises"));
-    } else {
+    } else if !ctx.quiet {
         for r in &rows {
             println!(
                 "{:<13} {} tris => {} tris, {} vertices (hausdorff {:.3}%, rms {:.4}%, min angle {:.2}°, {} features kept) in {:.0} ms",

@@ -22,7 +22,7 @@ pub struct ConvertArgs {
     force: bool,
 }
 
-pub fn run(args: ConvertArgs) -> Result<()> {
+pub fn run(args: ConvertArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     io::Format::from_path(&args.output)?;
     super::guard_overwrite(&args.input, &args.output, args.force)?;
@@ -33,16 +33,27 @@ pub fn run(args: ConvertArgs) -> Result<()> {
         0 => String::new(),
         n => format!(", {n} polygons triangulated"),
     };
-    println!(
-        "convert: {} ({} vertices, {} tris{polygons}) => {} in {} ms",
-        args.input.display(),
-        m.vertex_count(),
-        m.face_count(),
-        args.output.display(),
-        super::millis(start)
-    );
     for note in &outcome.notes {
-        eprintln!("note: {note}");
+        ctx.note(note);
     }
+    ctx.report(
+        || {
+            format!(
+                "convert: {} ({} vertices, {} tris{polygons}) => {} in {} ms",
+                args.input.display(),
+                m.vertex_count(),
+                m.face_count(),
+                args.output.display(),
+                super::millis(start)
+            )
+        },
+        || {
+            serde_json::json!({
+                "input": args.input, "output": args.output, "vertices": m.vertex_count(), "triangles": m.face_count(),
+                "triangulated_polygons": outcome.triangulated_polygons, "notes": outcome.notes,
+                "seconds": start.elapsed().as_secs_f64(),
+            })
+        },
+    );
     Ok(())
 }

@@ -30,15 +30,12 @@ pub struct DetailArgs {
     no_self_intersections: bool,
     #[command(flatten)]
     hierarchy: HierarchyArgs,
-    /// Print a JSON report.
-    #[arg(long)]
-    json: bool,
     /// Allow the output to overwrite the input.
     #[arg(long)]
     force: bool,
 }
 
-pub fn run(args: DetailArgs) -> Result<()> {
+pub fn run(args: DetailArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     io::Format::from_path(&args.output)?;
     super::guard_overwrite(&args.input, &args.output, args.force)?;
@@ -51,9 +48,10 @@ pub fn run(args: DetailArgs) -> Result<()> {
         None => io::read(&args.input)?.mesh,
     };
     let simplify = args.hierarchy.options_over(mesh.vertex_count(), false, &recipe.hierarchy)?;
-    let hierarchy = build(&mesh, &simplify)?;
+    let hierarchy = ctx.spin("simplify", "building the 4-k hierarchy", || build(&mesh, &simplify))?;
     let options = DetailOptions { simplify, no_self_intersections: args.no_self_intersections, ..Default::default() };
-    let outcome = apply_to(&hierarchy, &mesh, &recipe, &options)?;
+    let outcome =
+        ctx.spin("detail", "applying the recipe level by level", || apply_to(&hierarchy, &mesh, &recipe, &options))?;
     io::write(&outcome.result.mesh, &args.output, WriteOptions::default())?;
     let exact = outcome.result.has_input_positions(&mesh);
     let matched = connectivity_match(&mesh.triangles, &outcome.result.triangles_in_ids());
@@ -63,7 +61,7 @@ pub fn run(args: DetailArgs) -> Result<()> {
         "refine": outcome.seconds.refine,
         "self_intersections": outcome.seconds.intersections,
     });
-    if args.json {
+    if ctx.json {
         let report = json!({
             "input": args.input.display().to_string(),
             "output": args.output.display().to_string(),
@@ -79,6 +77,9 @@ pub fn run(args: DetailArgs) -> Result<()> {
             "seconds": seconds,
         });
         println!("{}", serde_json::to_string_pretty(&report).expect("report serialises"));
+        return Ok(());
+    }
+    if ctx.quiet {
         return Ok(());
     }
     for s in &outcome.steps {

@@ -13,9 +13,6 @@ use crate::mesh::ValidationReport;
 pub struct InfoArgs {
     /// Mesh file (.obj, .ply, .off, .stl).
     file: PathBuf,
-    /// Print the report as JSON.
-    #[arg(long)]
-    json: bool,
 }
 
 #[derive(Serialize)]
@@ -27,10 +24,10 @@ struct InfoReport<'a> {
     notes: &'a [String],
 }
 
-pub fn run(args: InfoArgs) -> Result<()> {
+pub fn run(args: InfoArgs, ctx: super::Context) -> Result<()> {
     let outcome = io::read(&args.file)?;
     let report = outcome.mesh.validate();
-    if args.json {
+    if ctx.json {
         let full = InfoReport {
             file: args.file.display().to_string(),
             report: &report,
@@ -38,6 +35,9 @@ pub fn run(args: InfoArgs) -> Result<()> {
             notes: &outcome.notes,
         };
         println!("{}", serde_json::to_string_pretty(&full).expect("report serialises"));
+        return Ok(());
+    }
+    if ctx.quiet {
         return Ok(());
     }
     let r = &report;

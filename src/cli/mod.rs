@@ -10,6 +10,8 @@ mod detail;
 mod info;
 mod noise;
 mod parse;
+mod render;
+mod report;
 mod simplify;
 mod terrain;
 
@@ -17,6 +19,7 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
 
+pub use report::Context;
 pub use simplify::resolve_target;
 
 use crate::error::{Error, Result};
@@ -27,6 +30,12 @@ use crate::error::{Error, Result};
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Print one machine-readable JSON report on stdout instead of human lines.
+    #[arg(long, global = true)]
+    json: bool,
+    /// Print nothing but errors (and the JSON report with --json); no progress bars.
+    #[arg(short, long, global = true)]
+    quiet: bool,
 }
 
 #[derive(Debug, Subcommand)]
@@ -47,6 +56,8 @@ enum Command {
     Demo(demo::DemoArgs),
     /// Write a noise image (Perlin family or Gabor) as 16-bit PNG or raw f32.
     Noise(noise::NoiseArgs),
+    /// Draw a mesh as a PNG: shaded faces, wireframe or points (software rasteriser).
+    Render(render::RenderArgs),
     /// Simplify to the 4-k hierarchy's base domain (feature-sensitive four-face clusters).
     Simplify(simplify::SimplifyArgs),
     /// Generate a fractal terrain: mesh or heightmap, whole, tiled or streamed.
@@ -89,17 +100,19 @@ pub fn run() -> i32 {
 }
 
 fn dispatch(cli: Cli) -> Result<()> {
+    let ctx = Context { json: cli.json, quiet: cli.quiet };
     match cli.command {
-        Command::Analyze(args) => analyze::run(args),
-        Command::Clouds(args) => clouds::run(args),
-        Command::Info(args) => info::run(args),
-        Command::Compare(args) => compare::run(args),
-        Command::Convert(args) => convert::run(args),
-        Command::Demo(args) => demo::run(args),
-        Command::Detail(args) => detail::run(args),
-        Command::Simplify(args) => simplify::run(args),
-        Command::Noise(args) => noise::run(args),
-        Command::Terrain(args) => terrain::run(*args),
+        Command::Analyze(args) => analyze::run(args, ctx),
+        Command::Clouds(args) => clouds::run(args, ctx),
+        Command::Info(args) => info::run(args, ctx),
+        Command::Compare(args) => compare::run(args, ctx),
+        Command::Convert(args) => convert::run(args, ctx),
+        Command::Demo(args) => demo::run(args, ctx),
+        Command::Detail(args) => detail::run(args, ctx),
+        Command::Render(args) => render::run(args, ctx),
+        Command::Simplify(args) => simplify::run(args, ctx),
+        Command::Noise(args) => noise::run(args, ctx),
+        Command::Terrain(args) => terrain::run(*args, ctx),
     }
 }
 
@@ -130,4 +143,14 @@ pub(crate) fn millis(start: std::time::Instant) -> u128 {
 /// The default output folder of commands that write several files.
 pub(crate) fn default_out() -> PathBuf {
     PathBuf::from("out")
+}
+
+/// Checks that `output` ends in one of `extensions` (lower case, without the dot).
+pub(crate) fn require_extension(output: &std::path::Path, extensions: &[&str]) -> Result<()> {
+    let ext = output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if ext.as_deref().is_some_and(|e| extensions.contains(&e)) {
+        return Ok(());
+    }
+    let list: Vec<String> = extensions.iter().map(|e| format!(".{e}")).collect();
+    Err(Error::InvalidInput(format!("{}: the output must end in {}", output.display(), list.join(" or "))))
 }

@@ -61,12 +61,10 @@ pub struct NoiseArgs {
     output: PathBuf,
 }
 
-pub fn run(args: NoiseArgs) -> Result<()> {
+pub fn run(args: NoiseArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
+    super::require_extension(&args.output, &["png", "f32"])?;
     let ext = args.output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    if !matches!(ext.as_deref(), Some("png" | "f32")) {
-        return Err(Error::InvalidInput(format!("{}: the output must end in .png or .f32", args.output.display())));
-    }
     if args.size == 0 || args.size > 65_536 {
         return Err(Error::InvalidInput(format!("--size {} must be between 1 and 65536", args.size)));
     }
@@ -102,13 +100,23 @@ pub fn run(args: NoiseArgs) -> Result<()> {
     } else {
         write_f32(&args.output, &values)?;
     }
-    println!(
-        "noise: {:?} {}x{} (values {lo:.4}..{hi:.4}) => {} in {} ms",
-        args.kind,
-        args.size,
-        args.size,
-        args.output.display(),
-        super::millis(start)
+    ctx.report(
+        || {
+            format!(
+                "noise: {:?} {}x{} (values {lo:.4}..{hi:.4}) => {} in {} ms",
+                args.kind,
+                args.size,
+                args.size,
+                args.output.display(),
+                super::millis(start)
+            )
+        },
+        || {
+            serde_json::json!({
+                "output": args.output, "kind": format!("{:?}", args.kind).to_lowercase(), "size": args.size,
+                "seed": args.seed, "min": lo, "max": hi, "seconds": start.elapsed().as_secs_f64(),
+            })
+        },
     );
     Ok(())
 }

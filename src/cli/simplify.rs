@@ -158,15 +158,12 @@ pub struct SimplifyArgs {
     /// and level as vertex properties.
     #[arg(long)]
     param_out: Option<PathBuf>,
-    /// Print a JSON report.
-    #[arg(long)]
-    json: bool,
     /// Allow an output to overwrite the input.
     #[arg(long)]
     force: bool,
 }
 
-pub fn run(args: SimplifyArgs) -> Result<()> {
+pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     io::Format::from_path(&args.output)?;
     super::guard_overwrite(&args.input, &args.output, args.force)?;
@@ -176,7 +173,7 @@ pub fn run(args: SimplifyArgs) -> Result<()> {
     }
     let mesh = io::read(&args.input)?.mesh;
     let options = args.hierarchy.options(mesh.vertex_count(), args.levels_out.is_some())?;
-    let hierarchy = build(&mesh, &options)?;
+    let hierarchy = ctx.spin("simplify", "building the 4-k hierarchy", || build(&mesh, &options))?;
     let base = hierarchy.base_mesh().mesh;
     io::write(&base, &args.output, WriteOptions::default())?;
     if let Some(dir) = &args.levels_out {
@@ -186,7 +183,7 @@ pub fn run(args: SimplifyArgs) -> Result<()> {
         io::write(&parametrization_mesh(&mesh, &hierarchy), p, WriteOptions::default())?;
     }
     let hausdorff = relative_hausdorff(&mesh, &base)?;
-    if args.json {
+    if ctx.json {
         let report = json!({
             "input": args.input.display().to_string(),
             "output": args.output.display().to_string(),
@@ -201,7 +198,7 @@ pub fn run(args: SimplifyArgs) -> Result<()> {
             "total_seconds": start.elapsed().as_secs_f64(),
         });
         println!("{}", serde_json::to_string_pretty(&report).expect("report serialises"));
-    } else {
+    } else if !ctx.quiet {
         println!(
             "simplify: {} tris => {} tris, {} levels, {} feature vertices kept (hausdorff {:.2}%) in {} ms",
             mesh.face_count(),

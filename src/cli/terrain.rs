@@ -10,11 +10,12 @@ use crate::analysis::{FaceGeometry, NormalWeighting, vertex_normals};
 use crate::error::{Error, Result};
 use crate::io::{self, WriteOptions, write_atomically};
 use crate::mesh::Adjacency;
+use crate::render::hillshade::{Relief, hillshade};
 use crate::terrain::Grid;
 use crate::terrain::stream::{StreamFormat, write_terrain};
 use crate::terrain::{
-    Distribution, DualParams, Method, QuadSurface, Rect, TerrainParams, dual_midpoint_displacement, mesh, ramp_color,
-    tile_rect,
+    Distribution, DualParams, Method, QuadSurface, Rect, TerrainParams, dual_midpoint_displacement, heights, mesh,
+    ramp_color, tile_rect,
 };
 
 /// Generators.
@@ -117,18 +118,22 @@ pub struct TerrainArgs {
     /// Output: .ply / .obj mesh, .png 16-bit heightmap, .raw16, .f32.
     #[arg(short, long)]
     output: PathBuf,
+    /// Also write a picture: a hillshaded colour map (classic, smooth) or a rendering of
+    /// the surface (dual), as .png.
+    #[arg(long)]
+    preview: Option<PathBuf>,
     /// Output format when the file name has no telling extension (e.g. -o /dev/null):
     /// ply, obj, png, raw16 or f32.
     #[arg(long)]
     format: Option<String>,
 }
 
-pub fn run(args: TerrainArgs) -> Result<()> {
+pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     let method = match args.method {
         MethodArg::Classic => Method::Classic,
         MethodArg::Smooth => Method::Smooth,
-        MethodArg::Dual => return run_dual(&args, start),
+        MethodArg::Dual => return run_dual(&args, start, ctx),
     };
     let hurst = args.hurst.unwrap_or(0.8);
     if args.grid == Grid::Hex && args.tile.is_some() {
@@ -155,6 +160,9 @@ pub fn run(args: TerrainArgs) -> Result<()> {
         peak_height: args.peak_height,
     };
     params.generator()?;
+    if let Some(preview) = &args.preview {
+        super::require_extension(preview, &["png"])?;
+    }
     let rect = match (args.tile, args.tile_size) {
         (Some((i, j)), Some(size)) => tile_rect(&params, i, j, size)?,
         _ => Rect { x0: 0, y0: 0, x1: args.size - 1, y1: args.size - 1 },
@@ -197,22 +205,36 @@ pub fn run(args: TerrainArgs) -> Result<()> {
         .map_err(|e| failure.take().unwrap_or(e))?;
     }
     let seconds = start.elapsed().as_secs_f64();
-    println!(
-        "terrain: {} {}x{} (H {}, seed {}) => {} in {} ms ({:.1} M points/s)",
-        args.method.to_possible_value().map_or_else(String::new, |v| v.get_name().to_string()),
-        rect.width(),
-        rect.height(),
-        hurst,
-        args.seed,
-        args.output.display(),
-        super::millis(start),
-        points as f64 / seconds.max(1e-9) / 1e6
+    if let Some(preview) = &args.preview {
+        write_preview(&params, rect, preview)?;
+    }
+    let method = args.method.to_possible_value().map_or_else(String::new, |v| v.get_name().to_string());
+    ctx.report(
+        || {
+            format!(
+                "terrain: {method} {}x{} (H {}, seed {}) => {} in {} ms ({:.1} M points/s)",
+                rect.width(),
+                rect.height(),
+                hurst,
+                args.seed,
+                args.output.display(),
+                super::millis(start),
+                points as f64 / seconds.max(1e-9) / 1e6
+            )
+        },
+        || {
+            serde_json::json!({
+                "method": method, "output": args.output, "preview": args.preview, "columns": rect.width(),
+                "rows": rect.height(), "hurst": hurst, "seed": args.seed, "points": points,
+                "seconds": seconds, "points_per_second": points as f64 / seconds.max(1e-9),
+            })
+        },
     );
     Ok(())
 }
 
 /// Janeczek's dual method: a quad surface written as a mesh with normals and a height ramp.
-fn run_dual(args: &TerrainArgs, start: Instant) -> Result<()> {
+fn run_dual(args: &TerrainArgs, start: Instant, ctx: super::Context) -> Result<()> {
     if args.stream || args.tile.is_some() {
         return Err(Error::InvalidInput("--method dual makes a quad surface in memory: no --stream or --tile".into()));
     }
@@ -246,16 +268,34 @@ fn run_dual(args: &TerrainArgs, start: Instant) -> Result<()> {
     if let Some(e) = step_error {
         return Err(e);
     }
-    io::write(&dual_mesh(&surface, &params, args), &args.output, WriteOptions::default())?;
-    println!(
-        "terrain: dual {}x{} (H {}, {} divisions, seed {}) => {} in {} ms",
-        surface.m,
-        surface.n,
-        params.hurst,
-        params.levels,
-        params.seed,
-        args.output.display(),
-        super::millis(start)
+    let mesh = dual_mesh(&surface, &params, args);
+    io::write(&mesh, &args.output, WriteOptions::default())?;
+    if let Some(preview) = &args.preview {
+        super::require_extension(preview, &["png"])?;
+        let up = crate::render::UpAxis::Z;
+        let options = crate::render::RenderOptions { up, ..Default::default() };
+        crate::render::render(&mesh, &options)?.write_png(preview)?;
+    }
+    ctx.report(
+        || {
+            format!(
+                "terrain: dual {}x{} (H {}, {} divisions, seed {}) => {} in {} ms",
+                surface.m,
+                surface.n,
+                params.hurst,
+                params.levels,
+                params.seed,
+                args.output.display(),
+                super::millis(start)
+            )
+        },
+        || {
+            serde_json::json!({
+                "method": "dual", "output": args.output, "preview": args.preview, "columns": surface.m,
+                "rows": surface.n, "hurst": params.hurst, "levels": params.levels, "seed": params.seed,
+                "seconds": start.elapsed().as_secs_f64(),
+            })
+        },
     );
     Ok(())
 }
@@ -272,4 +312,25 @@ fn dual_mesh(surface: &QuadSurface, params: &DualParams, args: &TerrainArgs) -> 
     let palette = args.colors.unwrap_or_default();
     m.colors = Some(heights.iter().map(|h| ramp_color(&palette, (h - lo) / (hi - lo).max(1e-12), false)).collect());
     m
+}
+
+/// The largest grid a preview pictures (one pixel per point).
+const PREVIEW_MAX_SIDE: usize = 8193;
+
+/// A hillshaded colour map of the heights on `rect`, one pixel per grid point.
+fn write_preview(params: &TerrainParams, rect: Rect, path: &std::path::Path) -> Result<()> {
+    if rect.width() > PREVIEW_MAX_SIDE || rect.height() > PREVIEW_MAX_SIDE {
+        return Err(Error::InvalidInput(format!(
+            "--preview pictures at most {PREVIEW_MAX_SIDE}x{PREVIEW_MAX_SIDE} points, one pixel each: preview a tile instead"
+        )));
+    }
+    let field = heights(params, rect)?;
+    let last = (params.size - 1).max(1) as f64;
+    let relief = Relief {
+        heights: &field.heights,
+        columns: rect.width(),
+        spacing: (params.width / last, params.depth / last),
+        exaggeration: None,
+    };
+    hillshade(&relief, |h| params.color(h)).write_png(path)
 }

@@ -42,18 +42,33 @@ pub fn write_png16(path: &Path, values: &[f64], width: usize, range: (f64, f64))
 /// # Errors
 /// [`Error::InvalidInput`] when the bytes do not form `width`-pixel rows; [`Error::Io`].
 pub fn write_png_rgb8(path: &Path, rgb: &[u8], width: usize) -> Result<()> {
-    if width == 0 || rgb.is_empty() || rgb.len() % (3 * width) != 0 {
-        return Err(Error::InvalidInput(format!("{} bytes do not form RGB rows of {width} pixels", rgb.len())));
+    write_png8(path, rgb, width, png::ColorType::Rgb, 3)
+}
+
+/// Writes an 8-bit RGBA PNG from row-major RGBA bytes.
+///
+/// # Errors
+/// [`Error::InvalidInput`] when the bytes do not form `width`-pixel rows; [`Error::Io`].
+pub fn write_png_rgba8(path: &Path, rgba: &[u8], width: usize) -> Result<()> {
+    write_png8(path, rgba, width, png::ColorType::Rgba, 4)
+}
+
+fn write_png8(path: &Path, bytes: &[u8], width: usize, color: png::ColorType, channels: usize) -> Result<()> {
+    if width == 0 || bytes.is_empty() || bytes.len() % (channels * width) != 0 {
+        return Err(Error::InvalidInput(format!(
+            "{} bytes do not form {channels}-channel rows of {width} pixels",
+            bytes.len()
+        )));
     }
-    let (Ok(w), Ok(h)) = (u32::try_from(width), u32::try_from(rgb.len() / (3 * width))) else {
+    let (Ok(w), Ok(h)) = (u32::try_from(width), u32::try_from(bytes.len() / (channels * width))) else {
         return Err(Error::InvalidInput("image too large for PNG".into()));
     };
     write_atomically(path, |out| {
         let mut encoder = png::Encoder::new(out, w, h);
-        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_color(color);
         encoder.set_depth(png::BitDepth::Eight);
         let mut writer = encoder.write_header().map_err(std::io::Error::other)?;
-        writer.write_image_data(rgb).map_err(std::io::Error::other)?;
+        writer.write_image_data(bytes).map_err(std::io::Error::other)?;
         writer.finish().map_err(std::io::Error::other)
     })
 }

@@ -1,0 +1,108 @@
+//! `asperity render IN -o OUT.png`: a picture of a mesh from the software rasteriser.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use serde_json::json;
+
+use super::Context;
+use crate::error::Result;
+use crate::io;
+use crate::render::{ColorSource, Mode, RenderOptions, UpAxis, render};
+
+/// Camera and picture settings shared by `render` and the commands with `--preview`.
+#[derive(Debug, Clone, Args)]
+pub struct ViewArgs {
+    /// Picture size W,H in pixels.
+    #[arg(long, value_parser = super::parse::size, default_value = "1024,768")]
+    pub size: (usize, usize),
+    /// Faces (shaded), wireframe (hidden lines removed) or points.
+    #[arg(long, value_enum, default_value_t = Mode::Faces)]
+    pub mode: Mode,
+    /// Camera angle around the up axis, degrees.
+    #[arg(long, default_value_t = 35.0, allow_hyphen_values = true)]
+    pub yaw: f64,
+    /// Camera angle above the horizon, degrees.
+    #[arg(long, default_value_t = 25.0, allow_hyphen_values = true)]
+    pub pitch: f64,
+    /// The axis that points up in the picture.
+    #[arg(long, value_enum, default_value_t = UpAxis::Z)]
+    pub up: UpAxis,
+    /// Colours: attribute (vertex colours), height, none, or scalar:NAME (a PLY property).
+    #[arg(long, value_parser = super::parse::color_source, default_value = "attribute")]
+    pub colors: ColorSource,
+    /// Background: transparent or #rrggbb.
+    #[arg(long, value_parser = super::parse::background, default_value = "#ffffff")]
+    pub background: super::parse::Background,
+    /// Samples per pixel along each axis (1 to 4).
+    #[arg(long, default_value_t = 2)]
+    pub samples: usize,
+    /// Faces further apart than this angle do not share normals (degrees; 180 smooths all).
+    #[arg(long, default_value_t = 40.0)]
+    pub crease: f64,
+    /// Draw the edges over shaded faces.
+    #[arg(long)]
+    pub edges: bool,
+}
+
+impl ViewArgs {
+    /// The rasteriser's options.
+    pub fn options(&self) -> RenderOptions {
+        RenderOptions {
+            width: self.size.0,
+            height: self.size.1,
+            mode: self.mode,
+            yaw_deg: self.yaw,
+            pitch_deg: self.pitch,
+            up: self.up,
+            colors: self.colors.clone(),
+            background: self.background.0,
+            samples: self.samples,
+            crease_deg: self.crease,
+            edges: self.edges,
+        }
+    }
+}
+
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Input mesh (.obj, .ply, .off, .stl).
+    input: PathBuf,
+    /// Output picture (.png).
+    #[arg(short, long)]
+    output: PathBuf,
+    #[command(flatten)]
+    view: ViewArgs,
+}
+
+pub fn run(args: RenderArgs, ctx: Context) -> Result<()> {
+    let start = Instant::now();
+    super::require_extension(&args.output, &["png"])?;
+    let mesh = io::read(&args.input)?.mesh;
+    let options = args.view.options();
+    let picture = ctx.spin("render", &args.input.display().to_string(), || render(&mesh, &options))?;
+    picture.write_png(&args.output)?;
+    ctx.report(
+        || {
+            format!(
+                "render: {} ({} tris, {}) => {} {}x{} in {} ms",
+                args.input.display(),
+                mesh.face_count(),
+                format!("{:?}", options.mode).to_lowercase(),
+                args.output.display(),
+                picture.width,
+                picture.height,
+                super::millis(start)
+            )
+        },
+        || {
+            json!({
+                "input": args.input, "output": args.output, "triangles": mesh.face_count(),
+                "width": picture.width, "height": picture.height, "mode": options.mode,
+                "seconds": start.elapsed().as_secs_f64(),
+            })
+        },
+    );
+    Ok(())
+}
