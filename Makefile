@@ -17,6 +17,7 @@ demo: build
 	./target/release/asperity demo --out out
 
 test: deps
+	@./scripts/install-gltf-validator.sh
 	$(CARGO) test
 	@$(MAKE) --no-print-directory clippy
 

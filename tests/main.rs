@@ -6,6 +6,7 @@ mod cli;
 mod common;
 mod detail;
 mod ffi;
+mod glb;
 mod hierarchy;
 mod io_roundtrip;
 mod noise;

@@ -11,6 +11,7 @@ use crate::detail::HierarchySection;
 use crate::error::{Error, Result};
 use crate::ffi::{HausdorffOptions, hausdorff_distance};
 use crate::hierarchy::{Hierarchy, KeepFeatures, SimplifyOptions, build};
+use crate::io::glb::{GlbPart, write_glb_parts};
 use crate::io::{self, WriteOptions};
 use crate::mesh::Mesh;
 
@@ -154,6 +155,10 @@ pub struct SimplifyArgs {
     /// Write every level as DIR/level_NN.ply (00 = base domain).
     #[arg(long)]
     levels_out: Option<PathBuf>,
+    /// Write every level into one glTF binary (.glb), one node per level side by side,
+    /// base domain first, node extras naming the level.
+    #[arg(long)]
+    lod_out: Option<PathBuf>,
     /// Write the input mesh as PLY with each vertex's base face, barycentric coordinates
     /// and level as vertex properties.
     #[arg(long)]
@@ -171,13 +176,21 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
         io::Format::from_path(p)?;
         super::guard_overwrite(&args.input, p, args.force)?;
     }
+    if let Some(p) = &args.lod_out {
+        super::require_extension(p, &["glb"])?;
+        super::guard_overwrite(&args.input, p, args.force)?;
+    }
     let mesh = io::read(&args.input)?.mesh;
-    let options = args.hierarchy.options(mesh.vertex_count(), args.levels_out.is_some())?;
+    let record = args.levels_out.is_some() || args.lod_out.is_some();
+    let options = args.hierarchy.options(mesh.vertex_count(), record)?;
     let hierarchy = ctx.spin("simplify", "building the 4-k hierarchy", || build(&mesh, &options))?;
     let base = hierarchy.base_mesh().mesh;
     io::write(&base, &args.output, WriteOptions::default())?;
     if let Some(dir) = &args.levels_out {
         write_levels(&hierarchy, dir)?;
+    }
+    if let Some(p) = &args.lod_out {
+        write_lods(&hierarchy, p)?;
     }
     if let Some(p) = &args.param_out {
         io::write(&parametrization_mesh(&mesh, &hierarchy), p, WriteOptions::default())?;
@@ -229,6 +242,27 @@ fn write_levels(hierarchy: &Hierarchy, dir: &Path) -> Result<()> {
         io::write(&level.mesh, &path, WriteOptions::default())?;
     }
     Ok(())
+}
+
+/// Every level as a node of one `.glb`, base domain (level 0) first.
+fn write_lods(hierarchy: &Hierarchy, path: &Path) -> Result<()> {
+    let steps = hierarchy.steps();
+    let parts: Vec<GlbPart> = hierarchy
+        .levels
+        .iter()
+        .enumerate()
+        .rev()
+        .map(|(k, level)| GlbPart {
+            mesh: &level.mesh,
+            name: format!("level {:02}", steps - k),
+            extras: json!({
+                "level": steps - k,
+                "vertices": level.mesh.vertex_count(),
+                "faces": level.mesh.face_count(),
+            }),
+        })
+        .collect();
+    write_glb_parts(&parts, path)
 }
 
 /// The input mesh carrying the parametrization as vertex properties: `level`,

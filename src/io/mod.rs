@@ -3,6 +3,7 @@
 //! [`Error::Parse`] naming the file and the line, byte or element. Writers are atomic.
 
 mod atomic;
+pub mod glb;
 pub mod image;
 pub mod obj;
 mod off;
@@ -28,6 +29,9 @@ pub enum Format {
     Off,
     /// STereoLithography, ASCII or binary.
     Stl,
+    /// glTF 2.0 binary (written with normals, colours and scalars; read: triangle meshes
+    /// of the default scene with node transforms applied).
+    Glb,
 }
 
 impl Format {
@@ -42,7 +46,10 @@ impl Format {
             Some("ply") => Ok(Format::Ply),
             Some("off") => Ok(Format::Off),
             Some("stl") => Ok(Format::Stl),
-            _ => Err(Error::parse(path, Location::File, "unknown mesh format (expected .obj, .ply, .off or .stl)")),
+            Some("glb") => Ok(Format::Glb),
+            _ => {
+                Err(Error::parse(path, Location::File, "unknown mesh format (expected .obj, .ply, .off, .stl or .glb)"))
+            }
         }
     }
 }
@@ -89,6 +96,7 @@ pub fn read_bytes(bytes: &[u8], format: Format, path: &Path) -> Result<ReadOutco
         Format::Ply => ply::parse(bytes, path)?,
         Format::Off => off::parse(bytes, path)?,
         Format::Stl => stl::parse(bytes, path)?,
+        Format::Glb => glb::parse(bytes, path)?,
     };
     outcome.mesh.check().map_err(|e| Error::parse(path, Location::File, e.to_string()))?;
     Ok(outcome)
@@ -108,11 +116,15 @@ pub fn write(mesh: &Mesh, path: &Path, options: WriteOptions) -> Result<()> {
 /// As [`write`].
 pub fn write_as(mesh: &Mesh, path: &Path, format: Format, options: WriteOptions) -> Result<()> {
     mesh.check()?;
+    if format == Format::Glb {
+        return glb::write_glb(mesh, path);
+    }
     write_atomically(path, |w| match format {
         Format::Obj => obj::write(mesh, w),
         Format::Ply => ply::write(mesh, w, options.ascii),
         Format::Off => off::write(mesh, w),
         Format::Stl => stl::write(mesh, w, options.ascii),
+        Format::Glb => unreachable!("written above"),
     })
 }
 
