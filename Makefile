@@ -1,7 +1,7 @@
 # asperity — the two commands: `make demo` and `make test`.
 CARGO ?= cargo
 
-.PHONY: all deps build demo test clippy bench clean
+.PHONY: all deps build demo test clippy bench clean install-cpp
 
 all: build
 
@@ -19,12 +19,20 @@ demo: build
 test: deps
 	@./scripts/install-gltf-validator.sh
 	$(CARGO) test
+	@./scripts/cpp-example.sh
 	@$(MAKE) --no-print-directory clippy
+
+# The C++ package (find_package(asperity)) into PREFIX, optimised.
+PREFIX ?= /usr/local
+install-cpp: deps
+	cmake -S cpp -B target/cpp-release -DASPERITY_PACKAGE=ON -DCMAKE_INSTALL_PREFIX=$(PREFIX)
+	cmake --build target/cpp-release
+	cmake --install target/cpp-release
 
 # Lints are part of the tests where clippy is installed.
 clippy: deps
 	@if $(CARGO) clippy --version >/dev/null 2>&1; then \
-	  $(CARGO) clippy --all-targets -- -D warnings; \
+	  $(CARGO) clippy --workspace --all-targets -- -D warnings; \
 	else echo "clippy not installed: lints skipped"; fi
 
 bench: deps

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Builds and installs the C++ package (cpp/, -DASPERITY_PACKAGE=ON) into target/cpp-install,
+# then builds examples/cpp against it with find_package(asperity) and runs it.
+# PROFILE=dev (the default here, sharing `cargo test`'s build) or PROFILE=release.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+profile=${PROFILE:-dev}
+root=$PWD
+cmake -S cpp -B target/cpp-package -DASPERITY_PACKAGE=ON -DASPERITY_CARGO_PROFILE="$profile" \
+  -DCMAKE_INSTALL_PREFIX="$root/target/cpp-install" >/dev/null
+cmake --build target/cpp-package
+cmake --install target/cpp-package >/dev/null
+cmake -S examples/cpp -B target/cpp-example -DCMAKE_PREFIX_PATH="$root/target/cpp-install" >/dev/null
+cmake --build target/cpp-example
+mkdir -p target/cpp-example/out
+# An empty MESH argument means "the built-in sphere".
+./target/cpp-example/openmesh_pipeline "" target/cpp-example/out
