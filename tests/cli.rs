@@ -336,3 +336,52 @@ fn compare_runs_every_method_to_the_same_budget() {
         assert!(r["hausdorff"].as_f64().unwrap() < 0.1, "{r}");
     }
 }
+
+#[test]
+fn the_cli_reference_in_docs_is_current() {
+    let tmp = temp_dir();
+    let out = asperity(&["reference"], tmp.path());
+    assert!(out.status.success());
+    let generated = String::from_utf8(out.stdout).unwrap();
+    let committed = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/cli.md")).unwrap();
+    assert!(generated == committed, "docs/cli.md is stale: run `asperity reference > docs/cli.md`");
+    for command in
+        ["render", "terrain", "simplify", "detail", "compare", "noise", "clouds", "convert", "info", "analyze"]
+    {
+        assert!(generated.contains(&format!("## asperity {command}")), "{command}");
+    }
+}
+
+#[test]
+fn every_subcommand_prints_a_json_report() {
+    let tmp = temp_dir();
+    std::fs::write(
+        tmp.path().join("tri.off"),
+        "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
+    )
+    .unwrap();
+    let runs: [&[&str]; 8] = [
+        &["info", "tri.off"],
+        &["convert", "tri.off", "tri.glb"],
+        &["analyze", "tri.off", "-o", "a.ply"],
+        &["render", "tri.off", "-o", "r.png", "--size", "64,48"],
+        &["noise", "--size", "16", "-o", "n.png"],
+        &["clouds", "--size", "17", "-o", "c.png"],
+        &["terrain", "--size", "17", "-o", "t.ply"],
+        &["terrain", "--method", "dual", "--levels", "3", "-o", "d.ply"],
+    ];
+    for args in runs {
+        let mut with_json = args.to_vec();
+        with_json.push("--json");
+        let out = asperity(&with_json, tmp.path());
+        assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        let report: serde_json::Value = serde_json::from_slice(&out.stdout)
+            .unwrap_or_else(|e| panic!("{args:?}: not JSON ({e}): {}", String::from_utf8_lossy(&out.stdout)));
+        assert!(report.is_object(), "{args:?}");
+        // --quiet prints nothing at all.
+        let mut quiet = args.to_vec();
+        quiet.push("--quiet");
+        let out = asperity(&quiet, tmp.path());
+        assert!(out.status.success() && out.stdout.is_empty() && out.stderr.is_empty(), "{args:?}");
+    }
+}

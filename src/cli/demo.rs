@@ -38,7 +38,9 @@ struct Demo {
 }
 
 /// Panels of several views use this size per view.
-const PANEL: (usize, usize) = (480, 360);
+const PANEL: (usize, usize) = (400, 300);
+/// Single views use this size.
+const VIEW: (usize, usize) = (640, 448);
 /// Background between panels.
 const WHITE: [u8; 3] = [255, 255, 255];
 
@@ -248,10 +250,7 @@ impl Demo {
         })?;
         self.written.push(path);
         self.picture(&terrain_map(&params, &field.heights), "terrain-map.png")?;
-        self.picture(
-            &view(&classic, (800, 560), UpAxis::Z, ColorSource::Attribute, Mode::Faces, false)?,
-            "terrain.png",
-        )?;
+        self.picture(&view(&classic, VIEW, UpAxis::Z, ColorSource::Attribute, Mode::Faces, false)?, "terrain.png")?;
 
         let smooth = TerrainParams { method: Method::Smooth, seed: 5, ..params };
         self.picture(&terrain_map(&smooth, &whole(&smooth)?.heights), "terrain-smooth-map.png")?;
@@ -289,7 +288,7 @@ impl Demo {
         let palette = crate::terrain::Palette::default();
         m.colors = Some(heights.iter().map(|h| ramp_color(&palette, (h - lo) / (hi - lo).max(1e-12), false)).collect());
         self.mesh(&m, "terrain-dual.ply")?;
-        self.picture(&view(&m, (800, 560), UpAxis::Z, ColorSource::Attribute, Mode::Faces, false)?, "terrain-dual.png")
+        self.picture(&view(&m, VIEW, UpAxis::Z, ColorSource::Attribute, Mode::Faces, false)?, "terrain-dual.png")
     }
 
     /// Seed 001's clouds: a 257² plasma, thresholded and coloured.
@@ -335,7 +334,9 @@ impl Demo {
             let path = self.path(&format!("noise-{name}.png"));
             write_png16(&path, &values, 256, range)?;
             self.written.push(path);
-            tiles.push(Picture::grey(&values, 256, range));
+            // The panel shows the same square at 160 pixels a side.
+            let tile = field.grid2(0.0, 0.0, scale * 256.0 / 160.0, 160, 160);
+            tiles.push(Picture::grey(&tile, 160, range));
         }
         self.picture(&Picture::side_by_side(&tiles, 6, WHITE)?, "noise-panel.png")?;
         self.line(|| {

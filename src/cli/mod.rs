@@ -48,7 +48,7 @@ enum Command {
     Info(info::InfoArgs),
     /// Simplify with asperity, OpenMesh, CGAL and meshoptimizer to the same vertex count.
     Compare(compare::CompareArgs),
-    /// Convert a mesh between OBJ, PLY, OFF and STL (format by extension).
+    /// Convert a mesh between OBJ, PLY, OFF, STL and glTF binary (format by extension).
     Convert(convert::ConvertArgs),
     /// Build the 4-k hierarchy and refine it back (the round trip; recipes add detail).
     Detail(detail::DetailArgs),
@@ -62,6 +62,9 @@ enum Command {
     Simplify(simplify::SimplifyArgs),
     /// Generate a fractal terrain: mesh or heightmap, whole, tiled or streamed.
     Terrain(Box<terrain::TerrainArgs>),
+    /// Print this command-line reference as Markdown (docs/cli.md is its output).
+    #[command(hide = true)]
+    Reference,
 }
 
 /// Parses the arguments, runs the subcommand and returns the process exit code.
@@ -113,7 +116,31 @@ fn dispatch(cli: Cli) -> Result<()> {
         Command::Simplify(args) => simplify::run(args, ctx),
         Command::Noise(args) => noise::run(args, ctx),
         Command::Terrain(args) => terrain::run(*args, ctx),
+        Command::Reference => {
+            print!("{}", reference());
+            Ok(())
+        }
     }
+}
+
+/// The command-line reference in Markdown, generated from the argument definitions: the
+/// top-level help, then each subcommand's long help.
+pub fn reference() -> String {
+    use clap::CommandFactory;
+    let mut cli = Cli::command();
+    cli.build();
+    let mut out = String::from(
+        "# asperity command-line reference\n\n\
+         Generated from the argument definitions by `asperity reference > docs/cli.md`; a test \
+         fails when this file is stale.\n\n```text\n",
+    );
+    out += &cli.render_long_help().to_string();
+    out += "```\n";
+    for sub in cli.get_subcommands_mut().filter(|s| !s.is_hide_set() && s.get_name() != "help") {
+        let name = sub.get_name().to_string();
+        out += &format!("\n## asperity {name}\n\n```text\n{}```\n", sub.render_long_help());
+    }
+    out
 }
 
 fn one_line(msg: &str) -> String {

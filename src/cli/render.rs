@@ -67,7 +67,7 @@ impl ViewArgs {
 
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// Input mesh (.obj, .ply, .off, .stl).
+    /// Input mesh (.obj, .ply, .off, .stl, .glb).
     input: PathBuf,
     /// Output picture (.png).
     #[arg(short, long)]

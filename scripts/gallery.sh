@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Refreshes the README gallery (docs/gallery/) from `asperity demo`'s pictures.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cargo build --release -q
+./target/release/asperity demo --out target/gallery-demo --quiet
+mkdir -p docs/gallery
+for picture in noise-panel terrain-map terrain terrain-views terrain-dual terrain-smooth-map clouds \
+  fandisk-features fandisk-hierarchy detail-torus-variation detail-sphere-marble detail-mushroom-planet \
+  detail-sphere-virus; do
+  cp "target/gallery-demo/$picture.png" docs/gallery/
+done
+du -ch docs/gallery/*.png | tail -1
