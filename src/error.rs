@@ -87,6 +87,16 @@ impl Error {
         Error::Parse { path: path.into(), at, msg: msg.into() }
     }
 
+    /// The error with `path` named in front, for input and topology errors about a mesh
+    /// read from that file (other errors name their file already, or have none).
+    pub fn about_file(self, path: &std::path::Path) -> Self {
+        match self {
+            Error::InvalidInput(msg) => Error::InvalidInput(format!("{}: {msg}", path.display())),
+            Error::Topology { msg, faces } => Error::Topology { msg: format!("{}: {msg}", path.display()), faces },
+            other => other,
+        }
+    }
+
     /// Shorthand for an I/O error on a path.
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         Error::Io { path: path.into(), source }

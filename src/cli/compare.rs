@@ -28,8 +28,9 @@ pub fn run(args: CompareArgs, ctx: super::Context) -> Result<()> {
     let mesh = io::read(&args.input)?.mesh;
     let target = super::simplify::resolve_target(&args.target_vertices, mesh.vertex_count())?;
     let methods: Vec<&str> = args.methods.iter().map(String::as_str).collect();
-    let rows =
-        ctx.spin("compare", &methods.join(", "), || compare(&mesh, target, &methods, args.keep_features.into()))?;
+    let rows = ctx
+        .spin("compare", &methods.join(", "), || compare(&mesh, target, &methods, args.keep_features.into()))
+        .map_err(|e| e.about_file(&args.input))?;
     if ctx.json {
         println!("{}", serde_json::to_string_pretty(&rows).expect("report serialises"));
     } else if !ctx.quiet {

@@ -48,7 +48,9 @@ pub fn run(args: DetailArgs, ctx: super::Context) -> Result<()> {
         None => io::read(&args.input)?.mesh,
     };
     let simplify = args.hierarchy.options_over(mesh.vertex_count(), false, &recipe.hierarchy)?;
-    let hierarchy = ctx.spin("simplify", "building the 4-k hierarchy", || build(&mesh, &simplify))?;
+    let hierarchy = ctx
+        .spin("simplify", "building the 4-k hierarchy", || build(&mesh, &simplify))
+        .map_err(|e| e.about_file(&args.input))?;
     let options = DetailOptions { simplify, no_self_intersections: args.no_self_intersections, ..Default::default() };
     let outcome =
         ctx.spin("detail", "applying the recipe level by level", || apply_to(&hierarchy, &mesh, &recipe, &options))?;

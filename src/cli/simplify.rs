@@ -183,7 +183,9 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
     let mesh = io::read(&args.input)?.mesh;
     let record = args.levels_out.is_some() || args.lod_out.is_some();
     let options = args.hierarchy.options(mesh.vertex_count(), record)?;
-    let hierarchy = ctx.spin("simplify", "building the 4-k hierarchy", || build(&mesh, &options))?;
+    let hierarchy = ctx
+        .spin("simplify", "building the 4-k hierarchy", || build(&mesh, &options))
+        .map_err(|e| e.about_file(&args.input))?;
     let base = hierarchy.base_mesh().mesh;
     io::write(&base, &args.output, WriteOptions::default())?;
     if let Some(dir) = &args.levels_out {

@@ -175,7 +175,7 @@ pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
     let range = args.range.unwrap_or((-scale, scale));
     let points = rect.width() as u64 * rect.height() as u64;
     if matches!(ext.as_str(), "obj" | "ply") && !args.stream {
-        let terrain = mesh(&params, rect)?;
+        let terrain = ctx.spin("terrain", "generating the mesh", || mesh(&params, rect))?;
         let format = if ext == "obj" { io::Format::Obj } else { io::Format::Ply };
         io::write_as(&terrain, &args.output, format, WriteOptions::default())?;
     } else {
@@ -192,14 +192,17 @@ pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
         let mut failure = None;
         // I/O failures go back to `write_atomically`, which names the output file; other
         // errors keep their type.
-        write_atomically(&args.output, |w| {
-            write_terrain(&params, rect, format, range, band, w).map_err(|e| match e {
-                Error::Io { source, .. } => source,
-                other => {
-                    let message = other.to_string();
-                    failure = Some(other);
-                    std::io::Error::other(message)
-                }
+        let message = format!("{}x{} points", rect.width(), rect.height());
+        ctx.spin("terrain", &message, || {
+            write_atomically(&args.output, |w| {
+                write_terrain(&params, rect, format, range, band, w).map_err(|e| match e {
+                    Error::Io { source, .. } => source,
+                    other => {
+                        let message = other.to_string();
+                        failure = Some(other);
+                        std::io::Error::other(message)
+                    }
+                })
             })
         })
         .map_err(|e| failure.take().unwrap_or(e))?;
