@@ -6,7 +6,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 profile=${PROFILE:-dev}
 root=$PWD
+# In the dev profile, build as `cargo test` does (workspace libraries and tests, so features
+# resolve alike): the library `cargo test` compiled is reused, not compiled again.
+packages="-p;asperity-cxx"
+[ "$profile" = dev ] && packages="--workspace;--lib;--tests"
 cmake -S cpp -B target/cpp-package -DASPERITY_PACKAGE=ON -DASPERITY_CARGO_PROFILE="$profile" \
+  -DASPERITY_CARGO_PACKAGES="$packages" \
   -DCMAKE_INSTALL_PREFIX="$root/target/cpp-install" >/dev/null
 cmake --build target/cpp-package
 cmake --install target/cpp-package >/dev/null
