@@ -58,29 +58,33 @@ void from_arrays(Mesh& mesh, const ffi::MeshArrays& arrays) {
   }
 }
 
+/// Runs `call(positions, triangles)` on the mesh's arrays and replaces the mesh's contents
+/// with the outcome's mesh; returns the outcome's report.
+template <class Mesh, class Call>
+Report run_in_place(Mesh& mesh, Call&& call) {
+  std::vector<double> p;
+  std::vector<std::uint32_t> t;
+  to_arrays(mesh, p, t);
+  auto out = call(rust::Slice<const double>(p.data(), p.size()), rust::Slice<const std::uint32_t>(t.data(), t.size()));
+  from_arrays(mesh, out.mesh);
+  return out.report;
+}
+
 /// Simplifies `mesh` in place to the base domain of asperity's 4-k hierarchy with at most
 /// `target_vertices` vertices; `keep_features` is "none", "strong" or "all".
 template <class Mesh>
 Report simplify(Mesh& mesh, std::size_t target_vertices, const std::string& keep_features = "strong") {
-  std::vector<double> p;
-  std::vector<std::uint32_t> t;
-  to_arrays(mesh, p, t);
-  auto out = ffi::simplify(rust::Slice<const double>(p.data(), p.size()),
-                           rust::Slice<const std::uint32_t>(t.data(), t.size()), target_vertices, keep_features);
-  from_arrays(mesh, out.mesh);
-  return out.report;
+  return run_in_place(mesh, [&](auto positions, auto triangles) {
+    return ffi::simplify(positions, triangles, target_vertices, keep_features);
+  });
 }
 
 /// Applies a detail recipe (TOML text; see docs/recipes.md) to `mesh` in place.
 template <class Mesh>
 Report detail(Mesh& mesh, const std::string& recipe_toml, bool no_self_intersections = false) {
-  std::vector<double> p;
-  std::vector<std::uint32_t> t;
-  to_arrays(mesh, p, t);
-  auto out = ffi::detail(rust::Slice<const double>(p.data(), p.size()),
-                         rust::Slice<const std::uint32_t>(t.data(), t.size()), recipe_toml, no_self_intersections);
-  from_arrays(mesh, out.mesh);
-  return out.report;
+  return run_in_place(mesh, [&](auto positions, auto triangles) {
+    return ffi::detail(positions, triangles, recipe_toml, no_self_intersections);
+  });
 }
 
 /// A "classic" or "smooth" diamond-square terrain of size × size points (size = 2^n + 1).

@@ -265,15 +265,11 @@ impl Builder {
 
 /// Area-weighted unit vertex normals (+z for isolated vertices).
 fn area_weighted_normals(mesh: &Mesh) -> Vec<[f32; 3]> {
-    let mut sums = vec![DVec3::ZERO; mesh.vertex_count()];
-    for t in &mesh.triangles {
-        let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
-        let n = (b - a).cross(c - a);
-        for &v in t {
-            sums[v as usize] += n;
-        }
-    }
-    sums.iter().map(|n| n.normalize_or(DVec3::Z).as_vec3().to_array()).collect()
+    use crate::analysis::{FaceGeometry, NormalWeighting, vertex_normals};
+    let normals =
+        vertex_normals(mesh, &crate::mesh::Adjacency::of(mesh), &FaceGeometry::of(mesh), NormalWeighting::Area);
+    // glTF requires unit normals: a vertex without faces gets +Z.
+    normals.iter().map(|n| n.try_normalize().unwrap_or(DVec3::Z).as_vec3().to_array()).collect()
 }
 
 /// Reads every triangle primitive of the default scene (or of all meshes without scenes),

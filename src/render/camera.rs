@@ -17,7 +17,8 @@ pub enum UpAxis {
 }
 
 impl UpAxis {
-    fn vector(self) -> DVec3 {
+    /// The unit vector of the axis.
+    pub(crate) fn vector(self) -> DVec3 {
         match self {
             UpAxis::X => DVec3::X,
             UpAxis::Y => DVec3::Y,

@@ -242,11 +242,7 @@ fn base_colors(mesh: &Mesh, source: &ColorSource, up: UpAxis) -> Result<Vec<Vec3
         },
         ColorSource::None => vec![CLAY; mesh.vertex_count()],
         ColorSource::Height => {
-            let axis = match up {
-                UpAxis::X => DVec3::X,
-                UpAxis::Y => DVec3::Y,
-                UpAxis::Z => DVec3::Z,
-            };
+            let axis = up.vector();
             let heights: Vec<f64> = mesh.positions.iter().map(|p| p.dot(axis)).collect();
             let (lo, hi) = heights.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &h| (a.min(h), b.max(h)));
             heights.iter().map(|h| ramp((h - lo) / (hi - lo).max(1e-300))).collect()
