@@ -1,7 +1,8 @@
 //! Hostile files (`tests/data/bad/`, outcomes in its `expected.toml`): readers give
 //! `Error::Parse` naming the file and where, never a panic, and refuse absurd counts before
 //! allocating; files the readers accept but the hierarchy cannot take are typed topology
-//! errors. Through the CLI every one exits 2 with one line and writes nothing.
+//! errors (mended by `--repair`). Through the CLI every refused one exits 2 with one line and
+//! writes nothing; tolerated ones (BOM, mixed line endings) convert.
 
 use asperity::io;
 use asperity::{Error, Location};
@@ -24,8 +25,11 @@ struct Expected {
     at: Option<String>,
     /// A phrase of the message.
     says: String,
-    /// The command that must refuse a file the readers accept (default: every reader).
+    /// `simplify`: the readers accept the file and simplify must refuse it; `accept`: the
+    /// readers take it (`says` is then part of convert's report). Default: readers refuse.
     command: Option<String>,
+    /// What `--repair` reports when it makes the file acceptable to the command.
+    repair: Option<String>,
 }
 
 fn bad_dir() -> PathBuf {
@@ -86,6 +90,7 @@ fn the_cli_refuses_every_bad_file_with_one_line_and_writes_nothing() {
         let args: Vec<&str> = match c.command.as_deref() {
             None => vec!["convert", input, "out.ply"],
             Some("simplify") => vec!["simplify", input, "--target-vertices", "3", "-o", "out.ply"],
+            Some("accept") => continue,
             Some(other) => panic!("unknown command {other} in expected.toml"),
         };
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_asperity"))
@@ -109,4 +114,53 @@ fn a_missing_file_is_an_io_error_naming_it() {
     assert!(matches!(err, Error::Io { .. }));
     assert!(err.to_string().contains("/nonexistent/mesh.off"));
     assert_eq!(err.exit_code(), 2);
+}
+
+#[test]
+fn tolerated_files_read_and_convert() {
+    let tmp = temp_dir();
+    for c in manifest().into_iter().filter(|c| c.command.as_deref() == Some("accept")) {
+        let input = bad_dir().join(&c.name);
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_asperity"))
+            .args(["convert", input.to_str().unwrap(), "out.ply"])
+            .current_dir(tmp.path())
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{}: {}", c.name, String::from_utf8_lossy(&out.stderr));
+        assert!(stdout.contains(&c.says), "{}: {stdout}", c.name);
+        let converted = io::read(&tmp.path().join("out.ply")).unwrap().mesh;
+        assert_eq!(converted, io::read(&input).unwrap().mesh, "{}", c.name);
+    }
+}
+
+#[test]
+fn repair_makes_every_repairable_file_simplify() {
+    let tmp = temp_dir();
+    for c in manifest().into_iter().filter(|c| c.repair.is_some()) {
+        let input = bad_dir().join(&c.name);
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_asperity"))
+            .args(["simplify", "--repair", input.to_str().unwrap(), "--target-vertices", "3", "-o", "out.ply"])
+            .current_dir(tmp.path())
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{}: {}", c.name, String::from_utf8_lossy(&out.stderr));
+        let said = c.repair.as_deref().unwrap();
+        assert!(stdout.lines().any(|l| l.starts_with("repair: ") && l.contains(said)), "{}: {stdout}", c.name);
+        let report = io::read(&tmp.path().join("out.ply")).unwrap().mesh.validate();
+        assert!(report.is_manifold() && report.inconsistently_oriented_edges == 0, "{}: {report:?}", c.name);
+        assert_eq!((report.degenerate_faces, report.unreferenced_vertices), (0, 0), "{}", c.name);
+        std::fs::remove_file(tmp.path().join("out.ply")).unwrap();
+    }
+}
+
+#[test]
+fn without_repair_topology_errors_say_how_to_fix_them() {
+    for c in manifest().into_iter().filter(|c| c.repair.is_some()) {
+        let mesh = io::read(&bad_dir().join(&c.name)).unwrap().mesh;
+        let err = asperity::hierarchy::build(&mesh, &Default::default()).unwrap_err();
+        assert!(matches!(err, Error::Topology { .. }), "{}: {err:?}", c.name);
+        assert!(err.to_string().contains("--repair"), "{}: {err}", c.name);
+    }
 }

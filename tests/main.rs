@@ -11,5 +11,6 @@ mod hierarchy;
 mod io_roundtrip;
 mod noise;
 mod render;
+mod repair;
 mod terrain;
 mod validation;

@@ -35,6 +35,8 @@ pub struct AnalyzeArgs {
     /// Allow the output to overwrite the input.
     #[arg(long)]
     force: bool,
+    #[command(flatten)]
+    repair: super::input::RepairArg,
 }
 
 fn stats(values: &[f64]) -> serde_json::Value {
@@ -49,7 +51,8 @@ pub fn run(args: AnalyzeArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     io::Format::from_path(&args.output)?;
     super::guard_overwrite(&args.input, &args.output, args.force)?;
-    let mut mesh = io::read(&args.input)?.mesh;
+    let input = super::input::read_input(&args.input, args.repair, ctx)?;
+    let mut mesh = input.read.mesh.clone();
     let options = AnalysisOptions {
         normal_weighting: args.normals,
         features: FeatureOptions {
@@ -74,6 +77,7 @@ pub fn run(args: AnalyzeArgs, ctx: super::Context) -> Result<()> {
             "gaussian_curvature": stats(&c.gaussian),
             "k1": stats(&c.k1),
             "k2": stats(&c.k2),
+            "repair": input.repair_json(),
             "milliseconds": super::millis(start),
         });
         println!("{}", serde_json::to_string_pretty(&report).expect("report serialises"));

@@ -7,7 +7,6 @@ use clap::Args;
 
 use crate::error::Result;
 use crate::hierarchy::compare::{METHODS, compare};
-use crate::io;
 
 #[derive(Debug, Args)]
 pub struct CompareArgs {
@@ -22,10 +21,12 @@ pub struct CompareArgs {
     /// Feature vertices our simplification keeps (they can stop it above the budget).
     #[arg(long, value_enum, default_value_t = super::simplify::KeepArg::Strong)]
     keep_features: super::simplify::KeepArg,
+    #[command(flatten)]
+    repair: super::input::RepairArg,
 }
 
 pub fn run(args: CompareArgs, ctx: super::Context) -> Result<()> {
-    let mesh = io::read(&args.input)?.mesh;
+    let mesh = super::input::read_input(&args.input, args.repair, ctx)?.read.mesh;
     let target = super::simplify::resolve_target(&args.target_vertices, mesh.vertex_count())?;
     let methods: Vec<&str> = args.methods.iter().map(String::as_str).collect();
     let rows = ctx

@@ -20,22 +20,22 @@ pub struct ConvertArgs {
     /// Allow the output to overwrite the input.
     #[arg(long)]
     force: bool,
+    #[command(flatten)]
+    repair: super::input::RepairArg,
 }
 
 pub fn run(args: ConvertArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     io::Format::from_path(&args.output)?;
     super::guard_overwrite(&args.input, &args.output, args.force)?;
-    let outcome = io::read(&args.input)?;
+    let input = super::input::read_input(&args.input, args.repair, ctx)?;
+    let outcome = &input.read;
     io::write(&outcome.mesh, &args.output, WriteOptions { ascii: args.ascii })?;
     let m = &outcome.mesh;
     let polygons = match outcome.triangulated_polygons {
         0 => String::new(),
         n => format!(", {n} polygons triangulated"),
     };
-    for note in &outcome.notes {
-        ctx.note(note);
-    }
     ctx.report(
         || {
             format!(
@@ -50,7 +50,7 @@ pub fn run(args: ConvertArgs, ctx: super::Context) -> Result<()> {
         || {
             serde_json::json!({
                 "input": args.input, "output": args.output, "vertices": m.vertex_count(), "triangles": m.face_count(),
-                "triangulated_polygons": outcome.triangulated_polygons, "notes": outcome.notes,
+                "triangulated_polygons": outcome.triangulated_polygons, "notes": outcome.notes, "repair": input.repair_json(),
                 "seconds": start.elapsed().as_secs_f64(),
             })
         },

@@ -33,6 +33,8 @@ pub struct DetailArgs {
     /// Allow the output to overwrite the input.
     #[arg(long)]
     force: bool,
+    #[command(flatten)]
+    repair: super::input::RepairArg,
 }
 
 pub fn run(args: DetailArgs, ctx: super::Context) -> Result<()> {
@@ -43,9 +45,12 @@ pub fn run(args: DetailArgs, ctx: super::Context) -> Result<()> {
         Some(path) => Recipe::read(path)?,
         None => Recipe::default(),
     };
-    let mesh = match builtin_mesh(&args.input)? {
-        Some(mesh) => mesh,
-        None => io::read(&args.input)?.mesh,
+    let (mesh, repair) = match builtin_mesh(&args.input)? {
+        Some(mesh) => (mesh, None),
+        None => {
+            let input = super::input::read_input(&args.input, args.repair, ctx)?;
+            (input.read.mesh, input.repair)
+        }
     };
     let simplify = args.hierarchy.options_over(mesh.vertex_count(), false, &recipe.hierarchy)?;
     let hierarchy = ctx
@@ -75,6 +80,7 @@ pub fn run(args: DetailArgs, ctx: super::Context) -> Result<()> {
             "positions_exact": exact,
             "faces_matched": matched,
             "steps": outcome.steps,
+            "repair": repair,
             "self_intersections": outcome.intersections,
             "seconds": seconds,
         });

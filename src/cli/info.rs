@@ -6,13 +6,14 @@ use clap::Args;
 use serde::Serialize;
 
 use crate::error::Result;
-use crate::io;
 use crate::mesh::ValidationReport;
 
 #[derive(Debug, Args)]
 pub struct InfoArgs {
     /// Mesh file (.obj, .ply, .off, .stl).
     file: PathBuf,
+    #[command(flatten)]
+    repair: super::input::RepairArg,
 }
 
 #[derive(Serialize)]
@@ -22,10 +23,12 @@ struct InfoReport<'a> {
     report: &'a ValidationReport,
     triangulated_polygons: usize,
     notes: &'a [String],
+    repair: Option<crate::mesh::RepairReport>,
 }
 
 pub fn run(args: InfoArgs, ctx: super::Context) -> Result<()> {
-    let outcome = io::read(&args.file)?;
+    let input = super::input::read_input(&args.file, args.repair, ctx)?;
+    let outcome = &input.read;
     let report = outcome.mesh.validate();
     if ctx.json {
         let full = InfoReport {
@@ -33,6 +36,7 @@ pub fn run(args: InfoArgs, ctx: super::Context) -> Result<()> {
             report: &report,
             triangulated_polygons: outcome.triangulated_polygons,
             notes: &outcome.notes,
+            repair: input.repair,
         };
         println!("{}", serde_json::to_string_pretty(&full).expect("report serialises"));
         return Ok(());
@@ -56,8 +60,5 @@ pub fn run(args: InfoArgs, ctx: super::Context) -> Result<()> {
     println!("  unreferenced vertices  {}", r.unreferenced_vertices);
     println!("  triangulated polygons  {}", outcome.triangulated_polygons);
     println!("  bounding box           {:?} .. {:?}", r.bbox_min, r.bbox_max);
-    for note in &outcome.notes {
-        println!("  note: {note}");
-    }
     Ok(())
 }

@@ -8,6 +8,7 @@ mod convert;
 mod demo;
 mod detail;
 mod info;
+mod input;
 mod noise;
 mod parse;
 mod render;

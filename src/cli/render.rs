@@ -8,7 +8,6 @@ use serde_json::json;
 
 use super::Context;
 use crate::error::Result;
-use crate::io;
 use crate::render::{ColorSource, Mode, RenderOptions, UpAxis, render};
 
 /// Camera and picture settings shared by `render` and the commands with `--preview`.
@@ -74,14 +73,17 @@ pub struct RenderArgs {
     output: PathBuf,
     #[command(flatten)]
     view: ViewArgs,
+    #[command(flatten)]
+    repair: super::input::RepairArg,
 }
 
 pub fn run(args: RenderArgs, ctx: Context) -> Result<()> {
     let start = Instant::now();
     super::require_extension(&args.output, &["png"])?;
-    let mesh = io::read(&args.input)?.mesh;
+    let input = super::input::read_input(&args.input, args.repair, ctx)?;
+    let mesh = &input.read.mesh;
     let options = args.view.options();
-    let picture = ctx.spin("render", &args.input.display().to_string(), || render(&mesh, &options))?;
+    let picture = ctx.spin("render", &args.input.display().to_string(), || render(mesh, &options))?;
     picture.write_png(&args.output)?;
     ctx.report(
         || {
@@ -99,7 +101,7 @@ pub fn run(args: RenderArgs, ctx: Context) -> Result<()> {
         || {
             json!({
                 "input": args.input, "output": args.output, "triangles": mesh.face_count(),
-                "width": picture.width, "height": picture.height, "mode": options.mode,
+                "width": picture.width, "height": picture.height, "mode": options.mode, "repair": input.repair_json(),
                 "seconds": start.elapsed().as_secs_f64(),
             })
         },

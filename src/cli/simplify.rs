@@ -166,6 +166,8 @@ pub struct SimplifyArgs {
     /// Allow an output to overwrite the input.
     #[arg(long)]
     force: bool,
+    #[command(flatten)]
+    repair: super::input::RepairArg,
 }
 
 pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
@@ -180,11 +182,12 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
         super::require_extension(p, &["glb"])?;
         super::guard_overwrite(&args.input, p, args.force)?;
     }
-    let mesh = io::read(&args.input)?.mesh;
+    let input = super::input::read_input(&args.input, args.repair, ctx)?;
+    let mesh = &input.read.mesh;
     let record = args.levels_out.is_some() || args.lod_out.is_some();
     let options = args.hierarchy.options(mesh.vertex_count(), record)?;
     let hierarchy = ctx
-        .spin("simplify", "building the 4-k hierarchy", || build(&mesh, &options))
+        .spin("simplify", "building the 4-k hierarchy", || build(mesh, &options))
         .map_err(|e| e.about_file(&args.input))?;
     let base = hierarchy.base_mesh().mesh;
     io::write(&base, &args.output, WriteOptions::default())?;
@@ -195,9 +198,9 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
         write_lods(&hierarchy, p)?;
     }
     if let Some(p) = &args.param_out {
-        io::write(&parametrization_mesh(&mesh, &hierarchy), p, WriteOptions::default())?;
+        io::write(&parametrization_mesh(mesh, &hierarchy), p, WriteOptions::default())?;
     }
-    let hausdorff = relative_hausdorff(&mesh, &base)?;
+    let hausdorff = relative_hausdorff(mesh, &base)?;
     if ctx.json {
         let report = json!({
             "input": args.input.display().to_string(),
@@ -209,6 +212,7 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
             "levels": hierarchy.steps(),
             "feature_vertices_kept": hierarchy.feature_vertices,
             "hausdorff": hausdorff,
+            "repair": input.repair_json(),
             "seconds": hierarchy.seconds,
             "total_seconds": start.elapsed().as_secs_f64(),
         });

@@ -14,7 +14,7 @@ use super::{Hierarchy, KeepFeatures, LevelMesh, Removal, SimplifyOptions, used_v
 use crate::analysis::{FaceGeometry, FeatureClass, classify, voting_tensors};
 use crate::error::{Error, Result};
 use crate::ffi::{self, CollapseOptions, HalfEdgeMesh, OpStatus};
-use crate::mesh::{Adjacency, Mesh, ValidationReport};
+use crate::mesh::{Adjacency, FaceId, Mesh, ValidationReport, is_degenerate_face};
 
 /// Builds the 4-k hierarchy of `mesh`: simplification down to the base domain, with the
 /// parametrization of every removed vertex.
@@ -115,7 +115,8 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
 }
 
 /// Input preparation (§4.3): the mesh must be a consistently oriented manifold triangle
-/// mesh (polygons are triangulated by the readers); degree-4 clusters are then made by
+/// mesh without degenerate faces or unreferenced vertices (polygons are triangulated by the
+/// readers; [`crate::mesh::repair`] fixes the rest); degree-4 clusters are then made by
 /// flips during simplification.
 fn prepare_input(mesh: &Mesh) -> Result<()> {
     mesh.check()?;
@@ -123,14 +124,35 @@ fn prepare_input(mesh: &Mesh) -> Result<()> {
         return Err(Error::InvalidInput("the mesh has no faces to simplify".into()));
     }
     let report = ValidationReport::of(mesh);
+    let refuse =
+        |msg: String, faces: Vec<FaceId>| Err(Error::Topology { msg: format!("{msg}; --repair fixes it"), faces });
     if !report.is_manifold() || report.inconsistently_oriented_edges > 0 {
-        return Err(Error::Topology {
-            msg: format!(
-                "the mesh is not an oriented manifold ({} non-manifold edges, {} non-manifold vertices, {} inconsistently oriented edges; `asperity info` lists them)",
-                report.non_manifold_edges, report.non_manifold_vertices, report.inconsistently_oriented_edges
+        let msg = format!(
+            "the mesh is not an oriented manifold ({} non-manifold edges, {} non-manifold vertices, {} inconsistently oriented edges); --repair splits and orients it where the surface is orientable",
+            report.non_manifold_edges, report.non_manifold_vertices, report.inconsistently_oriented_edges
+        );
+        return Err(Error::Topology { msg, faces: Vec::new() });
+    }
+    if report.degenerate_faces > 0 {
+        let faces: Vec<FaceId> =
+            (0..mesh.face_count()).filter(|&f| is_degenerate_face(mesh, f)).map(|f| FaceId(f as u32)).collect();
+        return refuse(
+            format!(
+                "{} face(s) have zero area, first face {} (the hierarchy cannot parametrize over them)",
+                faces.len(),
+                faces[0].0
             ),
-            faces: Vec::new(),
-        });
+            faces,
+        );
+    }
+    if report.unreferenced_vertices > 0 {
+        let mut used = vec![false; mesh.vertex_count()];
+        mesh.triangles.iter().flatten().for_each(|&v| used[v as usize] = true);
+        let first = used.iter().position(|u| !u).expect("an unreferenced vertex");
+        return refuse(
+            format!("{} vertex/vertices belong to no face, first vertex {first}", report.unreferenced_vertices),
+            Vec::new(),
+        );
     }
     Ok(())
 }

@@ -16,7 +16,8 @@ use crate::mesh::{Mesh, triangulate_polygon};
 
 /// Parses an OBJ file (materials are not read).
 pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
-    let text = decode(bytes, path)?;
+    let text = super::text::lone_cr_as_lf(decode(bytes, path)?);
+    let text = text.as_ref();
     let options =
         tobj::LoadOptions { single_index: false, triangulate: false, ignore_points: true, ignore_lines: true };
     let mut reader = std::io::Cursor::new(text.as_bytes());

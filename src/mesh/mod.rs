@@ -5,6 +5,7 @@
 mod adjacency;
 mod ids;
 pub mod primitives;
+mod repair;
 mod triangulate;
 mod validate;
 
@@ -14,8 +15,12 @@ use glam::DVec3;
 
 pub use adjacency::Adjacency;
 pub use ids::{FaceId, VertexId};
+pub use repair::{
+    RepairReport, drop_unreferenced_vertices, orient_faces, remove_degenerate_faces, remove_duplicate_faces, repair,
+    split_non_manifold_fans,
+};
 pub use triangulate::{triangulate_polygon, triangulate_polygons};
-pub use validate::ValidationReport;
+pub use validate::{ValidationReport, is_degenerate_face};
 
 use crate::error::{Error, Result};
 

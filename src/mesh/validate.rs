@@ -182,7 +182,7 @@ fn count_boundary_loops(boundary: &[HalfEdgeUse]) -> usize {
 
 /// A vertex is non-manifold when its face corners split into several fans, i.e. the
 /// corners cannot all be reached from one another across edges incident to the vertex.
-fn count_non_manifold_vertices(mesh: &Mesh, edges: &EdgeTable) -> usize {
+pub(crate) fn count_non_manifold_vertices(mesh: &Mesh, edges: &EdgeTable) -> usize {
     let corner = |face: u32, v: u32| -> usize {
         let t = mesh.triangles[face as usize];
         3 * face as usize + t.iter().position(|&x| x == v).expect("vertex of face")

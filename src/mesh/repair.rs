@@ -1,0 +1,301 @@
+//! Mesh repair for inputs the hierarchy cannot take as they are: degenerate and duplicate
+//! faces removed, non-manifold vertices and edges split, faces oriented consistently,
+//! unreferenced vertices dropped. Each stage is a pure function of the mesh, in input
+//! order, so a repair is deterministic.
+//!
+//! The splitting follows the usual corner-fan construction (Guéziec et al., "Cutting and
+//! stitching", IEEE TVCG 2001): the corners of a vertex are joined across the edges that
+//! have exactly two faces; every fan beyond the first gets its own copy of the vertex.
+//! Joined corners form paths or cycles around the vertex, so the result is manifold.
+
+use std::fmt;
+
+use rustc_hash::FxHashSet;
+use serde::Serialize;
+
+use super::Mesh;
+use super::validate::{DisjointSets, EdgeTable, HalfEdgeUse, is_degenerate_face};
+use crate::error::Result;
+
+/// What [`repair`] changed; all zero when the mesh needed nothing.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct RepairReport {
+    /// Faces removed for repeating a vertex or having (relatively) zero area.
+    pub degenerate_faces: usize,
+    /// Faces removed for using the same three vertices as an earlier face.
+    pub duplicate_faces: usize,
+    /// Vertices added by splitting non-manifold vertices and edges into manifold fans.
+    pub split_vertices: usize,
+    /// Faces whose orientation was reversed to agree with their neighbours.
+    pub flipped_faces: usize,
+    /// Vertices removed because no face used them.
+    pub unreferenced_vertices: usize,
+    /// Edges still traversed the same way by both faces: the surface is not orientable.
+    pub non_orientable_edges: usize,
+}
+
+impl RepairReport {
+    /// Whether the repair changed anything.
+    pub fn changed(&self) -> bool {
+        self.degenerate_faces
+            + self.duplicate_faces
+            + self.split_vertices
+            + self.flipped_faces
+            + self.unreferenced_vertices
+            > 0
+    }
+}
+
+impl fmt::Display for RepairReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let parts: Vec<String> = [
+            (self.degenerate_faces, "degenerate face", "removed"),
+            (self.duplicate_faces, "duplicate face", "removed"),
+            (self.split_vertices, "vertex", "added by splitting non-manifold fans"),
+            (self.flipped_faces, "face", "flipped"),
+            (self.unreferenced_vertices, "unreferenced vertex", "dropped"),
+            (self.non_orientable_edges, "non-orientable edge", "left"),
+        ]
+        .into_iter()
+        .filter(|(n, _, _)| *n > 0)
+        .map(|(n, what, done)| format!("{n} {} {done}", plural(what, n)))
+        .collect();
+        if parts.is_empty() { f.write_str("nothing to repair") } else { f.write_str(&parts.join(", ")) }
+    }
+}
+
+fn plural(word: &str, n: usize) -> String {
+    match (n, word.strip_suffix("ex")) {
+        (1, _) => word.to_string(),
+        (_, Some(stem)) => format!("{stem}ices"),
+        _ => format!("{word}s"),
+    }
+}
+
+/// Repairs `mesh` (which must pass [`Mesh::check`]) in five stages: degenerate faces,
+/// duplicate faces, non-manifold splitting, orientation, unreferenced vertices.
+/// Attributes follow their vertices; split copies carry the original's.
+///
+/// # Errors
+/// [`crate::Error::InvalidInput`] when the mesh fails [`Mesh::check`].
+pub fn repair(mesh: &Mesh) -> Result<(Mesh, RepairReport)> {
+    mesh.check()?;
+    let mut out = mesh.clone();
+    let mut report = RepairReport {
+        degenerate_faces: remove_degenerate_faces(&mut out),
+        duplicate_faces: remove_duplicate_faces(&mut out),
+        ..Default::default()
+    };
+    report.split_vertices = split_non_manifold_fans(&mut out);
+    (report.flipped_faces, report.non_orientable_edges) = orient_faces(&mut out);
+    report.unreferenced_vertices = drop_unreferenced_vertices(&mut out);
+    Ok((out, report))
+}
+
+/// Removes faces that repeat a vertex or have zero area relative to their longest edge.
+pub fn remove_degenerate_faces(mesh: &mut Mesh) -> usize {
+    let keep: Vec<bool> = (0..mesh.face_count()).map(|f| !is_degenerate_face(mesh, f)).collect();
+    retain_faces(mesh, &keep)
+}
+
+/// Removes every face whose vertex set equals an earlier face's, whatever its orientation.
+pub fn remove_duplicate_faces(mesh: &mut Mesh) -> usize {
+    let mut seen = FxHashSet::default();
+    let keep: Vec<bool> = mesh
+        .triangles
+        .iter()
+        .map(|t| {
+            let mut key = *t;
+            key.sort_unstable();
+            seen.insert(key)
+        })
+        .collect();
+    retain_faces(mesh, &keep)
+}
+
+fn retain_faces(mesh: &mut Mesh, keep: &[bool]) -> usize {
+    let before = mesh.triangles.len();
+    let mut k = keep.iter();
+    mesh.triangles.retain(|_| *k.next().expect("one flag per face"));
+    before - mesh.triangles.len()
+}
+
+/// Gives every fan of face corners around a vertex, beyond the first, its own vertex.
+/// Returns the number of vertices added. Faces repeating a vertex must be gone (see
+/// [`remove_degenerate_faces`]).
+///
+/// The first pass joins corners across two-face edges and, on an edge with more faces,
+/// across the first pair (in face order) that runs it in opposite directions, so that a
+/// fin glued to a surface comes off and the surface stays whole. Should that leave an
+/// edge with more than two faces (the fans meet again around a vertex), a second pass
+/// joins across two-face edges only, which always ends in a manifold: corners joined so
+/// form paths or cycles around each vertex.
+pub fn split_non_manifold_fans(mesh: &mut Mesh) -> usize {
+    let added_before = mesh.vertex_count();
+    for join_pairs in [true, false] {
+        let edges = EdgeTable::build(&mesh.triangles);
+        let corner = |face: u32, v: u32| -> usize {
+            let t = mesh.triangles[face as usize];
+            3 * face as usize + t.iter().position(|&x| x == v).expect("vertex of face")
+        };
+        if !join_pairs && edges.groups().all(|g| g.len() <= 2) && count_split_fans(mesh, &edges) == 0 {
+            break;
+        }
+        let mut fans = DisjointSets::new(mesh.triangles.len() * 3);
+        for group in edges.groups() {
+            let pair = match group.len() {
+                2 => Some((group[0], group[1])),
+                n if n > 2 && join_pairs => opposite_pair(group),
+                _ => None,
+            };
+            if let Some((a, b)) = pair {
+                fans.union(corner(a.face, a.lo), corner(b.face, b.lo));
+                fans.union(corner(a.face, a.hi), corner(b.face, b.hi));
+            }
+        }
+        // The first fan met (in face order) keeps the vertex; later fans get copies.
+        let mut first_fan = vec![u32::MAX; mesh.vertex_count()];
+        let mut copy_of_fan = rustc_hash::FxHashMap::default();
+        let mut copies: Vec<u32> = Vec::new();
+        for f in 0..mesh.triangles.len() {
+            for k in 0..3 {
+                let v = mesh.triangles[f][k];
+                let fan = fans.find(3 * f + k) as u32;
+                let slot = &mut first_fan[v as usize];
+                if *slot == u32::MAX {
+                    *slot = fan;
+                } else if *slot != fan {
+                    let next = (mesh.vertex_count() + copies.len()) as u32;
+                    let id = *copy_of_fan.entry(fan).or_insert_with(|| {
+                        copies.push(v);
+                        next
+                    });
+                    mesh.triangles[f][k] = id;
+                }
+            }
+        }
+        append_copies(mesh, &copies);
+    }
+    mesh.vertex_count() - added_before
+}
+
+/// The first two uses of an edge (in face order) that run it in opposite directions.
+fn opposite_pair(group: &[HalfEdgeUse]) -> Option<(HalfEdgeUse, HalfEdgeUse)> {
+    let first = group[0];
+    let partner = group[1..].iter().find(|u| u.forward != first.forward)?;
+    Some((first, *partner))
+}
+
+/// Vertices whose corners fall into more than one fan across two-face edges.
+fn count_split_fans(mesh: &Mesh, edges: &EdgeTable) -> usize {
+    super::validate::count_non_manifold_vertices(mesh, edges)
+}
+
+/// Appends copies of the vertices `sources`, attributes included.
+fn append_copies(mesh: &mut Mesh, sources: &[u32]) {
+    let pick = |v: &u32| *v as usize;
+    mesh.positions.extend(sources.iter().map(|v| mesh.positions[pick(v)]).collect::<Vec<_>>());
+    if let Some(normals) = &mut mesh.normals {
+        normals.extend(sources.iter().map(|v| normals[pick(v)]).collect::<Vec<_>>());
+    }
+    if let Some(colors) = &mut mesh.colors {
+        colors.extend(sources.iter().map(|v| colors[pick(v)]).collect::<Vec<_>>());
+    }
+    for values in mesh.scalars.values_mut() {
+        values.extend(sources.iter().map(|v| values[pick(v)]).collect::<Vec<_>>());
+    }
+}
+
+/// Orients each edge-connected component consistently by a breadth-first walk across
+/// two-face edges, then keeps the orientation most of the component's faces already had
+/// (so a consistently oriented mesh is untouched). Returns the faces flipped and the
+/// edges that still disagree (non-orientable surfaces such as a Möbius strip).
+pub fn orient_faces(mesh: &mut Mesh) -> (usize, usize) {
+    let faces = mesh.triangles.len();
+    let edges = EdgeTable::build(&mesh.triangles);
+    // Neighbours across two-face edges, with whether both faces run the edge the same way.
+    let mut links: Vec<Vec<(u32, bool)>> = vec![Vec::new(); faces];
+    for group in edges.groups().filter(|g| g.len() == 2) {
+        let (a, b) = (group[0], group[1]);
+        let same = a.forward == b.forward;
+        links[a.face as usize].push((b.face, same));
+        links[b.face as usize].push((a.face, same));
+    }
+    const UNSEEN: u8 = 2;
+    let mut flip = vec![UNSEEN; faces];
+    let mut conflicts = 0;
+    let mut flipped = 0;
+    let mut queue = std::collections::VecDeque::new();
+    for seed in 0..faces {
+        if flip[seed] != UNSEEN {
+            continue;
+        }
+        let mut component = vec![seed];
+        flip[seed] = 0;
+        queue.push_back(seed);
+        while let Some(f) = queue.pop_front() {
+            for &(g, same) in &links[f] {
+                let want = flip[f] ^ u8::from(same);
+                match flip[g as usize] {
+                    UNSEEN => {
+                        flip[g as usize] = want;
+                        component.push(g as usize);
+                        queue.push_back(g as usize);
+                    }
+                    have if have != want => conflicts += 1,
+                    _ => {}
+                }
+            }
+        }
+        let to_flip = component.iter().filter(|&&f| flip[f] == 1).count();
+        let invert = 2 * to_flip > component.len();
+        for &f in &component {
+            if (flip[f] == 1) != invert {
+                mesh.triangles[f].swap(1, 2);
+                flipped += 1;
+            }
+        }
+    }
+    // Each disagreeing edge was met from both of its faces.
+    (flipped, conflicts / 2)
+}
+
+/// Removes vertices no face uses, renumbering the rest in order (attributes follow).
+pub fn drop_unreferenced_vertices(mesh: &mut Mesh) -> usize {
+    let n = mesh.vertex_count();
+    let mut new_id = vec![u32::MAX; n];
+    for t in &mesh.triangles {
+        for &v in t {
+            new_id[v as usize] = 0;
+        }
+    }
+    let mut next = 0u32;
+    for id in new_id.iter_mut().filter(|id| **id == 0) {
+        *id = next;
+        next += 1;
+    }
+    if next as usize == n {
+        return 0;
+    }
+    for t in &mut mesh.triangles {
+        *t = t.map(|v| new_id[v as usize]);
+    }
+    fn keep<T: Copy>(values: &mut Vec<T>, new_id: &[u32]) {
+        let mut i = 0;
+        values.retain(|_| {
+            i += 1;
+            new_id[i - 1] != u32::MAX
+        });
+    }
+    keep(&mut mesh.positions, &new_id);
+    if let Some(v) = &mut mesh.normals {
+        keep(v, &new_id);
+    }
+    if let Some(v) = &mut mesh.colors {
+        keep(v, &new_id);
+    }
+    for v in mesh.scalars.values_mut() {
+        keep(v, &new_id);
+    }
+    n - next as usize
+}
