@@ -73,13 +73,27 @@ fn convert_writes_the_output_and_nothing_on_failure() {
 }
 
 #[test]
-fn convert_refuses_to_overwrite_its_input() {
+fn no_command_overwrites_its_input_without_force() {
     let tmp = temp_dir();
-    let original = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
-    std::fs::write(tmp.path().join("tri.off"), original).unwrap();
-    let out = asperity(&["convert", "tri.off", "tri.off"], tmp.path());
-    assert_one_line_error(&out, 2, &["--force"]);
-    assert_eq!(std::fs::read_to_string(tmp.path().join("tri.off")).unwrap(), original);
+    let original = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    std::fs::write(tmp.path().join("tet.off"), original).unwrap();
+    // Also through another spelling of the same path.
+    let runs: [&[&str]; 6] = [
+        &["convert", "tet.off", "tet.off"],
+        &["convert", "tet.off", "./tet.off", "--repair"],
+        &["analyze", "tet.off", "-o", "tet.off"],
+        &["simplify", "tet.off", "--target-vertices", "4", "-o", "tet.off"],
+        &["simplify", "tet.off", "--target-vertices", "4", "-o", "b.ply", "--param-out", "tet.off"],
+        &["detail", "tet.off", "-o", "tet.off"],
+    ];
+    for args in runs {
+        let out = asperity(args, tmp.path());
+        assert_one_line_error(&out, 2, &["--force"]);
+        assert_eq!(std::fs::read_to_string(tmp.path().join("tet.off")).unwrap(), original, "{args:?}");
+    }
+    assert_eq!(std::fs::read_dir(tmp.path()).unwrap().count(), 1, "nothing else written");
+    let out = asperity(&["convert", "tet.off", "tet.off", "--force"], tmp.path());
+    assert!(out.status.success());
 }
 
 #[test]

@@ -126,6 +126,9 @@ double symmetric_hausdorff(const TriangleArrays& a, const TriangleArrays& b,
   const SurfaceMesh mb = to_surface_mesh(b, "hausdorff (second mesh)", true);
   if (ma.number_of_faces() == 0 || mb.number_of_faces() == 0)
     throw NativeError("hausdorff: a mesh has no faces");
+  // CGAL 5.5 samples edges with its thread-local default generator (time-seeded), not
+  // with random_seed: seed that one too, so the distance is the same on every run.
+  CGAL::get_default_random() = CGAL::Random(seed);
   if (points_per_area_unit > 0.0) {
     return PMP::approximate_symmetric_Hausdorff_distance<CGAL::Sequential_tag>(
         ma, mb,

@@ -86,6 +86,7 @@ pub fn run() -> i32 {
         }
     };
     std::panic::set_hook(Box::new(|_| {}));
+    remove_partial_outputs_on_signals();
     let outcome = std::panic::catch_unwind(|| dispatch(cli)).unwrap_or_else(|payload| {
         let msg = payload
             .downcast_ref::<&str>()
@@ -101,6 +102,23 @@ pub fn run() -> i32 {
             e.exit_code()
         }
     }
+}
+
+/// On SIGINT, SIGTERM or SIGHUP: remove the temporary files of outputs being written, then
+/// die by the signal as the default action would (so shells see the usual status). Files
+/// already renamed into place are complete; no partial file is left.
+fn remove_partial_outputs_on_signals() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
+        return;
+    };
+    std::thread::spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            crate::io::abandon_pending_outputs();
+            let _ = signal_hook::low_level::emulate_default_handler(signal);
+            std::process::exit(128 + signal);
+        }
+    });
 }
 
 fn dispatch(cli: Cli) -> Result<()> {

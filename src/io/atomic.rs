@@ -1,9 +1,41 @@
 //! Atomic output: write to a temporary file in the destination folder, then rename.
 
 use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use crate::error::{Error, Result};
+
+/// Temporary files being written, so that an interrupted run can remove them.
+struct Pending {
+    paths: Vec<PathBuf>,
+    stopping: bool,
+}
+
+static PENDING: Mutex<Pending> = Mutex::new(Pending { paths: Vec::new(), stopping: false });
+
+fn pending() -> MutexGuard<'static, Pending> {
+    PENDING.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Removes every temporary output file being written and refuses new ones: for a handler
+/// of SIGINT/SIGTERM, which then ends the process, so that it leaves no partial file.
+pub fn abandon_pending_outputs() {
+    let mut pending = pending();
+    pending.stopping = true;
+    for path in pending.paths.drain(..) {
+        let _ = std::fs::remove_file(path);
+    }
+}
+
+/// Takes a temporary file's path off the pending list when the write ends, either way.
+struct Registered(PathBuf);
+
+impl Drop for Registered {
+    fn drop(&mut self) {
+        pending().paths.retain(|p| *p != self.0);
+    }
+}
 
 /// Writes through `fill` into a temporary file beside `path` and renames it over `path`
 /// once complete, so readers never see a partial file and a failure leaves nothing.
@@ -31,7 +63,17 @@ pub fn write_atomically(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::i
     if let Some(permissions) = std::fs::metadata(path).ok().map(|m| m.permissions()).or_else(default_permissions) {
         builder.permissions(permissions);
     }
-    let tmp = builder.tempfile_in(dir).map_err(|e| Error::io(path, e))?;
+    // Created and registered under the lock, so an interrupt sees every temporary file.
+    let (tmp, _registered) = {
+        let mut pending = pending();
+        if pending.stopping {
+            return Err(Error::io(path, std::io::Error::new(std::io::ErrorKind::Interrupted, "interrupted")));
+        }
+        let tmp = builder.tempfile_in(dir).map_err(|e| Error::io(path, e))?;
+        pending.paths.push(tmp.path().to_path_buf());
+        let registered = Registered(tmp.path().to_path_buf());
+        (tmp, registered)
+    };
     {
         let mut w = BufWriter::new(tmp.as_file());
         fill(&mut w).map_err(|e| Error::io(path, e))?;
