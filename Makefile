@@ -1,7 +1,7 @@
 # asperity — the two commands: `make demo` and `make test`.
 CARGO ?= cargo
 
-.PHONY: all deps build demo test clippy bench clean install-cpp
+.PHONY: all deps build demo test clippy bench clean install-cpp fuzz sanitize
 
 all: build
 
@@ -34,6 +34,16 @@ clippy: deps
 	@if $(CARGO) clippy --version >/dev/null 2>&1; then \
 	  $(CARGO) clippy --workspace --all-targets -- -D warnings; \
 	else echo "clippy not installed: lints skipped"; fi
+
+# Each cargo-fuzz target for FUZZ_SECONDS (default 60) on nightly; crashes are saved under
+# tests/data/fuzz/, which cargo test replays.
+fuzz: deps
+	./scripts/fuzz.sh
+
+# The C++ adapter and the test binaries with AddressSanitizer + UBSan, then the test suite
+# (own target folder: target/sanitize).
+sanitize: deps
+	./scripts/sanitize.sh
 
 bench: deps
 	$(CARGO) bench

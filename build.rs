@@ -42,16 +42,30 @@ fn main() {
     println!("cargo:rerun-if-changed=src/ffi.rs");
     require_system_packages();
 
-    // The C++ is always optimised: CGAL and OpenMesh are unusably slow in debug builds.
-    let native = cmake::Config::new("cpp").profile("Release").build_target("asperity_native").build();
+    // `make sanitize` sets ASPERITY_SANITIZE=address,undefined: the adapter and the bridge
+    // are instrumented and every binary of the crate links the sanitizer runtimes.
+    println!("cargo:rerun-if-env-changed=ASPERITY_SANITIZE");
+    let sanitize = std::env::var("ASPERITY_SANITIZE").unwrap_or_default();
 
-    cxx_build::bridge("src/ffi.rs")
+    // The C++ is always optimised: CGAL and OpenMesh are unusably slow in debug builds.
+    let native = cmake::Config::new("cpp")
+        .profile("Release")
+        .define("ASPERITY_SANITIZE", &sanitize)
+        .build_target("asperity_native")
+        .build();
+
+    let mut bridge = cxx_build::bridge("src/ffi.rs");
+    bridge
         .file("cpp/bridge/bridge.cc")
         .include("cpp/include")
         .std("c++17")
         .opt_level(2)
-        .flag_if_supported("-Wno-unused-parameter")
-        .compile("asperity_bridge");
+        .flag_if_supported("-Wno-unused-parameter");
+    if !sanitize.is_empty() {
+        bridge.flag(format!("-fsanitize={sanitize}")).flag("-fno-omit-frame-pointer").flag("-fno-sanitize-recover=all");
+        println!("cargo:rustc-link-arg=-fsanitize={sanitize}");
+    }
+    bridge.compile("asperity_bridge");
 
     // The static adapter after the bridge that calls it, then the shared libraries it needs.
     println!("cargo:rustc-link-search=native={}/build", native.display());

@@ -12,6 +12,8 @@ pub mod detail;
 pub mod error;
 #[allow(unsafe_code)]
 pub mod ffi;
+#[doc(hidden)]
+pub mod fuzzing;
 pub mod hierarchy;
 pub mod io;
 pub mod mesh;

@@ -7,6 +7,7 @@ mod common;
 mod detail;
 mod determinism;
 mod ffi;
+mod fuzz_regressions;
 mod glb;
 mod hierarchy;
 mod interrupt;

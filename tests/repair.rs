@@ -206,3 +206,60 @@ proptest! {
         prop_assert_eq!(again, out);
     }
 }
+
+mod loop_subdivision {
+    use asperity::mesh::loop_subdivide;
+    use asperity::mesh::primitives::{grid, icosphere, torus};
+
+    #[test]
+    fn every_step_quadruples_the_faces_and_keeps_the_topology() {
+        for mesh in [torus(2.0, 0.7, 12, 6), icosphere(1.0, 1), grid(5)] {
+            let before = mesh.validate();
+            let fine = loop_subdivide(&mesh).unwrap();
+            let after = fine.validate();
+            assert_eq!(fine.face_count(), 4 * mesh.face_count());
+            assert_eq!(fine.vertex_count(), mesh.vertex_count() + before.edges);
+            assert_eq!(
+                (after.euler, after.genus, after.boundary_loops),
+                (before.euler, before.genus, before.boundary_loops)
+            );
+            assert_eq!(after.inconsistently_oriented_edges, 0);
+        }
+    }
+
+    #[test]
+    fn a_flat_regular_grid_stays_flat_and_its_inner_vertices_stay_put() {
+        let mesh = grid(8);
+        let fine = loop_subdivide(&mesh).unwrap();
+        assert!(fine.positions.iter().all(|p| p.z == 0.0));
+        let (lo, hi) = mesh.bounding_box().unwrap();
+        for (v, p) in mesh.positions.iter().enumerate() {
+            let inner = p.x > lo.x && p.x < hi.x && p.y > lo.y && p.y < hi.y;
+            if inner {
+                assert!((fine.positions[v] - *p).length() < 1e-12, "vertex {v} moved");
+            }
+        }
+        assert_eq!(fine.bounding_box().unwrap(), (lo, hi), "the boundary curve keeps the square");
+    }
+
+    #[test]
+    fn a_sphere_stays_round_within_its_shrinkage() {
+        let mut mesh = icosphere(1.0, 2);
+        for _ in 0..2 {
+            mesh = loop_subdivide(&mesh).unwrap();
+        }
+        let radii: Vec<f64> = mesh.positions.iter().map(|p| p.length()).collect();
+        let (min, max) = radii.iter().fold((f64::MAX, 0.0f64), |(a, b), &r| (a.min(r), b.max(r)));
+        assert!(min > 0.95 && max <= 1.0 + 1e-12 && max - min < 0.01, "radii {min}..{max}");
+    }
+
+    #[test]
+    fn non_manifold_edges_are_refused() {
+        let mut mesh = icosphere(1.0, 0);
+        let [a, b, _] = mesh.triangles[0];
+        mesh.positions.push(glam::DVec3::splat(3.0));
+        mesh.triangles.push([a, b, 12]);
+        let err = loop_subdivide(&mesh).unwrap_err();
+        assert!(err.to_string().contains("has 3 faces"), "{err}");
+    }
+}

@@ -1,4 +1,5 @@
-//! Timing shared by the benchmarks.
+//! Timing and memory measures shared by the benchmarks (each uses a subset).
+#![allow(dead_code)]
 
 use std::time::Instant;
 
@@ -12,4 +13,17 @@ pub fn best_of(mut f: impl FnMut()) -> f64 {
             start.elapsed().as_secs_f64()
         })
         .fold(f64::INFINITY, f64::min)
+}
+
+/// The process's peak resident set size (VmHWM) in KiB, on Linux.
+pub fn peak_rss_kib() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
+}
+
+/// Resets the peak resident set size to the current one (Linux: `5` into clear_refs), so
+/// that a later [`peak_rss_kib`] measures one stage; false where the kernel refuses.
+pub fn reset_peak_rss() -> bool {
+    std::fs::write("/proc/self/clear_refs", "5").is_ok()
 }

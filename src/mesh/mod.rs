@@ -4,6 +4,7 @@
 
 mod adjacency;
 mod ids;
+mod loop_subdivision;
 pub mod primitives;
 mod repair;
 mod triangulate;
@@ -15,6 +16,7 @@ use glam::DVec3;
 
 pub use adjacency::Adjacency;
 pub use ids::{FaceId, VertexId};
+pub use loop_subdivision::loop_subdivide;
 pub use repair::{
     RepairReport, drop_unreferenced_vertices, orient_faces, remove_degenerate_faces, remove_duplicate_faces, repair,
     split_non_manifold_fans,

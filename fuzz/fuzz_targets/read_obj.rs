@@ -1,0 +1,3 @@
+//! The OBJ reader on arbitrary bytes (see `asperity::fuzzing::read`).
+#![no_main]
+libfuzzer_sys::fuzz_target!(|data: &[u8]| asperity::fuzzing::read(asperity::io::Format::Obj, data));
