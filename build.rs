@@ -67,9 +67,15 @@ fn main() {
     }
     bridge.compile("asperity_bridge");
 
-    // The static adapter after the bridge that calls it, then the shared libraries it needs.
+    // The static adapter after the bridge that calls it, then the shared libraries it needs
+    // (the sanitizer runtimes first: ASan wants to come first among the libraries loaded).
     println!("cargo:rustc-link-search=native={}/build", native.display());
     println!("cargo:rustc-link-lib=static=asperity_native");
+    for (sanitizer, runtime) in [("address", "asan"), ("undefined", "ubsan")] {
+        if sanitize.split(',').any(|s| s.trim() == sanitizer) {
+            println!("cargo:rustc-link-lib=dylib={runtime}");
+        }
+    }
     for lib in ["OpenMeshTools", "OpenMeshCore", "gmp", "mpfr", "stdc++"] {
         println!("cargo:rustc-link-lib=dylib={lib}");
     }
