@@ -272,10 +272,44 @@ fn area_weighted_normals(mesh: &Mesh) -> Vec<[f32; 3]> {
     normals.iter().map(|n| n.try_normalize().unwrap_or(DVec3::Z).as_vec3().to_array()).collect()
 }
 
+/// The GLB container header (magic, version, total length) checked before the `gltf`
+/// crate sees it: gltf 1.4.1 subtracts the header size from the declared length unchecked
+/// and panics on a length below 12 (found by `make fuzz`, tests/data/fuzz/read_glb).
+fn check_glb_header(bytes: &[u8], path: &Path) -> Result<()> {
+    use crate::error::Location;
+    if !bytes.starts_with(b"glTF") {
+        return Ok(()); // JSON glTF, or not glTF at all: the crate says which
+    }
+    let word = |at: usize| bytes.get(at..at + 4).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+    let (Some(version), Some(length)) = (word(4), word(8)) else {
+        return Err(Error::parse(
+            path,
+            Location::File,
+            format!("GLB: the file ends inside its 12-byte header ({} bytes)", bytes.len()),
+        ));
+    };
+    if version != 2 {
+        return Err(Error::parse(path, Location::Byte(4), format!("GLB: version {version} (only glTF 2.0 is read)")));
+    }
+    const HEADERS: u32 = 12 + 8; // file header and the JSON chunk's header
+    if length < HEADERS || length as usize > bytes.len() {
+        return Err(Error::parse(
+            path,
+            Location::Byte(8),
+            format!(
+                "GLB: the header declares {length} bytes but the file has {} (at least {HEADERS} needed)",
+                bytes.len()
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Reads every triangle primitive of the default scene (or of all meshes without scenes),
 /// node transforms applied, into one mesh with normals and colours when all parts have them.
 pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
     use crate::error::Location;
+    check_glb_header(bytes, path)?;
     let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| Error::parse(path, Location::File, format!("glTF: {e}")))?;
     let blob = gltf.blob.as_deref();
     let mut out = Mesh::default();
