@@ -5,6 +5,8 @@
 //!
 //! `cargo bench --bench hierarchy` (`-- --quick` uses the 327 k-triangle sphere).
 
+mod common;
+
 use std::time::Instant;
 
 use asperity::Mesh;
@@ -27,18 +29,12 @@ fn displaced_sphere(level: u32) -> Mesh {
     mesh
 }
 
-fn peak_rss_kib() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    line.split_whitespace().nth(1)?.parse().ok()
-}
-
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     let mesh = displaced_sphere(if quick { 7 } else { 8 });
     let target = mesh.vertex_count() / 100;
     println!("mesh: {} vertices, {} tris; target {} vertices", mesh.vertex_count(), mesh.face_count(), target);
-    let before = peak_rss_kib().unwrap_or(0);
+    let before = common::peak_rss_kib().unwrap_or(0);
 
     let start = Instant::now();
     let options =
@@ -49,7 +45,7 @@ fn main() {
     let mut refiner = Refiner::new(&hierarchy).expect("refiner");
     refiner.refine_all().expect("refine");
     let refine_s = start.elapsed().as_secs_f64();
-    let peak = peak_rss_kib().unwrap_or(0);
+    let peak = common::peak_rss_kib().unwrap_or(0);
     println!(
         "asperity: build {:.2} s ({} levels, {} base vertices), refine {:.2} s (refine/build {:.2}); peak RSS {} MiB, {:.0} bytes per input triangle over the input",
         build_s,

@@ -146,8 +146,7 @@ fn prepare_input(mesh: &Mesh) -> Result<()> {
         );
     }
     if report.unreferenced_vertices > 0 {
-        let mut used = vec![false; mesh.vertex_count()];
-        mesh.triangles.iter().flatten().for_each(|&v| used[v as usize] = true);
+        let used = used_vertices(mesh.vertex_count(), &mesh.triangles);
         let first = used.iter().position(|u| !u).expect("an unreferenced vertex");
         return refuse(
             format!("{} vertex/vertices belong to no face, first vertex {first}", report.unreferenced_vertices),

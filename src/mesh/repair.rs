@@ -14,7 +14,7 @@ use rustc_hash::FxHashSet;
 use serde::Serialize;
 
 use super::Mesh;
-use super::validate::{DisjointSets, EdgeTable, HalfEdgeUse, is_degenerate_face};
+use super::validate::{DisjointSets, EdgeTable, HalfEdgeUse, count_non_manifold_vertices, is_degenerate_face};
 use crate::error::Result;
 
 /// What [`repair`] changed; all zero when the mesh needed nothing.
@@ -138,7 +138,7 @@ pub fn split_non_manifold_fans(mesh: &mut Mesh) -> usize {
             let t = mesh.triangles[face as usize];
             3 * face as usize + t.iter().position(|&x| x == v).expect("vertex of face")
         };
-        if !join_pairs && edges.groups().all(|g| g.len() <= 2) && count_split_fans(mesh, &edges) == 0 {
+        if !join_pairs && edges.groups().all(|g| g.len() <= 2) && count_non_manifold_vertices(mesh, &edges) == 0 {
             break;
         }
         let mut fans = DisjointSets::new(mesh.triangles.len() * 3);
@@ -184,11 +184,6 @@ fn opposite_pair(group: &[HalfEdgeUse]) -> Option<(HalfEdgeUse, HalfEdgeUse)> {
     let first = group[0];
     let partner = group[1..].iter().find(|u| u.forward != first.forward)?;
     Some((first, *partner))
-}
-
-/// Vertices whose corners fall into more than one fan across two-face edges.
-fn count_split_fans(mesh: &Mesh, edges: &EdgeTable) -> usize {
-    super::validate::count_non_manifold_vertices(mesh, edges)
 }
 
 /// Appends copies of the vertices `sources`, attributes included.
