@@ -10,7 +10,7 @@ use std::hint::black_box;
 
 use common::best_of;
 
-use asperity::noise::{Fractal, FractalKind, NoiseField, NoiseKind, NoiseSpec, Perlin, hash::Stream};
+use asperity::noise::{Fractal, FractalKind, NoiseField, NoiseKind, NoiseSpec, Perlin, ScaledPerlin, hash::Stream};
 use glam::DVec3;
 use noise::{Fbm, MultiFractal, NoiseFn};
 
@@ -59,7 +59,7 @@ fn main() {
         let mut s = 0.0;
         for p in &few {
             let p = black_box(*p);
-            s += fbm.eval(p.x, |f| ours.sample3(p * f));
+            s += fbm.eval(p.x, ScaledPerlin { perlin: &ours, point: p });
         }
         black_box(s);
     });

@@ -13,7 +13,9 @@ use super::level::{BoxFrame, LevelView};
 use super::recipe::{Attenuation, Direction, NoiseParams, OperatorKind};
 use crate::error::Result;
 use crate::noise::hash::{Stream, derive_seed, hash_coords};
-use crate::noise::{Fractal, FractalKind, Frame, GaborParams, NoiseField, NoiseKind, NoiseSpec, fill_parallel};
+use crate::noise::{
+    Fractal, FractalKind, Frame, GaborParams, NoiseField, NoiseKind, NoiseSpec, ScaledPerlin, fill_parallel,
+};
 
 /// A noise evaluated on a level in the recipe's units: coordinates scaled so that
 /// `frequency` features span the bounding-box diagonal.
@@ -69,7 +71,7 @@ impl LevelNoise {
             NoiseField::Perlin { basis, fractal: Some(f) } if lacunarity_shift != 0.0 => {
                 let q = (p - self.origin) * self.scale;
                 let shifted = Fractal { lacunarity: (f.lacunarity + lacunarity_shift).max(1.0), ..*f };
-                shifted.eval(q.x, |s| basis.sample3(q * s))
+                shifted.eval(q.x, ScaledPerlin { perlin: basis, point: q })
             }
             _ => self.at(p, frame),
         }

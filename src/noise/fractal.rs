@@ -2,7 +2,10 @@
 //! turbulence (eq. 4.10), marble (eq. 4.11), multifractal (eq. 4.12) and wood (eq. 4.13),
 //! with octaves, lacunarity (frequency ratio) and gain (amplitude ratio).
 
+use glam::DVec3;
 use serde::{Deserialize, Serialize};
+
+use super::Perlin;
 
 /// Which fractal sum.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
@@ -54,25 +57,24 @@ impl Fractal {
         Fractal { lacunarity: 1.1 + (l + 1.0) / 10.0, gain: 0.8 / (l + 1.0), ..self }
     }
 
-    /// Evaluates the sum. `basis(s)` must return the basis noise at the point scaled by
-    /// `s`; `x` is the point's first coordinate (used by marble).
-    #[inline]
-    pub fn eval(&self, x: f64, basis: impl Fn(f64) -> f64) -> f64 {
+    /// Evaluates the sum. `basis.at(s)` must return the basis noise at the point scaled by
+    /// `s` (a closure `|s| …` will do); `x` is the point's first coordinate (used by marble).
+    #[inline(always)]
+    pub fn eval(&self, x: f64, basis: impl Basis) -> f64 {
         let octaves = self.octaves.max(1);
         match self.kind {
             FractalKind::Fbm => self.fbm(octaves, 1.0, &basis),
             FractalKind::Turbulence => self.turbulence(octaves, 1.0, &basis),
             FractalKind::Marble => (((x + 4.0 + 4.0 * self.turbulence(octaves, 0.5, &basis)).sin()) + 1.0) * 0.5,
             FractalKind::Multifractal => {
-                let (mut sum, mut weight, mut frequency, mut amplitude) = (0.0, 1.0, 1.0, 1.0);
-                for _ in 0..octaves {
-                    let signal = (self.offset - basis(frequency)).abs();
+                let (mut sum, mut weight, mut amplitude) = (0.0, 1.0, 1.0);
+                self.octave_values(octaves, 1.0, &basis, |n| {
+                    let signal = (self.offset - n).abs();
                     let term = signal * signal * amplitude * weight;
                     sum += term;
                     weight = term.clamp(0.0, 1.0);
-                    frequency *= self.lacunarity;
                     amplitude *= self.gain;
-                }
+                });
                 sum
             }
             FractalKind::Wood => {
@@ -82,23 +84,82 @@ impl Fractal {
         }
     }
 
-    fn fbm(&self, octaves: u32, base: f64, basis: &impl Fn(f64) -> f64) -> f64 {
-        let (mut sum, mut frequency, mut amplitude) = (0.0, base, 1.0);
-        for _ in 0..octaves {
-            sum += amplitude * basis(frequency);
-            frequency *= self.lacunarity;
-            amplitude *= self.gain;
+    /// Calls `consume` with the basis at frequencies base·λⁱ, i = 0..octaves, in order.
+    /// The frequencies are the running product (as a plain loop would compute them) and
+    /// the basis is asked two octaves at a time, so the two evaluations overlap.
+    #[inline(always)]
+    fn octave_values(&self, octaves: u32, base: f64, basis: &impl Basis, mut consume: impl FnMut(f64)) {
+        let mut frequency = base;
+        for _ in 0..octaves / 2 {
+            let pair = [frequency, frequency * self.lacunarity];
+            frequency = pair[1] * self.lacunarity;
+            let [a, b] = basis.at2(pair);
+            consume(a);
+            consume(b);
         }
+        if octaves % 2 == 1 {
+            consume(basis.at(frequency));
+        }
+    }
+
+    #[inline(always)]
+    fn fbm(&self, octaves: u32, base: f64, basis: &impl Basis) -> f64 {
+        let (mut sum, mut amplitude) = (0.0, 1.0);
+        self.octave_values(octaves, base, basis, |n| {
+            sum += amplitude * n;
+            amplitude *= self.gain;
+        });
         sum
     }
 
-    fn turbulence(&self, octaves: u32, base: f64, basis: &impl Fn(f64) -> f64) -> f64 {
-        let (mut sum, mut frequency, mut amplitude) = (0.0, base, 1.0);
-        for _ in 0..octaves {
-            sum += amplitude * basis(frequency).abs();
-            frequency *= self.lacunarity;
+    #[inline(always)]
+    fn turbulence(&self, octaves: u32, base: f64, basis: &impl Basis) -> f64 {
+        let (mut sum, mut amplitude) = (0.0, 1.0);
+        self.octave_values(octaves, base, basis, |n| {
+            sum += amplitude * n.abs();
             amplitude *= self.gain;
-        }
+        });
         sum
+    }
+}
+
+/// The basis noise of a fractal sum as a function of the frequency: the point scaled by
+/// `s`. Every `Fn(f64) -> f64` is one; [`ScaledPerlin`] also evaluates two frequencies
+/// at once.
+pub trait Basis {
+    /// The basis at frequency `s`.
+    fn at(&self, s: f64) -> f64;
+    /// The basis at two frequencies; must equal `[self.at(s[0]), self.at(s[1])]` bit for bit.
+    #[inline(always)]
+    fn at2(&self, s: [f64; 2]) -> [f64; 2] {
+        [self.at(s[0]), self.at(s[1])]
+    }
+}
+
+impl<F: Fn(f64) -> f64> Basis for F {
+    #[inline(always)]
+    fn at(&self, s: f64) -> f64 {
+        self(s)
+    }
+}
+
+/// 3D Perlin noise at a point scaled by the frequency, two frequencies per evaluation
+/// through [`Perlin::sample3_lanes`].
+#[derive(Debug, Clone, Copy)]
+pub struct ScaledPerlin<'a> {
+    /// The basis noise.
+    pub perlin: &'a Perlin,
+    /// The point.
+    pub point: DVec3,
+}
+
+impl Basis for ScaledPerlin<'_> {
+    #[inline(always)]
+    fn at(&self, s: f64) -> f64 {
+        self.perlin.sample3(self.point * s)
+    }
+    #[inline(always)]
+    fn at2(&self, s: [f64; 2]) -> [f64; 2] {
+        self.perlin.sample3_lanes([self.point * s[0], self.point * s[1]])
     }
 }

@@ -12,7 +12,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-pub use fractal::{Fractal, FractalKind};
+pub use fractal::{Basis, Fractal, FractalKind, ScaledPerlin};
 pub use gabor::{Frame, Gabor, GaborParams};
 pub use perlin::Perlin;
 
@@ -105,7 +105,7 @@ impl NoiseField {
     pub fn sample3(&self, p: DVec3, frame: Frame) -> f64 {
         match self {
             NoiseField::Perlin { basis, fractal: None } => basis.sample3(p),
-            NoiseField::Perlin { basis, fractal: Some(f) } => f.eval(p.x, |s| basis.sample3(p * s)),
+            NoiseField::Perlin { basis, fractal: Some(f) } => f.eval(p.x, ScaledPerlin { perlin: basis, point: p }),
             NoiseField::Gabor(g) => g.sample3(p, frame),
         }
     }
