@@ -90,6 +90,12 @@ mod sys {
         fn openmesh_decimate(positions: &[f64], triangles: &[u32], target_vertices: usize) -> Result<DecimatedMesh>;
         fn cgal_decimate(positions: &[f64], triangles: &[u32], target_vertices: usize) -> Result<DecimatedMesh>;
         fn self_intersections(positions: &[f64], triangles: &[u32]) -> Result<Vec<u32>>;
+        fn added_triangle_intersections(
+            positions: &[f64],
+            kept: &[u32],
+            added: &[u32],
+            added_pairs: bool,
+        ) -> Result<Vec<u32>>;
     }
 }
 
@@ -463,6 +469,50 @@ pub fn self_intersections(mesh: &Mesh) -> Result<Vec<[FaceId; 2]>> {
     mesh.check()?;
     let flat = sys::self_intersections(flat_positions(&mesh.positions), mesh.triangles.as_flattened())?;
     Ok(flat.chunks_exact(2).map(|p| [FaceId(p[0]), FaceId(p[1])]).collect())
+}
+
+/// The intersecting pairs of triangles with at least one from `added`, all over
+/// `positions`, sorted: index k < `kept.len()` names `kept[k]`, and `kept.len() + i` names
+/// `added[i]`. Triangles sharing a vertex or an edge intersect only if they overlap beyond
+/// it (the rules of CGAL's `self_intersections`, with CGAL's exact predicates); pairs
+/// within `kept` are not tested, so checking a planned retriangulation against the surface
+/// it joins costs one pass over `kept` plus work proportional to the retriangulation.
+///
+/// # Errors
+/// [`Error::Native`] for an out-of-range index or a non-finite coordinate.
+pub fn added_triangle_intersections(
+    positions: &[DVec3],
+    kept: &[[u32; 3]],
+    added: &[[u32; 3]],
+) -> Result<Vec<[u32; 2]>> {
+    use rayon::prelude::*;
+    // The kept triangles in chunks across threads, each call with all the added ones; the
+    // first call also tests the added ones against each other.
+    const CHUNK: usize = 1 << 16;
+    let chunks: Vec<(usize, &[[u32; 3]])> = kept.chunks(CHUNK).enumerate().map(|(c, k)| (c * CHUNK, k)).collect();
+    let chunks = if chunks.is_empty() { vec![(0, kept)] } else { chunks };
+    let found: Vec<Vec<u32>> = chunks
+        .par_iter()
+        .map(|&(start, part)| {
+            let flat = flat_positions(positions);
+            sys::added_triangle_intersections(flat, part.as_flattened(), added.as_flattened(), start == 0)
+                .map_err(Error::from)
+                .map(|pairs| {
+                    // Chunk-local indices to indices over all of `kept`, then `added`.
+                    let remap = |t: u32| {
+                        if (t as usize) < part.len() {
+                            t + start as u32
+                        } else {
+                            t - part.len() as u32 + kept.len() as u32
+                        }
+                    };
+                    pairs.into_iter().map(remap).collect()
+                })
+        })
+        .collect::<Result<_>>()?;
+    let mut pairs: Vec<[u32; 2]> = found.iter().flat_map(|f| f.chunks_exact(2).map(|p| [p[0], p[1]])).collect();
+    pairs.sort_unstable();
+    Ok(pairs)
 }
 
 /// OpenMesh's `DecimaterT` with `ModQuadricT` down to `target_vertices` (a reference for

@@ -173,6 +173,73 @@ fn self_intersections_are_found_between_crossing_faces_only() {
     assert!(pairs.iter().all(|[f, g]| f.0 < nf && g.0 >= nf && f < g));
 }
 
+/// `added_triangle_intersections` with the faces `f` where `is_added(f)` added and the rest
+/// kept must report exactly the pairs of CGAL's `self_intersections` with an added member,
+/// renumbered (kept faces first, then added ones, each in order).
+fn assert_added_pairs_match(mesh: &Mesh, is_added: impl Fn(usize) -> bool) {
+    let (mut kept, mut added, mut index) = (Vec::new(), Vec::new(), Vec::new());
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        if is_added(f) {
+            index.push((true, added.len()));
+            added.push(*t);
+        } else {
+            index.push((false, kept.len()));
+            kept.push(*t);
+        }
+    }
+    let renumber = |f: u32| match index[f as usize] {
+        (false, k) => k as u32,
+        (true, a) => (kept.len() + a) as u32,
+    };
+    let mut expected: Vec<[u32; 2]> = ffi::self_intersections(mesh)
+        .unwrap()
+        .into_iter()
+        .filter(|[f, g]| is_added(f.index()) || is_added(g.index()))
+        .map(|[f, g]| {
+            let (a, b) = (renumber(f.0), renumber(g.0));
+            [a.min(b), a.max(b)]
+        })
+        .collect();
+    expected.sort_unstable();
+    assert_eq!(ffi::added_triangle_intersections(&mesh.positions, &kept, &added).unwrap(), expected);
+}
+
+#[test]
+fn added_triangle_intersections_agree_with_cgal_self_intersections() {
+    // Two spheres crossing: many pairs with no shared vertex.
+    let mut spheres = icosphere(1.0, 2);
+    let small = icosphere(0.7, 2);
+    let offset = spheres.vertex_count() as u32;
+    spheres.positions.extend(small.positions.iter().map(|p| *p + DVec3::new(0.9, 0.1, 0.05)));
+    spheres.triangles.extend(small.triangles.iter().map(|t| t.map(|v| v + offset)));
+    // A sphere with one vertex pushed through to the far side: its fan crosses faces it
+    // shares a vertex with and faces it shares nothing with.
+    let mut pierced = icosphere(1.0, 2);
+    pierced.positions[0] = -pierced.positions[0] * 1.3;
+    // A flat grid with an interior vertex moved across its neighbours in the plane:
+    // coplanar overlaps across shared edges and around shared vertices.
+    let mut folded = grid(4);
+    let centre = folded.positions.iter().position(|p| (p.x - 0.5).abs() < 1e-9 && (p.y - 0.5).abs() < 1e-9);
+    let centre = centre.expect("a grid vertex at the centre");
+    folded.positions[centre] += DVec3::new(0.4, 0.3, 0.0);
+    for mesh in [&spheres, &pierced, &folded] {
+        assert!(!ffi::self_intersections(mesh).unwrap().is_empty());
+        assert_added_pairs_match(mesh, |f| f % 3 == 0);
+        assert_added_pairs_match(mesh, |f| f % 2 == 1);
+        assert_added_pairs_match(mesh, |_| true);
+        assert!(ffi::added_triangle_intersections(&mesh.positions, &mesh.triangles, &[]).unwrap().is_empty());
+    }
+    // More kept faces than one call takes (the kept side is split across threads).
+    let mut large = icosphere(1.0, 6);
+    let offset = large.vertex_count() as u32;
+    large.positions.extend(small.positions.iter().map(|p| *p * 0.5 + DVec3::new(0.95, 0.0, 0.0)));
+    large.triangles.extend(small.triangles.iter().map(|t| t.map(|v| v + offset)));
+    let first_small = large.face_count() - small.face_count();
+    assert_added_pairs_match(&large, |f| f >= first_small);
+    // Bad indices are errors, not aborts.
+    assert!(matches!(ffi::added_triangle_intersections(&[DVec3::ZERO], &[], &[[0, 0, 7]]), Err(Error::Native(_))));
+}
+
 #[test]
 fn native_errors_are_results_not_aborts() {
     // A face CGAL refuses (repeated vertex) surfaces as an error.

@@ -68,6 +68,9 @@ rust::Vec<double> point_distances(rust::Slice<const double> points, rust::Slice<
                                   rust::Slice<const std::uint32_t> triangles);
 rust::Vec<std::uint32_t> self_intersections(rust::Slice<const double> positions,
                                             rust::Slice<const std::uint32_t> triangles);
+rust::Vec<std::uint32_t> added_triangle_intersections(rust::Slice<const double> positions,
+                                                      rust::Slice<const std::uint32_t> kept,
+                                                      rust::Slice<const std::uint32_t> added, bool added_pairs);
 
 }  // namespace ffi
 }  // namespace asperity

@@ -52,6 +52,7 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
         let rings = Rings::fetch(&store, &live, n)?;
         let mut order = candidate_order(&live, &rings, &kept, geometry, &rules);
         let level_faces = if options.prevent_intersections { exported_triangles(&store)? } else { Vec::new() };
+        let mut checked = CheckedPlans::default();
         let plans = loop {
             let mut rings = rings.clone();
             let plans =
@@ -62,7 +63,8 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
             if !options.prevent_intersections || plans.is_empty() {
                 break plans;
             }
-            let offending = intersecting_plans(&mesh.positions, &level_faces, &plans)?;
+            let offending = intersecting_plans(&mesh.positions, &level_faces, &plans, &checked)?;
+            checked = plans.iter().map(|p| (p.vertex, p.triangles.clone())).collect();
             if offending.is_empty() {
                 break plans;
             }
@@ -242,31 +244,48 @@ fn select_clusters(
     Ok(plans)
 }
 
-/// The planned vertices whose new triangles would intersect the level's surface (CGAL's
-/// self-intersection test on the level as planned; intersections already in the input
-/// are not counted).
+/// The new triangles of each plan checked by the last round of [`intersecting_plans`].
+type CheckedPlans = rustc_hash::FxHashMap<u32, Vec<[u32; 3]>>;
+
+/// The planned vertices whose new triangles would intersect the level's surface as
+/// planned (CGAL's exact predicates; intersections already in the input are not counted).
+///
+/// After a round that dropped offending vertices, only what changed is checked again:
+/// plans with the same vertex and triangles as in `checked` join the kept surface, and
+/// faces that the last round removed but this one keeps are checked like new triangles.
+/// Every pair of triangles with at least one changed member is tested, and the pairs among
+/// unchanged ones were tested last round.
 fn intersecting_plans(
     positions: &[glam::DVec3],
     level_faces: &[[u32; 3]],
     plans: &[ClusterPlan],
+    checked: &CheckedPlans,
 ) -> Result<rustc_hash::FxHashSet<u32>> {
     let removed: rustc_hash::FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
-    let mut faces: Vec<[u32; 3]> =
-        level_faces.iter().filter(|t| !t.iter().any(|v| removed.contains(v))).copied().collect();
-    let old = faces.len();
-    let mut owner = Vec::new();
-    for plan in plans {
-        faces.extend(&plan.triangles);
-        owner.extend(std::iter::repeat_n(plan.vertex, plan.triangles.len()));
-    }
-    let planned = Mesh::new(positions.to_vec(), faces);
-    let mut offending = rustc_hash::FxHashSet::default();
-    for [a, b] in ffi::self_intersections(&planned)? {
-        for f in [a, b] {
-            if f.index() >= old {
-                offending.insert(owner[f.index() - old]);
-            }
+    let (mut kept, mut kept_owner, mut added, mut added_owner) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for t in level_faces {
+        if t.iter().any(|v| removed.contains(v)) {
+            continue;
         }
+        if t.iter().any(|v| checked.contains_key(v)) {
+            added.push(*t);
+            added_owner.push(None);
+        } else {
+            kept.push(*t);
+            kept_owner.push(None);
+        }
+    }
+    for plan in plans {
+        let unchanged = checked.get(&plan.vertex).is_some_and(|t| *t == plan.triangles);
+        let (faces, owners) = if unchanged { (&mut kept, &mut kept_owner) } else { (&mut added, &mut added_owner) };
+        faces.extend(&plan.triangles);
+        owners.extend(std::iter::repeat_n(Some(plan.vertex), plan.triangles.len()));
+    }
+    let owner =
+        |t: u32| if (t as usize) < kept.len() { kept_owner[t as usize] } else { added_owner[t as usize - kept.len()] };
+    let mut offending = rustc_hash::FxHashSet::default();
+    for pair in ffi::added_triangle_intersections(positions, &kept, &added)? {
+        offending.extend(pair.iter().filter_map(|&t| owner(t)));
     }
     Ok(offending)
 }
