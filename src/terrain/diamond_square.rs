@@ -55,6 +55,18 @@ pub struct DiamondSquare {
     pub random: Displacements,
 }
 
+/// The mean of two to four parents; dividing by 2 or 4 is multiplying by 0.5 or 0.25 (the
+/// same bits), which spares the division on all but the border's three-parent points.
+#[inline(always)]
+fn mean(parents: &[f64]) -> f64 {
+    let sum = parents.iter().sum::<f64>();
+    match parents.len() {
+        4 => sum * 0.25,
+        2 => sum * 0.5,
+        n => sum / n as f64,
+    }
+}
+
 /// A rectangle of grid points (inclusive bounds, fine-grid coordinates).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Rect {
@@ -131,9 +143,7 @@ impl DiamondSquare {
     #[inline(always)]
     fn new_point(&self, parents: &[f64], level: u32, scale: f64, x: u64, y: u64) -> f64 {
         match self.rule {
-            Rule::MeanPlusDisplacement => {
-                parents.iter().sum::<f64>() / parents.len() as f64 + self.displacement(level, scale, x, y)
-            }
+            Rule::MeanPlusDisplacement => mean(parents) + self.displacement(level, scale, x, y),
             Rule::UniformInSupport => {
                 let (lo, hi) =
                     parents.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
