@@ -222,6 +222,19 @@ fn added_triangle_intersections_agree_with_cgal_self_intersections() {
     let centre = folded.positions.iter().position(|p| (p.x - 0.5).abs() < 1e-9 && (p.y - 0.5).abs() < 1e-9);
     let centre = centre.expect("a grid vertex at the centre");
     folded.positions[centre] += DVec3::new(0.4, 0.3, 0.0);
+    // A small sphere cut by one huge triangle: a query box far larger than the grid cells
+    // (the huge triangle kept) and a grid sized by one huge box (the huge triangle added).
+    let mut sliced = icosphere(0.5, 3);
+    let first = sliced.vertex_count() as u32;
+    sliced.positions.extend([
+        DVec3::new(-50.0, -50.0, 0.01),
+        DVec3::new(50.0, -50.0, 0.02),
+        DVec3::new(0.0, 80.0, 0.0),
+    ]);
+    sliced.triangles.push([first, first + 1, first + 2]);
+    let huge = sliced.face_count() - 1;
+    assert_added_pairs_match(&sliced, |f| f != huge);
+    assert_added_pairs_match(&sliced, |f| f == huge);
     for mesh in [&spheres, &pierced, &folded] {
         assert!(!ffi::self_intersections(mesh).unwrap().is_empty());
         assert_added_pairs_match(mesh, |f| f % 3 == 0);

@@ -274,9 +274,17 @@ class BoxGrid {
       for_cells(boxes[i], [&](std::uint64_t key) { entries_[fill[bucket(key)]++] = static_cast<std::uint32_t>(i); });
   }
 
-  /// Calls f(i) for every grid box i whose box overlaps `b`.
+  /// Calls f(i) for every grid box i whose box overlaps `b`. A query box covering more
+  /// cells than there are boxes scans the boxes instead.
   template <class F>
   void query(const CGAL::Bbox_3& b, const std::vector<CGAL::Bbox_3>& boxes, F&& f) const {
+    double cells = 1.0;
+    for (int d = 0; d < 3; ++d) cells *= static_cast<double>(axis_cell(d, b.max(d)) - axis_cell(d, b.min(d)) + 1);
+    if (cells > static_cast<double>(boxes.size())) {
+      for (std::size_t i = 0; i < boxes.size(); ++i)
+        if (CGAL::do_overlap(b, boxes[i])) f(static_cast<std::uint32_t>(i));
+      return;
+    }
     for_cells(b, [&](std::uint64_t key) {
       const std::size_t k = bucket(key);
       for (std::uint32_t e = start_[k]; e < start_[k + 1]; ++e) {

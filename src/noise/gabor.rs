@@ -239,9 +239,14 @@ impl Gabor {
 
     /// [`Gabor::fill_band`] compiled for AVX2: the same operations in the same order (Rust
     /// never fuses a multiply and an add on its own), so the same bits, four lanes at a time.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2 (an `unsafe fn` because safe `#[target_feature]` functions
+    /// need Rust 1.86 and the crate supports 1.85).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn fill_band_avx2(&self, x0: f64, y0: f64, step: f64, width: usize, first_row: usize, out: &mut [f64]) {
+    #[allow(unsafe_code)]
+    unsafe fn fill_band_avx2(&self, x0: f64, y0: f64, step: f64, width: usize, first_row: usize, out: &mut [f64]) {
         self.fill_band(x0, y0, step, width, first_row, out);
     }
 
