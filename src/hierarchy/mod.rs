@@ -27,16 +27,7 @@ pub use refine::{LevelMesh, LevelReport, Refiner, connectivity_match};
 pub use rings::Rings;
 pub use simplify::build;
 
-/// Which of `vertex_count` vertices the triangles use.
-pub fn used_vertices(vertex_count: usize, triangles: &[[u32; 3]]) -> Vec<bool> {
-    let mut used = vec![false; vertex_count];
-    for t in triangles {
-        for &v in t {
-            used[v as usize] = true;
-        }
-    }
-    used
-}
+pub use crate::mesh::used_vertices;
 
 /// The key shared by all rotations of an oriented triangle: rotated to start at its
 /// smallest vertex id.

@@ -22,7 +22,7 @@ pub use repair::{
     split_non_manifold_fans,
 };
 pub use triangulate::{triangulate_polygon, triangulate_polygons};
-pub use validate::{ValidationReport, is_degenerate_face};
+pub use validate::{ValidationReport, is_degenerate_face, used_vertices};
 
 use crate::error::{Error, Result};
 

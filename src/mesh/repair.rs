@@ -14,7 +14,9 @@ use rustc_hash::FxHashSet;
 use serde::Serialize;
 
 use super::Mesh;
-use super::validate::{DisjointSets, EdgeTable, HalfEdgeUse, count_non_manifold_vertices, is_degenerate_face};
+use super::validate::{
+    DisjointSets, EdgeTable, HalfEdgeUse, count_non_manifold_vertices, is_degenerate_face, used_vertices,
+};
 use crate::error::Result;
 
 /// What [`repair`] changed; all zero when the mesh needed nothing.
@@ -258,17 +260,17 @@ pub fn orient_faces(mesh: &mut Mesh) -> (usize, usize) {
 /// Removes vertices no face uses, renumbering the rest in order (attributes follow).
 pub fn drop_unreferenced_vertices(mesh: &mut Mesh) -> usize {
     let n = mesh.vertex_count();
-    let mut new_id = vec![u32::MAX; n];
-    for t in &mesh.triangles {
-        for &v in t {
-            new_id[v as usize] = 0;
-        }
-    }
     let mut next = 0u32;
-    for id in new_id.iter_mut().filter(|id| **id == 0) {
-        *id = next;
-        next += 1;
-    }
+    let new_id: Vec<u32> = used_vertices(n, &mesh.triangles)
+        .into_iter()
+        .map(|used| {
+            if !used {
+                return u32::MAX;
+            }
+            next += 1;
+            next - 1
+        })
+        .collect();
     if next as usize == n {
         return 0;
     }

@@ -56,12 +56,7 @@ impl ValidationReport {
         let nv = mesh.positions.len();
         let edges = EdgeTable::build(&mesh.triangles);
 
-        let mut referenced = vec![false; nv];
-        for t in &mesh.triangles {
-            for &v in t {
-                referenced[v as usize] = true;
-            }
-        }
+        let referenced = used_vertices(nv, &mesh.triangles);
         let referenced_count = referenced.iter().filter(|&&r| r).count();
 
         let mut non_manifold_edges = 0;
@@ -78,7 +73,7 @@ impl ValidationReport {
         let edge_count = edges.groups().count();
         let boundary_loops = count_boundary_loops(&boundary);
         let non_manifold_vertices = count_non_manifold_vertices(mesh, &edges);
-        let components = count_face_components(mesh, nv);
+        let components = count_face_components(mesh, &referenced);
 
         let euler = referenced_count as i64 - edge_count as i64 + mesh.triangles.len() as i64;
         let genus = (non_manifold_edges == 0 && non_manifold_vertices == 0)
@@ -213,17 +208,13 @@ pub(crate) fn count_non_manifold_vertices(mesh: &Mesh, edges: &EdgeTable) -> usi
     non_manifold.iter().filter(|&&b| b).count()
 }
 
-fn count_face_components(mesh: &Mesh, nv: usize) -> usize {
-    let mut sets = DisjointSets::new(nv);
-    let mut referenced = vec![false; nv];
+fn count_face_components(mesh: &Mesh, referenced: &[bool]) -> usize {
+    let mut sets = DisjointSets::new(referenced.len());
     for t in &mesh.triangles {
         sets.union(t[0] as usize, t[1] as usize);
         sets.union(t[1] as usize, t[2] as usize);
-        for &v in t {
-            referenced[v as usize] = true;
-        }
     }
-    (0..nv).filter(|&v| referenced[v] && sets.find(v) == v).count()
+    (0..referenced.len()).filter(|&v| referenced[v] && sets.find(v) == v).count()
 }
 
 /// Faces that repeat a vertex or whose area is below 1e-12 of their longest edge squared.
@@ -273,4 +264,15 @@ impl DisjointSets {
         self.parent[rb] = ra as u32;
         self.size[ra] += self.size[rb];
     }
+}
+
+/// Which of `vertex_count` vertices the triangles use.
+pub fn used_vertices(vertex_count: usize, triangles: &[[u32; 3]]) -> Vec<bool> {
+    let mut used = vec![false; vertex_count];
+    for t in triangles {
+        for &v in t {
+            used[v as usize] = true;
+        }
+    }
+    used
 }
