@@ -56,6 +56,7 @@ fn main() {
         peak / 1024,
         (peak.saturating_sub(before) * 1024) as f64 / mesh.face_count() as f64
     );
+    println!("asperity build stages: {}", hierarchy.stages);
     drop(refiner);
 
     let rows = compare(&mesh, target, &["asperity", "openmesh", "cgal", "meshoptimizer"], KeepFeatures::None)

@@ -6,7 +6,7 @@
 use glam::DVec3;
 
 use crate::error::{Error, Result};
-use crate::mesh::{FaceId, Mesh, VertexId};
+use crate::mesh::{Aabb, BoxGrid, FaceId, Mesh, VertexId};
 
 #[cxx::bridge(namespace = "asperity::ffi")]
 mod sys {
@@ -90,12 +90,7 @@ mod sys {
         fn openmesh_decimate(positions: &[f64], triangles: &[u32], target_vertices: usize) -> Result<DecimatedMesh>;
         fn cgal_decimate(positions: &[f64], triangles: &[u32], target_vertices: usize) -> Result<DecimatedMesh>;
         fn self_intersections(positions: &[f64], triangles: &[u32]) -> Result<Vec<u32>>;
-        fn added_triangle_intersections(
-            positions: &[f64],
-            kept: &[u32],
-            added: &[u32],
-            added_pairs: bool,
-        ) -> Result<Vec<u32>>;
+        fn triangle_pairs_intersect(positions: &[f64], kept: &[u32], added: &[u32], pairs: &[u32]) -> Result<Vec<u8>>;
     }
 }
 
@@ -478,39 +473,65 @@ pub fn self_intersections(mesh: &Mesh) -> Result<Vec<[FaceId; 2]>> {
 /// within `kept` are not tested, so checking a planned retriangulation against the surface
 /// it joins costs one pass over `kept` plus work proportional to the retriangulation.
 ///
+/// The broad phase is a [`BoxGrid`] over the added triangles, queried by every triangle on
+/// all threads; the pairs whose boxes overlap go to CGAL in batches, also across threads.
+///
 /// # Errors
-/// [`Error::Native`] for an out-of-range index or a non-finite coordinate.
+/// [`Error::InvalidInput`] for an out-of-range index or a non-finite coordinate;
+/// [`Error::Native`] if CGAL fails.
 pub fn added_triangle_intersections(
     positions: &[DVec3],
     kept: &[[u32; 3]],
     added: &[[u32; 3]],
 ) -> Result<Vec<[u32; 2]>> {
     use rayon::prelude::*;
-    // The kept triangles in chunks across threads, each call with all the added ones; the
-    // first call also tests the added ones against each other.
-    const CHUNK: usize = 1 << 16;
-    let chunks: Vec<(usize, &[[u32; 3]])> = kept.chunks(CHUNK).enumerate().map(|(c, k)| (c * CHUNK, k)).collect();
-    let chunks = if chunks.is_empty() { vec![(0, kept)] } else { chunks };
-    let found: Vec<Vec<u32>> = chunks
-        .par_iter()
-        .map(|&(start, part)| {
-            let flat = flat_positions(positions);
-            sys::added_triangle_intersections(flat, part.as_flattened(), added.as_flattened(), start == 0)
-                .map_err(Error::from)
-                .map(|pairs| {
-                    // Chunk-local indices to indices over all of `kept`, then `added`.
-                    let remap = |t: u32| {
-                        if (t as usize) < part.len() {
-                            t + start as u32
-                        } else {
-                            t - part.len() as u32 + kept.len() as u32
-                        }
-                    };
-                    pairs.into_iter().map(remap).collect()
-                })
+    for (i, t) in kept.iter().chain(added).enumerate() {
+        for &v in t {
+            let p = positions
+                .get(v as usize)
+                .ok_or_else(|| Error::InvalidInput(format!("triangle {i} names vertex {v} of {}", positions.len())))?;
+            if !p.is_finite() {
+                return Err(Error::InvalidInput(format!("vertex {v} of triangle {i} has a non-finite coordinate")));
+            }
+        }
+    }
+    let bbox =
+        |t: &[u32; 3]| Aabb::of_triangle(positions[t[0] as usize], positions[t[1] as usize], positions[t[2] as usize]);
+    let grid = BoxGrid::new(added.par_iter().map(bbox).collect());
+    let nk = kept.len() as u32;
+    // Candidates: kept against added, then added against added (each pair once).
+    const CHUNK: usize = 1 << 12;
+    let near_kept = kept.par_chunks(CHUNK).enumerate().map(|(c, part)| {
+        let mut pairs = Vec::new();
+        for (k, t) in part.iter().enumerate() {
+            let k = (c * CHUNK + k) as u32;
+            grid.query(&bbox(t), |i| pairs.push([k, nk + i]));
+        }
+        pairs
+    });
+    let near_added = grid.boxes().par_chunks(CHUNK).enumerate().map(|(c, part)| {
+        let mut pairs = Vec::new();
+        for (i, b) in part.iter().enumerate() {
+            let i = (c * CHUNK + i) as u32;
+            grid.query(b, |j| {
+                if j > i {
+                    pairs.push([nk + i, nk + j]);
+                }
+            });
+        }
+        pairs
+    });
+    let candidates: Vec<[u32; 2]> = near_kept.chain(near_added).flatten_iter().collect();
+    let flat = flat_positions(positions);
+    let hits: Vec<Vec<[u32; 2]>> = candidates
+        .par_chunks(CHUNK)
+        .map(|part| {
+            let flags =
+                sys::triangle_pairs_intersect(flat, kept.as_flattened(), added.as_flattened(), part.as_flattened())?;
+            Ok(part.iter().zip(flags).filter(|(_, f)| *f != 0).map(|(p, _)| *p).collect())
         })
         .collect::<Result<_>>()?;
-    let mut pairs: Vec<[u32; 2]> = found.iter().flat_map(|f| f.chunks_exact(2).map(|p| [p[0], p[1]])).collect();
+    let mut pairs: Vec<[u32; 2]> = hits.into_iter().flatten().collect();
     pairs.sort_unstable();
     Ok(pairs)
 }

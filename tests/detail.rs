@@ -296,25 +296,27 @@ fn noise_at_a_coarse_level_has_lower_frequency_than_at_the_input_level() {
     assert!(coarse < 0.5 * fine, "coarse {coarse} vs fine {fine}");
 }
 
-/// Largest ratio of an edge's length after detail to its length in the input.
-fn max_edge_ratio(out: &LevelMesh, input: &Mesh) -> f64 {
-    let mut worst: f64 = 0.0;
+/// Ratios of every edge's length after detail to its length in the input, largest first.
+fn edge_ratios(out: &LevelMesh, input: &Mesh) -> Vec<f64> {
+    let mut ratios = Vec::new();
     for t in &out.mesh.triangles {
         for k in 0..3 {
             let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
             let now = out.mesh.positions[a].distance(out.mesh.positions[b]);
             let then = input.positions[out.ids[a] as usize].distance(input.positions[out.ids[b] as usize]);
-            worst = worst.max(now / then);
+            ratios.push(now / then);
         }
     }
-    worst
+    ratios.sort_by(|a, b| b.total_cmp(a));
+    ratios
 }
 
 #[test]
 fn refining_after_a_deformation_follows_the_deformed_surface() {
     // Fig. 4.7–4.8: a strong coarse deformation, then refinement. With the update, new
     // vertices land on the moved surface; without it they return to the input surface
-    // and make spikes.
+    // and make spikes. The largest stretch depends on which clusters the hierarchy chose,
+    // so the bulk (the 99th percentile) is checked too.
     let mesh = torus(1.0, 0.35, 64, 32);
     let hierarchy = build(&mesh, &SimplifyOptions { target_vertices: Some(150), ..Default::default() }).unwrap();
     let r = recipe(
@@ -322,12 +324,15 @@ fn refining_after_a_deformation_follows_the_deformed_surface() {
     );
     let run = |follow: bool| {
         let options = DetailOptions { follow_deformation: follow, ..Default::default() };
-        max_edge_ratio(&apply_to(&hierarchy, &mesh, &r, &options).unwrap().result, &mesh)
+        let ratios = edge_ratios(&apply_to(&hierarchy, &mesh, &r, &options).unwrap().result, &mesh);
+        (ratios[0], ratios[ratios.len() / 100])
     };
-    let (updated, stale) = (run(true), run(false));
-    eprintln!("max edge ratio: updated {updated:.3}, stale {stale:.3}");
-    assert!(updated < 3.0, "max edge ratio {updated} with the update");
-    assert!(stale > 1.5 * updated, "without the update {stale} vs {updated}");
+    let ((updated, updated_p99), (stale, stale_p99)) = (run(true), run(false));
+    eprintln!(
+        "edge ratio, max and 99th percentile: updated {updated:.3}, {updated_p99:.3}; stale {stale:.3}, {stale_p99:.3}"
+    );
+    assert!(updated < 3.5 && updated_p99 < 2.0, "edge ratio {updated} (99th percentile {updated_p99}) with the update");
+    assert!(stale > 1.5 * updated && stale_p99 > 1.5 * updated_p99, "without the update {stale} vs {updated}");
 }
 
 #[test]

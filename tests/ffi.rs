@@ -249,8 +249,13 @@ fn added_triangle_intersections_agree_with_cgal_self_intersections() {
     large.triangles.extend(small.triangles.iter().map(|t| t.map(|v| v + offset)));
     let first_small = large.face_count() - small.face_count();
     assert_added_pairs_match(&large, |f| f >= first_small);
-    // Bad indices are errors, not aborts.
-    assert!(matches!(ffi::added_triangle_intersections(&[DVec3::ZERO], &[], &[[0, 0, 7]]), Err(Error::Native(_))));
+    // Bad indices and coordinates are errors, not aborts.
+    assert!(matches!(
+        ffi::added_triangle_intersections(&[DVec3::ZERO], &[], &[[0, 0, 7]]),
+        Err(Error::InvalidInput(_))
+    ));
+    let nan = [DVec3::ZERO, DVec3::X, DVec3::NAN];
+    assert!(matches!(ffi::added_triangle_intersections(&nan, &[[0, 1, 2]], &[]), Err(Error::InvalidInput(_))));
 }
 
 #[test]

@@ -58,6 +58,37 @@ fn planning_rings_follow_openmesh_through_flips_splits_and_welds() {
     }
 }
 
+#[test]
+fn rings_list_the_store_faces_and_roll_back_their_edits() {
+    let mesh = torus(1.0, 0.4, 12, 8);
+    let store = HalfEdgeMesh::from_mesh(&mesh).unwrap();
+    let live: Vec<u32> = (0..mesh.vertex_count() as u32).collect();
+    let mut rings = Rings::fetch(&store, &live, live.len()).unwrap();
+    let sorted = |faces: &[[u32; 3]]| {
+        let mut keys: Vec<[u32; 3]> = faces.iter().map(|&t| face_key(t)).collect();
+        keys.sort_unstable();
+        keys
+    };
+    let faces = rings.faces(&live);
+    assert_eq!(faces.len(), mesh.face_count());
+    assert_eq!(sorted(&faces), sorted(&mesh.triangles));
+    rings.checkpoint();
+    let (a, b) = (0, rings.ring(0)[0]);
+    rings.flip(a, b).unwrap();
+    let v = 40;
+    while rings.degree(v) > 4 {
+        let apex = rings.ring(v)[0];
+        rings.flip(v, apex).unwrap();
+    }
+    rings.weld(v, rings.ring(v)[1]).unwrap();
+    assert_ne!(sorted(&rings.faces(&live)), sorted(&mesh.triangles));
+    rings.rollback();
+    let fresh = Rings::fetch(&store, &live, live.len()).unwrap();
+    for &x in &live {
+        assert_eq!(rings.ring(x), fresh.ring(x), "vertex {x}");
+    }
+}
+
 fn assert_levels_keep_topology(name: &str, mesh: &Mesh, options: &SimplifyOptions) {
     let input = ValidationReport::of(mesh);
     let h = build(mesh, options).unwrap();

@@ -124,10 +124,12 @@ rust::Vec<std::uint32_t> self_intersections(rust::Slice<const double> positions,
   return to_rust(asperity::self_intersections(arrays(positions, triangles)));
 }
 
-rust::Vec<std::uint32_t> added_triangle_intersections(rust::Slice<const double> positions,
-                                                      rust::Slice<const std::uint32_t> kept,
-                                                      rust::Slice<const std::uint32_t> added, bool added_pairs) {
-  return to_rust(asperity::added_triangle_intersections(arrays(positions, kept), arrays(positions, added), added_pairs));
+rust::Vec<std::uint8_t> triangle_pairs_intersect(rust::Slice<const double> positions,
+                                                 rust::Slice<const std::uint32_t> kept,
+                                                 rust::Slice<const std::uint32_t> added,
+                                                 rust::Slice<const std::uint32_t> pairs) {
+  return to_rust(asperity::triangle_pairs_intersect(arrays(positions, kept), arrays(positions, added), pairs.data(),
+                                                    pairs.size()));
 }
 
 }  // namespace ffi

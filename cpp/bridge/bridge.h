@@ -68,9 +68,10 @@ rust::Vec<double> point_distances(rust::Slice<const double> points, rust::Slice<
                                   rust::Slice<const std::uint32_t> triangles);
 rust::Vec<std::uint32_t> self_intersections(rust::Slice<const double> positions,
                                             rust::Slice<const std::uint32_t> triangles);
-rust::Vec<std::uint32_t> added_triangle_intersections(rust::Slice<const double> positions,
-                                                      rust::Slice<const std::uint32_t> kept,
-                                                      rust::Slice<const std::uint32_t> added, bool added_pairs);
+rust::Vec<std::uint8_t> triangle_pairs_intersect(rust::Slice<const double> positions,
+                                                 rust::Slice<const std::uint32_t> kept,
+                                                 rust::Slice<const std::uint32_t> added,
+                                                 rust::Slice<const std::uint32_t> pairs);
 
 }  // namespace ffi
 }  // namespace asperity

@@ -166,37 +166,34 @@ class IndexedTriangles {
   IndexedTriangles(const TriangleArrays& kept, const TriangleArrays& added) : kept_(kept), added_(added) {
     if (kept.n_coords != added.n_coords || kept.n_coords % 3 != 0 || kept.n_indices % 3 != 0 ||
         added.n_indices % 3 != 0)
-      throw NativeError("added-triangle intersections: inconsistent array lengths");
-    const std::size_t nv = kept.n_coords / 3;
-    for (const TriangleArrays* arrays : {&kept, &added})
-      for (std::size_t i = 0; i < arrays->n_indices; ++i) {
-        const std::uint32_t v = arrays->tris[i];
-        if (v >= nv) {
-          std::ostringstream msg;
-          msg << "added-triangle intersections: triangle " << i / 3 << " names vertex " << v << " of " << nv;
-          throw NativeError(msg.str());
-        }
-        const double* p = kept.xyz + 3 * static_cast<std::size_t>(v);
-        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-          std::ostringstream msg;
-          msg << "added-triangle intersections: vertex " << v << " has a non-finite coordinate";
-          throw NativeError(msg.str());
-        }
-      }
+      throw NativeError("triangle pairs: inconsistent array lengths");
   }
 
-  /// Triangle t: t < kept count names a kept triangle, the rest added ones.
+  /// Triangle t: t < kept count names a kept triangle, the rest added ones. Throws for an
+  /// index out of range, a corner out of range or a non-finite corner.
   const std::uint32_t* corners(std::size_t t) const {
-    const std::size_t nk = kept_.n_indices / 3;
-    return t < nk ? kept_.tris + 3 * t : added_.tris + 3 * (t - nk);
+    const std::size_t nk = kept_.n_indices / 3, na = added_.n_indices / 3;
+    if (t >= nk + na) {
+      std::ostringstream msg;
+      msg << "triangle pairs: triangle " << t << " of " << nk + na;
+      throw NativeError(msg.str());
+    }
+    const std::uint32_t* c = t < nk ? kept_.tris + 3 * t : added_.tris + 3 * (t - nk);
+    for (int i = 0; i < 3; ++i) {
+      const std::size_t v = c[i];
+      const double* p = kept_.xyz + 3 * v;
+      if (v >= kept_.n_coords / 3 || !std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+        std::ostringstream msg;
+        msg << "triangle pairs: triangle " << t << " names vertex " << v
+            << (v >= kept_.n_coords / 3 ? ", out of range" : ", which has a non-finite coordinate");
+        throw NativeError(msg.str());
+      }
+    }
+    return c;
   }
   Point point(std::uint32_t v) const {
     const double* p = kept_.xyz + 3 * static_cast<std::size_t>(v);
     return Point(p[0], p[1], p[2]);
-  }
-  CGAL::Bbox_3 bbox(std::size_t t) const {
-    const std::uint32_t* c = corners(t);
-    return point(c[0]).bbox() + point(c[1]).bbox() + point(c[2]).bbox();
   }
 
   /// Whether triangles s and t overlap beyond the vertices or edge they share (the rules of
@@ -214,8 +211,6 @@ class IndexedTriangles {
           ia = i;
           ib = j;
         }
-    const Kernel::Triangle_3 ta(point(a[0]), point(a[1]), point(a[2]));
-    const Kernel::Triangle_3 tb(point(b[0]), point(b[1]), point(b[2]));
     if (shared >= 3) return true;  // the same triangle twice
     if (shared == 2) {
       // Along the shared edge (p, q): they overlap iff coplanar with the third corners on
@@ -227,6 +222,8 @@ class IndexedTriangles {
       const Point r = point(a[ca]), s2 = point(b[cb]);
       return CGAL::coplanar(p, q, r, s2) && CGAL::coplanar_orientation(p, q, r, s2) == CGAL::POSITIVE;
     }
+    const Kernel::Triangle_3 ta(point(a[0]), point(a[1]), point(a[2]));
+    const Kernel::Triangle_3 tb(point(b[0]), point(b[1]), point(b[2]));
     if (shared == 1) {
       // Around the shared corner: they overlap iff the edge opposite it in one crosses the other.
       const Kernel::Segment_3 opposite_a(point(a[(ia + 1) % 3]), point(a[(ia + 2) % 3]));
@@ -241,120 +238,14 @@ class IndexedTriangles {
   const TriangleArrays& added_;
 };
 
-/// A uniform grid over boxes, its cells hashed into a table of about twice as many
-/// buckets as boxes (counting-sorted): the broad phase of added_triangle_intersections.
-/// Cells are about the mean box size (at least an eighth of the largest), so a box covers
-/// few cells whatever the shape of the surface. A pair of boxes is reported in exactly
-/// one cell, the one holding the low corner of their intersection (a box listed twice in a
-/// bucket through a hash collision can repeat a pair; callers deduplicate).
-class BoxGrid {
- public:
-  explicit BoxGrid(const std::vector<CGAL::Bbox_3>& boxes) {
-    CGAL::Bbox_3 all = boxes.front();
-    double total = 0.0, largest = 0.0;
-    for (const CGAL::Bbox_3& b : boxes) {
-      all += b;
-      const double e = std::max({b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()});
-      total += e;
-      largest = std::max(largest, e);
-    }
-    const double span = std::max({all.xmax() - all.xmin(), all.ymax() - all.ymin(), all.zmax() - all.zmin()});
-    cell_ = std::max({total / static_cast<double>(boxes.size()), largest / 8.0, span / double(1 << 20), 1e-300});
-    origin_ = {all.xmin(), all.ymin(), all.zmin()};
-    for (int d = 0; d < 3; ++d) dims_[d] = static_cast<std::uint64_t>((all.max(d) - all.min(d)) / cell_) + 1;
-    bits_ = 1;
-    while ((std::size_t{1} << bits_) < 2 * boxes.size()) ++bits_;
-    start_.assign((std::size_t{1} << bits_) + 1, 0);
-    for (std::size_t i = 0; i < boxes.size(); ++i)
-      for_cells(boxes[i], [&](std::uint64_t key) { ++start_[bucket(key) + 1]; });
-    for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
-    std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-    entries_.resize(start_.back());
-    for (std::size_t i = 0; i < boxes.size(); ++i)
-      for_cells(boxes[i], [&](std::uint64_t key) { entries_[fill[bucket(key)]++] = static_cast<std::uint32_t>(i); });
-  }
-
-  /// Calls f(i) for every grid box i whose box overlaps `b`. A query box covering more
-  /// cells than there are boxes scans the boxes instead.
-  template <class F>
-  void query(const CGAL::Bbox_3& b, const std::vector<CGAL::Bbox_3>& boxes, F&& f) const {
-    double cells = 1.0;
-    for (int d = 0; d < 3; ++d) cells *= static_cast<double>(axis_cell(d, b.max(d)) - axis_cell(d, b.min(d)) + 1);
-    if (cells > static_cast<double>(boxes.size())) {
-      for (std::size_t i = 0; i < boxes.size(); ++i)
-        if (CGAL::do_overlap(b, boxes[i])) f(static_cast<std::uint32_t>(i));
-      return;
-    }
-    for_cells(b, [&](std::uint64_t key) {
-      const std::size_t k = bucket(key);
-      for (std::uint32_t e = start_[k]; e < start_[k + 1]; ++e) {
-        const std::uint32_t i = entries_[e];
-        const CGAL::Bbox_3& o = boxes[i];
-        if (!CGAL::do_overlap(b, o)) continue;
-        const double low[3] = {std::max(b.xmin(), o.xmin()), std::max(b.ymin(), o.ymin()), std::max(b.zmin(), o.zmin())};
-        if (key_of(low) == key) f(i);
-      }
-    });
-  }
-
- private:
-  std::uint64_t axis_cell(int d, double v) const {
-    const double t = std::floor((v - origin_[d]) / cell_);
-    if (!(t > 0.0)) return 0;
-    return std::min(static_cast<std::uint64_t>(t), dims_[d] - 1);
-  }
-  std::uint64_t key_of(const double p[3]) const {
-    return (axis_cell(2, p[2]) * dims_[1] + axis_cell(1, p[1])) * dims_[0] + axis_cell(0, p[0]);
-  }
-  std::size_t bucket(std::uint64_t key) const {
-    return static_cast<std::size_t>((key * 0x9e3779b97f4a7c15ULL) >> (64 - bits_));
-  }
-  template <class F>
-  void for_cells(const CGAL::Bbox_3& b, F&& f) const {
-    const std::uint64_t x0 = axis_cell(0, b.xmin()), x1 = axis_cell(0, b.xmax());
-    const std::uint64_t y0 = axis_cell(1, b.ymin()), y1 = axis_cell(1, b.ymax());
-    const std::uint64_t z0 = axis_cell(2, b.zmin()), z1 = axis_cell(2, b.zmax());
-    for (std::uint64_t z = z0; z <= z1; ++z)
-      for (std::uint64_t y = y0; y <= y1; ++y)
-        for (std::uint64_t x = x0; x <= x1; ++x) f((z * dims_[1] + y) * dims_[0] + x);
-  }
-
-  double cell_ = 1.0;
-  std::array<double, 3> origin_{};
-  std::array<std::uint64_t, 3> dims_{};
-  unsigned bits_ = 1;
-  std::vector<std::uint32_t> start_;
-  std::vector<std::uint32_t> entries_;
-};
-
 }  // namespace
 
-std::vector<std::uint32_t> added_triangle_intersections(const TriangleArrays& kept, const TriangleArrays& added,
-                                                        bool added_pairs) {
+std::vector<std::uint8_t> triangle_pairs_intersect(const TriangleArrays& kept, const TriangleArrays& added,
+                                                   const std::uint32_t* pairs, std::size_t n_values) {
+  if (n_values % 2 != 0) throw NativeError("triangle pairs: the pair list has an odd length");
   const IndexedTriangles triangles(kept, added);
-  const std::size_t nk = kept.n_indices / 3, na = added.n_indices / 3;
-  if (na == 0) return {};
-  std::vector<CGAL::Bbox_3> added_boxes(na);
-  for (std::size_t i = 0; i < na; ++i) added_boxes[i] = triangles.bbox(nk + i);
-  const BoxGrid grid(added_boxes);
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-  // Added against kept: every kept triangle looks up the added ones near it.
-  for (std::size_t k = 0; k < nk; ++k)
-    grid.query(triangles.bbox(k), added_boxes, [&](std::uint32_t i) {
-      if (triangles.intersect(k, nk + i))
-        pairs.emplace_back(static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(nk + i));
-    });
-  // Added against added, each pair once.
-  for (std::size_t i = 0; i < (added_pairs ? na : 0); ++i)
-    grid.query(added_boxes[i], added_boxes, [&](std::uint32_t j) {
-      if (j > i && triangles.intersect(nk + i, nk + j))
-        pairs.emplace_back(static_cast<std::uint32_t>(nk + i), static_cast<std::uint32_t>(nk + j));
-    });
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  std::vector<std::uint32_t> out;
-  out.reserve(2 * pairs.size());
-  for (const auto& p : pairs) out.insert(out.end(), {p.first, p.second});
+  std::vector<std::uint8_t> out(n_values / 2);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = triangles.intersect(pairs[2 * i], pairs[2 * i + 1]) ? 1 : 0;
   return out;
 }
 

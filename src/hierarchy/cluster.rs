@@ -243,3 +243,40 @@ pub fn plan_cluster(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules: &
     }
     None
 }
+
+/// Whether `plan`, made on an earlier state of the rings, can still be carried out: the
+/// vertex has the same ring, no flip or weld would create an edge that now exists, and no
+/// ring vertex would drop below degree 3 (the topological conditions of [`plan_cluster`];
+/// its geometric ones depend on positions only). Used when a level drops some of its plans
+/// and replays the others.
+pub fn plan_still_applies(plan: &ClusterPlan, rings: &Rings) -> bool {
+    if rings.ring(plan.vertex) != plan.ring.as_slice() {
+        return false;
+    }
+    let mut gain = vec![0i64; plan.ring.len()];
+    let slot = |id: u32| plan.ring.iter().position(|&r| r == id).expect("a ring vertex");
+    let drops_too_low = |id: u32, gain: &[i64]| rings.degree(id) as i64 + gain[slot(id)] - 1 < 3;
+    let (ears, weld) = plan.triangles.split_at(plan.flips.len());
+    for &[prev, apex, next] in ears {
+        if rings.has_edge(prev, next) || drops_too_low(apex, &gain) {
+            return false;
+        }
+        gain[slot(apex)] -= 1;
+        gain[slot(prev)] += 1;
+        gain[slot(next)] += 1;
+    }
+    let ([c0, c1, c2], [_, _, c3]) = (weld[0], weld[1]);
+    !(rings.has_edge(c0, c2) || drops_too_low(c1, &gain) || drops_too_low(c3, &gain))
+}
+
+/// Carries out `plan` on the rings: its spoke flips, then its weld.
+///
+/// # Errors
+/// [`Error::Internal`](crate::Error::Internal) if the rings do not allow it (a plan that
+/// no longer applies).
+pub fn apply_plan(plan: &ClusterPlan, rings: &mut Rings) -> crate::Result<()> {
+    for &apex in &plan.flips {
+        rings.flip(plan.vertex, apex)?;
+    }
+    rings.weld(plan.vertex, plan.weld_to)
+}

@@ -150,6 +150,40 @@ pub struct Hierarchy {
     pub fix_threshold: f64,
     /// Build time.
     pub seconds: f64,
+    /// Build time by stage.
+    pub stages: BuildStages,
+}
+
+/// Seconds [`build`] spent in each stage (summed over levels): a one-line report of where
+/// the time goes.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct BuildStages {
+    /// Validation, feature classification, quadrics, loading the half-edge store and its
+    /// rings.
+    pub prepare: f64,
+    /// Exporting faces from the store (recorded levels, the base domain) and checking
+    /// them against the planning rings.
+    pub export: f64,
+    /// Estimating E(v) for every candidate and sorting.
+    pub ranking: f64,
+    /// Greedy cluster selection and planning.
+    pub planning: f64,
+    /// The intersection guard.
+    pub guard: f64,
+    /// Replaying flips and welds on the store.
+    pub store: f64,
+    /// Updating the parametrization and the removal records.
+    pub parametrization: f64,
+}
+
+impl std::fmt::Display for BuildStages {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "prepare {:.2} s, ranking {:.2} s, planning {:.2} s, guard {:.2} s, store {:.2} s, parametrization {:.2} s, export {:.2} s",
+            self.prepare, self.ranking, self.planning, self.guard, self.store, self.parametrization, self.export
+        )
+    }
 }
 
 impl Hierarchy {

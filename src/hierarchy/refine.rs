@@ -250,8 +250,8 @@ impl<'h> Refiner<'h> {
         expect_done("insertion", &edges, &self.store.insert_on_edges(&edges, &vertices, &points)?)?;
         expect_done("degree-fix flip", &flips, &self.store.flip_edges(&flips)?)?;
         report.flips = flips.len();
+        // The rings already hold the splits and flips the store just carried out.
         self.live = (0..self.present.len() as u32).filter(|&v| self.present[v as usize]).collect();
-        self.rings = Rings::fetch(&self.store, &self.live, self.present.len())?;
         self.level += 1;
         Ok(report)
     }

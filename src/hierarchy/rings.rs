@@ -1,27 +1,38 @@
-//! The planning side's view of the hierarchy's topology: a snapshot of the half-edge
-//! store's 1-rings (one batched call) plus the rings that the operations planned since the
-//! snapshot have changed. Planning a level on this view, then replaying the same operations
-//! on OpenMesh in one call per operation, keeps the store the single source of truth while
-//! Rust decides (geometry-central's split of connectivity queries from the mesh they read).
+//! The planning side's view of the hierarchy's topology: the 1-rings of the half-edge
+//! store, fetched once (one batched call) and then edited in place by the same flips,
+//! splits and welds that are replayed on OpenMesh in one call per operation, so Rust
+//! decides on plain arrays while OpenMesh checks and keeps every operation
+//! (geometry-central's split of connectivity queries from the mesh they read). A journal
+//! takes a batch of planned edits back when a level's plans change.
 //!
 //! Rings are counter-clockwise: for a face (a, b, c), `b` is followed by `c` in `a`'s ring.
 //! An interior vertex's ring is cyclic; a boundary vertex's ring is open (it runs from one
 //! boundary neighbour to the other).
 
-use rustc_hash::FxHashMap;
+use rayon::prelude::*;
+use smallvec::SmallVec;
 
 use crate::error::{Error, Result};
-use crate::ffi::{Csr, HalfEdgeMesh};
+use crate::ffi::HalfEdgeMesh;
 use crate::mesh::VertexId;
 
-/// 1-rings of a half-edge store's live vertices, editable locally.
+/// One vertex's ring; most fit inline (a ring grows past 8 only on coarse levels).
+type Ring = SmallVec<[u32; 8]>;
+
+/// 1-rings of a half-edge store's live vertices, edited in place; a journal can take a
+/// batch of edits back.
 #[derive(Debug, Clone)]
 pub struct Rings {
-    csr: Csr,
-    /// Vertex index → row of `csr` (`u32::MAX`: not fetched, i.e. removed or isolated).
-    row: Vec<u32>,
+    rings: Vec<Ring>,
     boundary: Vec<bool>,
-    edited: FxHashMap<u32, Vec<u32>>,
+    journal: Option<Journal>,
+}
+
+/// The rings as they were before their first edit since the checkpoint.
+#[derive(Debug, Clone, Default)]
+struct Journal {
+    saved: Vec<(u32, Ring)>,
+    touched: Vec<bool>,
 }
 
 impl Rings {
@@ -34,39 +45,69 @@ impl Rings {
         let ids: &[VertexId] = bytemuck::cast_slice(live);
         let csr = store.one_rings(ids)?;
         let flags = store.boundary_flags(ids)?;
-        let mut row = vec![u32::MAX; slots];
+        let mut rings = vec![Ring::new(); slots];
         let mut boundary = vec![false; slots];
         for (i, (&v, &b)) in live.iter().zip(&flags).enumerate() {
-            row[v as usize] = i as u32;
+            rings[v as usize] = Ring::from_slice(csr.row(i));
             boundary[v as usize] = b;
         }
-        Ok(Rings { csr, row, boundary, edited: FxHashMap::default() })
+        Ok(Rings { rings, boundary, journal: None })
     }
 
     /// Number of vertex slots.
     pub fn slots(&self) -> usize {
-        self.row.len()
+        self.rings.len()
     }
 
     /// The ring of `v` (empty for a vertex that is not on any face).
     pub fn ring(&self, v: u32) -> &[u32] {
-        if let Some(r) = self.edited.get(&v) {
-            return r;
-        }
-        match self.row[v as usize] {
-            u32::MAX => &[],
-            r => self.csr.row(r as usize),
-        }
+        &self.rings[v as usize]
     }
 
     /// Number of neighbours.
     pub fn degree(&self, v: u32) -> usize {
-        self.ring(v).len()
+        self.rings[v as usize].len()
     }
 
     /// Whether `v` lies on a boundary (fixed by interior operations).
     pub fn is_boundary(&self, v: u32) -> bool {
         self.boundary[v as usize]
+    }
+
+    /// The faces around `vertices`, each once (from its smallest vertex, which must be
+    /// among `vertices`), counter-clockwise and rotated to start at that vertex, in the
+    /// order of `vertices`.
+    pub fn faces(&self, vertices: &[u32]) -> Vec<[u32; 3]> {
+        vertices
+            .par_iter()
+            .flat_map_iter(|&v| {
+                let ring = self.ring(v);
+                let m = ring.len();
+                let pairs = if self.is_boundary(v) { m.saturating_sub(1) } else { m };
+                (0..pairs).map(move |i| [v, ring[i], ring[(i + 1) % m]]).filter(|t| t[1] > t[0] && t[2] > t[0])
+            })
+            .collect()
+    }
+
+    /// Starts recording edits, so that [`Rings::rollback`] can take them back.
+    pub fn checkpoint(&mut self) {
+        let touched = vec![false; self.rings.len()];
+        self.journal = Some(Journal { saved: Vec::new(), touched });
+    }
+
+    /// Takes back every edit since the checkpoint (which stays in force).
+    pub fn rollback(&mut self) {
+        if let Some(journal) = &mut self.journal {
+            for (v, ring) in journal.saved.drain(..).rev() {
+                journal.touched[v as usize] = false;
+                self.rings[v as usize] = ring;
+            }
+        }
+    }
+
+    /// Keeps the edits since the checkpoint and stops recording.
+    pub fn commit(&mut self) {
+        self.journal = None;
     }
 
     /// Whether `a` and `b` are joined by an edge.
@@ -105,12 +146,14 @@ impl Rings {
         self.left_of(a, b) == Some(c)
     }
 
-    fn edit(&mut self, v: u32) -> &mut Vec<u32> {
-        if !self.edited.contains_key(&v) {
-            let copy = self.ring(v).to_vec();
-            self.edited.insert(v, copy);
+    fn edit(&mut self, v: u32) -> &mut Ring {
+        if let Some(journal) = &mut self.journal {
+            if !journal.touched[v as usize] {
+                journal.touched[v as usize] = true;
+                journal.saved.push((v, self.rings[v as usize].clone()));
+            }
         }
-        self.edited.get_mut(&v).expect("inserted above")
+        &mut self.rings[v as usize]
     }
 
     fn replace(&mut self, v: u32, old: u32, new: u32) -> Result<()> {
@@ -163,7 +206,7 @@ impl Rings {
         self.replace(b, a, v)?;
         self.insert_after(c, a, v)?;
         self.insert_after(d, b, v)?;
-        self.edited.insert(v, vec![b, c, a, d]);
+        *self.edit(v) = Ring::from_slice(&[b, c, a, d]);
         Ok(())
     }
 
@@ -179,12 +222,12 @@ impl Rings {
         if ring.len() != 4 || self.is_boundary(v) {
             return Err(Error::Internal(format!("vertex {v} is not an interior degree-4 vertex")));
         }
-        let [c0, c1, c2, c3] = [ring[k], ring[(k + 1) % 4], ring[(k + 2) % 4], ring[(k + 3) % 4]];
+        let [c0, c1, c2, c3] = [0, 1, 2, 3].map(|i| ring[(k + i) % 4]);
         self.replace(c0, v, c2)?;
         self.remove(c1, v)?;
         self.replace(c2, v, c0)?;
         self.remove(c3, v)?;
-        self.edited.insert(v, Vec::new());
+        self.edit(v).clear();
         Ok(())
     }
 

@@ -7,10 +7,14 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::cluster::{ClusterPlan, ClusterRules, LevelGeometry, estimate_error, plan_cluster};
+use rustc_hash::FxHashSet;
+
+use super::cluster::{
+    ClusterPlan, ClusterRules, LevelGeometry, apply_plan, estimate_error, plan_cluster, plan_still_applies,
+};
 use super::param::ParamBuckets;
 use super::rings::Rings;
-use super::{Hierarchy, KeepFeatures, LevelMesh, Removal, SimplifyOptions, used_vertices};
+use super::{BuildStages, Hierarchy, KeepFeatures, LevelMesh, Removal, SimplifyOptions, used_vertices};
 use crate::analysis::{FaceGeometry, FeatureClass, classify, voting_tensors};
 use crate::error::{Error, Result};
 use crate::ffi::{self, CollapseOptions, HalfEdgeMesh, OpStatus};
@@ -24,6 +28,8 @@ use crate::mesh::{Adjacency, FaceId, Mesh, ValidationReport, is_degenerate_face}
 /// non-manifold mesh; [`Error::Native`] if OpenMesh or CGAL refuse it.
 pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
     let started = Instant::now();
+    let mut stages = BuildStages::default();
+    let mut clock = Instant::now();
     prepare_input(mesh)?;
     let n = mesh.vertex_count();
     let mut store = HalfEdgeMesh::from_mesh(mesh)?;
@@ -44,36 +50,34 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
         levels.push(LevelMesh::compact(&mesh.positions, &exported_triangles(&store)?));
     }
     let mut locked = vec![false; n];
+    let mut rings = Rings::fetch(&store, &live, n)?;
+    lap(&mut clock, &mut stages.prepare);
     while options.levels.is_none_or(|l| step_starts.len() - 1 < l) {
         if options.target_vertices.is_some_and(|t| live.len() <= t) {
             break;
         }
         let geometry = LevelGeometry { positions: &mesh.positions, quadrics: &quadrics };
-        let rings = Rings::fetch(&store, &live, n)?;
-        let mut order = candidate_order(&live, &rings, &kept, geometry, &rules);
-        let level_faces = if options.prevent_intersections { exported_triangles(&store)? } else { Vec::new() };
-        let mut checked = CheckedPlans::default();
-        let plans = loop {
-            let mut rings = rings.clone();
-            let plans =
-                select_clusters(&order, &mut rings, geometry, &rules, &mut locked, live.len(), options, max_error)?;
-            for &v in &live {
-                locked[v as usize] = false;
-            }
-            if !options.prevent_intersections || plans.is_empty() {
-                break plans;
-            }
-            let offending = intersecting_plans(&mesh.positions, &level_faces, &plans, &checked)?;
-            checked = plans.iter().map(|p| (p.vertex, p.triangles.clone())).collect();
-            if offending.is_empty() {
-                break plans;
-            }
-            order.retain(|v| !offending.contains(v));
-        };
+        let order = candidate_order(&live, &rings, &kept, geometry, &rules);
+        lap(&mut clock, &mut stages.ranking);
+        let level_faces = if options.prevent_intersections { rings.faces(&live) } else { Vec::new() };
+        lap(&mut clock, &mut stages.guard);
+        rings.checkpoint();
+        let mut plans =
+            select_clusters(&order, &mut rings, geometry, &rules, &mut locked, live.len(), options, max_error)?;
+        for &v in &live {
+            locked[v as usize] = false;
+        }
+        lap(&mut clock, &mut stages.planning);
+        if options.prevent_intersections {
+            plans = guard_plans(&mesh.positions, &level_faces, plans, &mut rings)?;
+            lap(&mut clock, &mut stages.guard);
+        }
+        rings.commit();
         if plans.is_empty() {
             break;
         }
         apply_to_store(&mut store, &plans)?;
+        lap(&mut clock, &mut stages.store);
         let step = (step_starts.len() - 1) as u32;
         for plan in &plans {
             let point = params.apply_removal(plan);
@@ -92,14 +96,18 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
                 quadrics[end as usize].add_scaled(&q, 0.5);
             }
         }
-        let removed: rustc_hash::FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
+        let removed: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
         live.retain(|v| !removed.contains(v));
         step_starts.push(removals.len());
+        lap(&mut clock, &mut stages.parametrization);
         if options.record_levels {
             levels.push(LevelMesh::compact(&mesh.positions, &exported_triangles(&store)?));
+            lap(&mut clock, &mut stages.export);
         }
     }
     let base_triangles = exported_triangles(&store)?;
+    check_agreement(&base_triangles, &rings.faces(&live))?;
+    lap(&mut clock, &mut stages.export);
     Ok(Hierarchy {
         positions: mesh.positions.clone(),
         input_triangles: mesh.triangles.clone(),
@@ -113,7 +121,33 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
         levels,
         fix_threshold: options.fix_threshold_degrees.to_radians(),
         seconds: started.elapsed().as_secs_f64(),
+        stages,
     })
+}
+
+/// The store's faces must be the rings' faces: planning edits the rings, OpenMesh carries
+/// out the same operations (checking each), so a difference is a bug.
+fn check_agreement(store_faces: &[[u32; 3]], ring_faces: &[[u32; 3]]) -> Result<()> {
+    let sorted = |faces: &[[u32; 3]]| {
+        let mut keys: Vec<[u32; 3]> = faces.iter().map(|&t| super::face_key(t)).collect();
+        keys.sort_unstable();
+        keys
+    };
+    if sorted(store_faces) != sorted(ring_faces) {
+        return Err(Error::Internal(format!(
+            "OpenMesh holds {} faces and the planning rings {} different ones",
+            store_faces.len(),
+            ring_faces.len()
+        )));
+    }
+    Ok(())
+}
+
+/// Adds the time since `clock` to `stage` and restarts the clock.
+fn lap(clock: &mut Instant, stage: &mut f64) {
+    let now = Instant::now();
+    *stage += (now - *clock).as_secs_f64();
+    *clock = now;
 }
 
 /// Input preparation (§4.3): the mesh must be a consistently oriented manifold triangle
@@ -231,10 +265,7 @@ fn select_clusters(
         if max_error.is_some_and(|m| plan.error > m) {
             continue;
         }
-        for &apex in &plan.flips {
-            rings.flip(v, apex)?;
-        }
-        rings.weld(v, plan.weld_to)?;
+        apply_plan(&plan, rings)?;
         locked[v as usize] = true;
         for &r in &plan.ring {
             locked[r as usize] = true;
@@ -244,30 +275,57 @@ fn select_clusters(
     Ok(plans)
 }
 
-/// The new triangles of each plan checked by the last round of [`intersecting_plans`].
-type CheckedPlans = rustc_hash::FxHashMap<u32, Vec<[u32; 3]>>;
+/// The intersection guard: leaves out the plans whose new triangles would intersect the
+/// level's surface as planned (CGAL's exact predicates; intersections already in the level
+/// are not counted). The offending plans are dropped and the others replayed on the rings
+/// in their order, dropping those that no longer apply without the dropped ones
+/// ([`plan_still_applies`]); the faces that come back are then checked against the rest,
+/// until nothing offends. Plans are never re-planned, so each round after the first checks
+/// only the restored faces.
+fn guard_plans(
+    positions: &[glam::DVec3],
+    level_faces: &[[u32; 3]],
+    mut plans: Vec<ClusterPlan>,
+    rings: &mut Rings,
+) -> Result<Vec<ClusterPlan>> {
+    let mut restored = None;
+    loop {
+        let offending = intersecting_plans(positions, level_faces, &plans, restored.as_ref())?;
+        if offending.is_empty() {
+            return Ok(plans);
+        }
+        rings.rollback();
+        let mut dropped = FxHashSet::default();
+        let mut kept = Vec::with_capacity(plans.len());
+        for plan in plans {
+            if offending.contains(&plan.vertex) || !plan_still_applies(&plan, rings) {
+                dropped.insert(plan.vertex);
+                continue;
+            }
+            apply_plan(&plan, rings)?;
+            kept.push(plan);
+        }
+        plans = kept;
+        restored = Some(dropped);
+    }
+}
 
-/// The planned vertices whose new triangles would intersect the level's surface as
-/// planned (CGAL's exact predicates; intersections already in the input are not counted).
-///
-/// After a round that dropped offending vertices, only what changed is checked again:
-/// plans with the same vertex and triangles as in `checked` join the kept surface, and
-/// faces that the last round removed but this one keeps are checked like new triangles.
-/// Every pair of triangles with at least one changed member is tested, and the pairs among
-/// unchanged ones were tested last round.
+/// The planned vertices whose new triangles intersect the surface. With `restored` (the
+/// vertices of plans just dropped), only their star faces, which come back, are checked
+/// against the rest: the other pairs were checked by an earlier round.
 fn intersecting_plans(
     positions: &[glam::DVec3],
     level_faces: &[[u32; 3]],
     plans: &[ClusterPlan],
-    checked: &CheckedPlans,
-) -> Result<rustc_hash::FxHashSet<u32>> {
-    let removed: rustc_hash::FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
+    restored: Option<&FxHashSet<u32>>,
+) -> Result<FxHashSet<u32>> {
+    let planned: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
     let (mut kept, mut kept_owner, mut added, mut added_owner) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for t in level_faces {
-        if t.iter().any(|v| removed.contains(v)) {
+        if t.iter().any(|v| planned.contains(v)) {
             continue;
         }
-        if t.iter().any(|v| checked.contains_key(v)) {
+        if restored.is_some_and(|r| t.iter().any(|v| r.contains(v))) {
             added.push(*t);
             added_owner.push(None);
         } else {
@@ -275,15 +333,15 @@ fn intersecting_plans(
             kept_owner.push(None);
         }
     }
+    let (faces, owners) =
+        if restored.is_some() { (&mut kept, &mut kept_owner) } else { (&mut added, &mut added_owner) };
     for plan in plans {
-        let unchanged = checked.get(&plan.vertex).is_some_and(|t| *t == plan.triangles);
-        let (faces, owners) = if unchanged { (&mut kept, &mut kept_owner) } else { (&mut added, &mut added_owner) };
         faces.extend(&plan.triangles);
         owners.extend(std::iter::repeat_n(Some(plan.vertex), plan.triangles.len()));
     }
     let owner =
         |t: u32| if (t as usize) < kept.len() { kept_owner[t as usize] } else { added_owner[t as usize - kept.len()] };
-    let mut offending = rustc_hash::FxHashSet::default();
+    let mut offending = FxHashSet::default();
     for pair in ffi::added_triangle_intersections(positions, &kept, &added)? {
         offending.extend(pair.iter().filter_map(|&t| owner(t)));
     }

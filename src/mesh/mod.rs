@@ -3,6 +3,7 @@
 //! half-edge store in [`crate::ffi`]. Validation and polygon triangulation live here too.
 
 mod adjacency;
+mod box_grid;
 mod ids;
 mod loop_subdivision;
 pub mod primitives;
@@ -15,6 +16,7 @@ use std::collections::BTreeMap;
 use glam::DVec3;
 
 pub use adjacency::Adjacency;
+pub use box_grid::{Aabb, BoxGrid};
 pub use ids::{FaceId, VertexId};
 pub use loop_subdivision::loop_subdivide;
 pub use repair::{

@@ -42,15 +42,13 @@ std::vector<double> point_distances(const double* xyz, std::size_t n_coords, con
 /// Pairs of intersecting faces (f0 g0 f1 g1 ..., each pair with f < g, sorted).
 std::vector<std::uint32_t> self_intersections(const TriangleArrays& mesh);
 
-/// The intersecting pairs of triangles with at least one from `added`, over the vertices
-/// of `xyz` (the n_coords of `kept` and `added` must be equal): a flat, sorted list of
-/// (s, t), s < t, where indices below the number of kept triangles name kept ones and the
-/// rest added ones after them. Triangles sharing a vertex or an edge intersect only if they
-/// overlap beyond it, as in Polygon_mesh_processing::self_intersections; pairs within
-/// `kept` are not tested. The broad phase is a uniform grid over the added triangles.
-/// Pairs of two added triangles are tested only with `added_pairs` (so that `kept` can be
-/// split across calls).
-std::vector<std::uint32_t> added_triangle_intersections(const TriangleArrays& kept, const TriangleArrays& added,
-                                                        bool added_pairs);
+/// For each pair (s, t) of `pairs` (a flat list), whether the two triangles intersect,
+/// over the vertices of `xyz` (the n_coords of `kept` and `added` must be equal): indices
+/// below the number of kept triangles name kept ones, the rest added ones after them.
+/// Triangles sharing a vertex or an edge intersect only if they overlap beyond it, as in
+/// Polygon_mesh_processing::self_intersections (CGAL's exact predicates). The narrow phase
+/// of asperity's intersection guard; the caller finds the pairs whose boxes overlap.
+std::vector<std::uint8_t> triangle_pairs_intersect(const TriangleArrays& kept, const TriangleArrays& added,
+                                                   const std::uint32_t* pairs, std::size_t n_values);
 
 }  // namespace asperity
