@@ -6,7 +6,7 @@
 use glam::DVec3;
 
 use crate::error::{Error, Result};
-use crate::mesh::{Aabb, BoxGrid, FaceId, Mesh, VertexId};
+use crate::mesh::{Aabb, BoxGrid, FaceId, Mesh, VertexId, certainly_apart};
 
 #[cxx::bridge(namespace = "asperity::ffi")]
 mod sys {
@@ -205,6 +205,13 @@ pub struct Exported {
 pub struct HalfEdgeMesh {
     inner: cxx::UniquePtr<sys::HalfEdgeMesh>,
 }
+
+// SAFETY: the C++ HalfEdgeMesh owns all its state (an OpenMesh TriMesh and its property
+// containers: no thread-local or global state), so it may move to another thread. It is
+// never shared across threads: `HalfEdgeMesh` is not `Sync`, and every change takes
+// `&mut`.
+#[allow(unsafe_code)]
+unsafe impl Send for sys::HalfEdgeMesh {}
 
 impl std::fmt::Debug for HalfEdgeMesh {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -474,7 +481,8 @@ pub fn self_intersections(mesh: &Mesh) -> Result<Vec<[FaceId; 2]>> {
 /// it joins costs one pass over `kept` plus work proportional to the retriangulation.
 ///
 /// The broad phase is a [`BoxGrid`] over the added triangles, queried by every triangle on
-/// all threads; the pairs whose boxes overlap go to CGAL in batches, also across threads.
+/// all threads; of the pairs whose boxes overlap, those the certified plane-side filter
+/// ([`certainly_apart`]) cannot separate go to CGAL in batches, also across threads.
 ///
 /// # Errors
 /// [`Error::InvalidInput`] for an out-of-range index or a non-finite coordinate;
@@ -499,13 +507,18 @@ pub fn added_triangle_intersections(
         |t: &[u32; 3]| Aabb::of_triangle(positions[t[0] as usize], positions[t[1] as usize], positions[t[2] as usize]);
     let grid = BoxGrid::new(added.par_iter().map(bbox).collect());
     let nk = kept.len() as u32;
-    // Candidates: kept against added, then added against added (each pair once).
+    // Candidates: kept against added, then added against added (each pair once), whose
+    // boxes overlap and which the plane-side filter cannot tell apart.
     const CHUNK: usize = 1 << 12;
     let near_kept = kept.par_chunks(CHUNK).enumerate().map(|(c, part)| {
         let mut pairs = Vec::new();
         for (k, t) in part.iter().enumerate() {
             let k = (c * CHUNK + k) as u32;
-            grid.query(&bbox(t), |i| pairs.push([k, nk + i]));
+            grid.query(&bbox(t), |i| {
+                if !certainly_apart(positions, *t, added[i as usize]) {
+                    pairs.push([k, nk + i]);
+                }
+            });
         }
         pairs
     });
@@ -514,7 +527,7 @@ pub fn added_triangle_intersections(
         for (i, b) in part.iter().enumerate() {
             let i = (c * CHUNK + i) as u32;
             grid.query(b, |j| {
-                if j > i {
+                if j > i && !certainly_apart(positions, added[i as usize], added[j as usize]) {
                     pairs.push([nk + i, nk + j]);
                 }
             });

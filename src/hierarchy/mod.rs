@@ -12,7 +12,9 @@
 mod cluster;
 pub mod compare;
 mod conformal;
+mod guard;
 mod param;
+mod record;
 mod refine;
 mod rings;
 mod simplify;
@@ -170,18 +172,28 @@ pub struct BuildStages {
     pub planning: f64,
     /// The intersection guard.
     pub guard: f64,
-    /// Replaying flips and welds on the store.
+    /// Replaying flips and welds on the store (on the recorder thread, alongside the next
+    /// level's planning).
     pub store: f64,
-    /// Updating the parametrization and the removal records.
+    /// Updating the parametrization and the removal records (recorder thread).
     pub parametrization: f64,
+    /// Planning waiting for the recorder to take a level.
+    pub handoff: f64,
 }
 
 impl std::fmt::Display for BuildStages {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "prepare {:.2} s, ranking {:.2} s, planning {:.2} s, guard {:.2} s, store {:.2} s, parametrization {:.2} s, export {:.2} s",
-            self.prepare, self.ranking, self.planning, self.guard, self.store, self.parametrization, self.export
+            "prepare {:.2} s, ranking {:.2} s, planning {:.2} s, guard {:.2} s, handoff {:.2} s; recorder thread: store {:.2} s, parametrization {:.2} s, export {:.2} s",
+            self.prepare,
+            self.ranking,
+            self.planning,
+            self.guard,
+            self.handoff,
+            self.store,
+            self.parametrization,
+            self.export
         )
     }
 }

@@ -21,21 +21,28 @@ pub struct ParamPoint {
     pub bary: [f64; 3],
 }
 
-/// Parameter points of the removed vertices, bucketed by the face they lie on.
+/// Parameter points of the removed vertices, bucketed by the face they lie on: each
+/// face's vertices form a list threaded through `next` (no allocation per face).
 #[derive(Debug, Default)]
 pub struct ParamBuckets {
-    buckets: FxHashMap<[u32; 3], Vec<u32>>,
+    heads: FxHashMap<[u32; 3], u32>,
+    next: Vec<u32>,
     points: Vec<Option<ParamPoint>>,
 }
+
+/// Ends a bucket's list.
+const END: u32 = u32::MAX;
 
 impl ParamBuckets {
     /// No vertex parametrized yet, room for `vertices`.
     pub fn new(vertices: usize) -> Self {
-        ParamBuckets { buckets: FxHashMap::default(), points: vec![None; vertices] }
+        ParamBuckets { heads: FxHashMap::default(), next: vec![END; vertices], points: vec![None; vertices] }
     }
 
     fn insert(&mut self, vertex: u32, point: ParamPoint) {
-        self.buckets.entry(face_key(point.face)).or_default().push(vertex);
+        let head = self.heads.entry(face_key(point.face)).or_insert(END);
+        self.next[vertex as usize] = *head;
+        *head = vertex;
         self.points[vertex as usize] = Some(point);
     }
 
@@ -54,12 +61,15 @@ impl ParamBuckets {
         };
         for k in 0..d {
             let star_face = [v, plan.ring[k], plan.ring[(k + 1) % d]];
-            let Some(moved) = self.buckets.remove(&face_key(star_face)) else { continue };
-            for w in moved {
-                let Some(old) = self.points[w as usize] else { continue };
-                let image = old.face.iter().zip(old.bary).fold(DVec2::ZERO, |acc, (&id, b)| acc + flat_of(id) * b);
-                let (t, bary) = locate(image, &plan.flat_triangles);
-                self.insert(w, ParamPoint { face: plan.triangles[t], bary });
+            let Some(mut w) = self.heads.remove(&face_key(star_face)) else { continue };
+            while w != END {
+                let after = self.next[w as usize];
+                if let Some(old) = self.points[w as usize] {
+                    let image = old.face.iter().zip(old.bary).fold(DVec2::ZERO, |acc, (&id, b)| acc + flat_of(id) * b);
+                    let (t, bary) = locate(image, &plan.flat_triangles);
+                    self.insert(w, ParamPoint { face: plan.triangles[t], bary });
+                }
+                w = after;
             }
         }
         let own = ParamPoint { face: plan.triangles[plan.location.0], bary: plan.location.1 };

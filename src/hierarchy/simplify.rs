@@ -9,15 +9,14 @@ use rayon::prelude::*;
 
 use rustc_hash::FxHashSet;
 
-use super::cluster::{
-    ClusterPlan, ClusterRules, LevelGeometry, apply_plan, estimate_error, plan_cluster, plan_still_applies,
-};
-use super::param::ParamBuckets;
+use super::cluster::{ClusterPlan, ClusterRules, LevelGeometry, apply_plan, estimate_error, plan_cluster};
+use super::guard::guard_plans;
+use super::record::{Recorded, Recorder};
 use super::rings::Rings;
-use super::{BuildStages, Hierarchy, KeepFeatures, LevelMesh, Removal, SimplifyOptions, used_vertices};
+use super::{BuildStages, Hierarchy, KeepFeatures, SimplifyOptions, used_vertices};
 use crate::analysis::{FaceGeometry, FeatureClass, classify, voting_tensors};
 use crate::error::{Error, Result};
-use crate::ffi::{self, CollapseOptions, HalfEdgeMesh, OpStatus};
+use crate::ffi::{self, HalfEdgeMesh, OpStatus};
 use crate::mesh::{Adjacency, FaceId, Mesh, ValidationReport, is_degenerate_face};
 
 /// Builds the 4-k hierarchy of `mesh`: simplification down to the base domain, with the
@@ -32,97 +31,130 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
     let mut clock = Instant::now();
     prepare_input(mesh)?;
     let n = mesh.vertex_count();
-    let mut store = HalfEdgeMesh::from_mesh(mesh)?;
-    let mut quadrics = ffi::vertex_quadrics(mesh, 100.0)?;
+    let store = HalfEdgeMesh::from_mesh(mesh)?;
+    let quadrics = ffi::vertex_quadrics(mesh, 100.0)?;
     let (kept, feature_vertices) = unremovable_vertices(mesh, options)?;
-    let rules = ClusterRules { removal_weight: options.removal_weight, swap_weight: options.swap_weight };
-    let diagonal = mesh.bounding_box().map_or(0.0, |(lo, hi)| (hi - lo).length());
-    let max_error = options.max_error.map(|f| (f * diagonal).powi(2));
-
     let referenced = used_vertices(n, &mesh.triangles);
-    let mut live: Vec<u32> = (0..n as u32).filter(|&v| referenced[v as usize]).collect();
-    let mut params = ParamBuckets::new(n);
-    let mut removals: Vec<Removal> = Vec::new();
-    let mut restore: Vec<[u32; 2]> = Vec::new();
-    let mut step_starts = vec![0];
-    let mut levels = Vec::new();
-    if options.record_levels {
-        levels.push(LevelMesh::compact(&mesh.positions, &exported_triangles(&store)?));
-    }
-    let mut locked = vec![false; n];
-    let mut rings = Rings::fetch(&store, &live, n)?;
+    let live: Vec<u32> = (0..n as u32).filter(|&v| referenced[v as usize]).collect();
+    let rings = Rings::fetch(&store, &live, n)?;
+    let recorder = Recorder::new(&mesh.positions, store, options.record_levels)?;
     lap(&mut clock, &mut stages.prepare);
-    while options.levels.is_none_or(|l| step_starts.len() - 1 < l) {
-        if options.target_vertices.is_some_and(|t| live.len() <= t) {
-            break;
-        }
-        let geometry = LevelGeometry { positions: &mesh.positions, quadrics: &quadrics };
-        let order = candidate_order(&live, &rings, &kept, geometry, &rules);
-        lap(&mut clock, &mut stages.ranking);
-        let level_faces = if options.prevent_intersections { rings.faces(&live) } else { Vec::new() };
-        lap(&mut clock, &mut stages.guard);
-        rings.checkpoint();
-        let mut plans =
-            select_clusters(&order, &mut rings, geometry, &rules, &mut locked, live.len(), options, max_error)?;
-        for &v in &live {
-            locked[v as usize] = false;
-        }
-        lap(&mut clock, &mut stages.planning);
-        if options.prevent_intersections {
-            plans = guard_plans(&mesh.positions, &level_faces, plans, &mut rings)?;
-            lap(&mut clock, &mut stages.guard);
-        }
-        rings.commit();
-        if plans.is_empty() {
-            break;
-        }
-        apply_to_store(&mut store, &plans)?;
-        lap(&mut clock, &mut stages.store);
-        let step = (step_starts.len() - 1) as u32;
-        for plan in &plans {
-            let point = params.apply_removal(plan);
-            let restore_start = restore.len() as u32;
-            restore.extend(plan.triangles[..plan.flips.len()].iter().rev().map(|ear| [ear[0], ear[1]]));
-            removals.push(Removal {
-                vertex: plan.vertex,
-                step,
-                degree: plan.ring.len() as u32,
-                local: point,
-                diagonal: plan.diagonal,
-                restore: [restore_start, restore.len() as u32],
-            });
-            let q = quadrics[plan.vertex as usize];
-            for end in plan.diagonal {
-                quadrics[end as usize].add_scaled(&q, 0.5);
+
+    let mut planner = Planner { mesh, options, kept: &kept, quadrics, rings, live, locked: vec![false; n] };
+    // Planning runs here; the record (OpenMesh and the parametrization) follows a level
+    // behind on its own thread.
+    let (planned, recorded) = std::thread::scope(|scope| {
+        let (sender, receiver) = std::sync::mpsc::sync_channel::<Vec<ClusterPlan>>(1);
+        let worker = scope.spawn(move || -> Result<Recorded> {
+            let mut recorder = recorder;
+            for plans in receiver {
+                recorder.record(&plans)?;
             }
-        }
-        let removed: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
-        live.retain(|v| !removed.contains(v));
-        step_starts.push(removals.len());
-        lap(&mut clock, &mut stages.parametrization);
-        if options.record_levels {
-            levels.push(LevelMesh::compact(&mesh.positions, &exported_triangles(&store)?));
-            lap(&mut clock, &mut stages.export);
-        }
-    }
-    let base_triangles = exported_triangles(&store)?;
-    check_agreement(&base_triangles, &rings.faces(&live))?;
+            Ok(recorder.finish())
+        });
+        let planned = planner.plan_levels(&mut stages, &mut clock, |plans| sender.send(plans).is_ok());
+        drop(sender);
+        let recorded = worker.join().unwrap_or_else(|_| Err(Error::Internal("the recorder thread panicked".into())));
+        (planned, recorded)
+    });
+    let recorded = recorded?;
+    planned?;
+    [stages.store, stages.parametrization, stages.export] = recorded.seconds;
+    let base_triangles = exported_triangles(&recorded.store)?;
+    check_agreement(&base_triangles, &planner.rings.faces(&planner.live))?;
     lap(&mut clock, &mut stages.export);
     Ok(Hierarchy {
         positions: mesh.positions.clone(),
         input_triangles: mesh.triangles.clone(),
         base_triangles,
-        removals,
-        restore,
-        step_starts,
-        params: params.into_points(),
+        removals: recorded.removals,
+        restore: recorded.restore,
+        step_starts: recorded.step_starts,
+        params: recorded.params,
         kept,
         feature_vertices,
-        levels,
+        levels: recorded.levels,
         fix_threshold: options.fix_threshold_degrees.to_radians(),
         seconds: started.elapsed().as_secs_f64(),
         stages,
     })
+}
+
+/// The planning side of [`build`]: the level's rings, quadrics and live vertices.
+struct Planner<'a> {
+    mesh: &'a Mesh,
+    options: &'a SimplifyOptions,
+    kept: &'a [bool],
+    quadrics: Vec<ffi::Quadric>,
+    rings: Rings,
+    live: Vec<u32>,
+    locked: Vec<bool>,
+}
+
+impl Planner<'_> {
+    /// Plans level after level until a limit is reached, handing each level's plans to
+    /// `record` (which returns false when the record has stopped).
+    fn plan_levels(
+        &mut self,
+        stages: &mut BuildStages,
+        clock: &mut Instant,
+        mut record: impl FnMut(Vec<ClusterPlan>) -> bool,
+    ) -> Result<()> {
+        let options = self.options;
+        let rules = ClusterRules { removal_weight: options.removal_weight, swap_weight: options.swap_weight };
+        let diagonal = self.mesh.bounding_box().map_or(0.0, |(lo, hi)| (hi - lo).length());
+        let max_error = options.max_error.map(|f| (f * diagonal).powi(2));
+        let mut steps = 0;
+        while options.levels.is_none_or(|l| steps < l) {
+            if options.target_vertices.is_some_and(|t| self.live.len() <= t) {
+                break;
+            }
+            let geometry = LevelGeometry { positions: &self.mesh.positions, quadrics: &self.quadrics };
+            let order = candidate_order(&self.live, &self.rings, self.kept, geometry, &rules);
+            lap(clock, &mut stages.ranking);
+            let level_faces = if options.prevent_intersections { self.rings.faces(&self.live) } else { Vec::new() };
+            lap(clock, &mut stages.guard);
+            self.rings.checkpoint();
+            let mut plans = select_clusters(
+                &order,
+                &mut self.rings,
+                geometry,
+                &rules,
+                &mut self.locked,
+                self.live.len(),
+                options,
+                max_error,
+            )?;
+            for &v in &self.live {
+                self.locked[v as usize] = false;
+            }
+            lap(clock, &mut stages.planning);
+            if options.prevent_intersections {
+                plans = guard_plans(&self.mesh.positions, &level_faces, plans, &mut self.rings)?;
+                lap(clock, &mut stages.guard);
+            }
+            self.rings.commit();
+            if plans.is_empty() {
+                break;
+            }
+            for plan in &plans {
+                let q = self.quadrics[plan.vertex as usize];
+                for end in plan.diagonal {
+                    self.quadrics[end as usize].add_scaled(&q, 0.5);
+                }
+            }
+            let removed: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
+            self.live.retain(|v| !removed.contains(v));
+            steps += 1;
+            lap(clock, &mut stages.planning);
+            let recording = record(plans);
+            lap(clock, &mut stages.handoff);
+            if !recording {
+                break;
+            }
+        }
+        Ok(())
+    }
 }
 
 /// The store's faces must be the rings' faces: planning edits the rings, OpenMesh carries
@@ -273,88 +305,6 @@ fn select_clusters(
         plans.push(plan);
     }
     Ok(plans)
-}
-
-/// The intersection guard: leaves out the plans whose new triangles would intersect the
-/// level's surface as planned (CGAL's exact predicates; intersections already in the level
-/// are not counted). The offending plans are dropped and the others replayed on the rings
-/// in their order, dropping those that no longer apply without the dropped ones
-/// ([`plan_still_applies`]); the faces that come back are then checked against the rest,
-/// until nothing offends. Plans are never re-planned, so each round after the first checks
-/// only the restored faces.
-fn guard_plans(
-    positions: &[glam::DVec3],
-    level_faces: &[[u32; 3]],
-    mut plans: Vec<ClusterPlan>,
-    rings: &mut Rings,
-) -> Result<Vec<ClusterPlan>> {
-    let mut restored = None;
-    loop {
-        let offending = intersecting_plans(positions, level_faces, &plans, restored.as_ref())?;
-        if offending.is_empty() {
-            return Ok(plans);
-        }
-        rings.rollback();
-        let mut dropped = FxHashSet::default();
-        let mut kept = Vec::with_capacity(plans.len());
-        for plan in plans {
-            if offending.contains(&plan.vertex) || !plan_still_applies(&plan, rings) {
-                dropped.insert(plan.vertex);
-                continue;
-            }
-            apply_plan(&plan, rings)?;
-            kept.push(plan);
-        }
-        plans = kept;
-        restored = Some(dropped);
-    }
-}
-
-/// The planned vertices whose new triangles intersect the surface. With `restored` (the
-/// vertices of plans just dropped), only their star faces, which come back, are checked
-/// against the rest: the other pairs were checked by an earlier round.
-fn intersecting_plans(
-    positions: &[glam::DVec3],
-    level_faces: &[[u32; 3]],
-    plans: &[ClusterPlan],
-    restored: Option<&FxHashSet<u32>>,
-) -> Result<FxHashSet<u32>> {
-    let planned: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
-    let (mut kept, mut kept_owner, mut added, mut added_owner) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for t in level_faces {
-        if t.iter().any(|v| planned.contains(v)) {
-            continue;
-        }
-        if restored.is_some_and(|r| t.iter().any(|v| r.contains(v))) {
-            added.push(*t);
-            added_owner.push(None);
-        } else {
-            kept.push(*t);
-            kept_owner.push(None);
-        }
-    }
-    let (faces, owners) =
-        if restored.is_some() { (&mut kept, &mut kept_owner) } else { (&mut added, &mut added_owner) };
-    for plan in plans {
-        faces.extend(&plan.triangles);
-        owners.extend(std::iter::repeat_n(Some(plan.vertex), plan.triangles.len()));
-    }
-    let owner =
-        |t: u32| if (t as usize) < kept.len() { kept_owner[t as usize] } else { added_owner[t as usize - kept.len()] };
-    let mut offending = FxHashSet::default();
-    for pair in ffi::added_triangle_intersections(positions, &kept, &added)? {
-        offending.extend(pair.iter().filter_map(|&t| owner(t)));
-    }
-    Ok(offending)
-}
-
-/// Replays the planned flips, then the welds, on the store (one call each).
-fn apply_to_store(store: &mut HalfEdgeMesh, plans: &[ClusterPlan]) -> Result<()> {
-    let flips: Vec<[u32; 2]> = plans.iter().flat_map(|p| p.flips.iter().map(move |&a| [p.vertex, a])).collect();
-    expect_done("flip", &flips, &store.flip_edges(&flips)?)?;
-    let welds: Vec<[u32; 2]> = plans.iter().map(|p| [p.vertex, p.weld_to]).collect();
-    let status = store.collapse_halfedges(&welds, CollapseOptions { required_degree: 4, check_normals: false })?;
-    expect_done("weld", &welds, &status)
 }
 
 /// Planning checks every condition OpenMesh checks, so a refusal is a bug.

@@ -6,6 +6,7 @@ mod adjacency;
 mod box_grid;
 mod ids;
 mod loop_subdivision;
+mod plane_side;
 pub mod primitives;
 mod repair;
 mod triangulate;
@@ -19,6 +20,7 @@ pub use adjacency::Adjacency;
 pub use box_grid::{Aabb, BoxGrid};
 pub use ids::{FaceId, VertexId};
 pub use loop_subdivision::loop_subdivide;
+pub use plane_side::{certain_orientation, certainly_apart};
 pub use repair::{
     RepairReport, drop_unreferenced_vertices, orient_faces, remove_degenerate_faces, remove_duplicate_faces, repair,
     split_non_manifold_fans,

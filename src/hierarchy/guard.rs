@@ -1,0 +1,83 @@
+//! The intersection guard of simplification: a level's planned retriangulations must not
+//! cut the surface they join (checked with CGAL's exact predicates through
+//! [`ffi::added_triangle_intersections`]); the plans that would are left for a later level.
+
+use rustc_hash::FxHashSet;
+
+use super::cluster::{ClusterPlan, apply_plan, plan_still_applies};
+use super::rings::Rings;
+use crate::error::Result;
+use crate::ffi;
+
+/// The intersection guard: leaves out the plans whose new triangles would intersect the
+/// level's surface as planned (CGAL's exact predicates; intersections already in the level
+/// are not counted). The offending plans are dropped and the others replayed on the rings
+/// in their order, dropping those that no longer apply without the dropped ones
+/// ([`plan_still_applies`]); the faces that come back are then checked against the rest,
+/// until nothing offends. Plans are never re-planned, so each round after the first checks
+/// only the restored faces.
+pub(super) fn guard_plans(
+    positions: &[glam::DVec3],
+    level_faces: &[[u32; 3]],
+    mut plans: Vec<ClusterPlan>,
+    rings: &mut Rings,
+) -> Result<Vec<ClusterPlan>> {
+    let mut restored = None;
+    loop {
+        let offending = intersecting_plans(positions, level_faces, &plans, restored.as_ref())?;
+        if offending.is_empty() {
+            return Ok(plans);
+        }
+        rings.rollback();
+        let mut dropped = FxHashSet::default();
+        let mut kept = Vec::with_capacity(plans.len());
+        for plan in plans {
+            if offending.contains(&plan.vertex) || !plan_still_applies(&plan, rings) {
+                dropped.insert(plan.vertex);
+                continue;
+            }
+            apply_plan(&plan, rings)?;
+            kept.push(plan);
+        }
+        plans = kept;
+        restored = Some(dropped);
+    }
+}
+
+/// The planned vertices whose new triangles intersect the surface. With `restored` (the
+/// vertices of plans just dropped), only their star faces, which come back, are checked
+/// against the rest: the other pairs were checked by an earlier round.
+fn intersecting_plans(
+    positions: &[glam::DVec3],
+    level_faces: &[[u32; 3]],
+    plans: &[ClusterPlan],
+    restored: Option<&FxHashSet<u32>>,
+) -> Result<FxHashSet<u32>> {
+    let planned: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
+    let (mut kept, mut kept_owner, mut added, mut added_owner) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for t in level_faces {
+        if t.iter().any(|v| planned.contains(v)) {
+            continue;
+        }
+        if restored.is_some_and(|r| t.iter().any(|v| r.contains(v))) {
+            added.push(*t);
+            added_owner.push(None);
+        } else {
+            kept.push(*t);
+            kept_owner.push(None);
+        }
+    }
+    let (faces, owners) =
+        if restored.is_some() { (&mut kept, &mut kept_owner) } else { (&mut added, &mut added_owner) };
+    for plan in plans {
+        faces.extend(&plan.triangles);
+        owners.extend(std::iter::repeat_n(Some(plan.vertex), plan.triangles.len()));
+    }
+    let owner =
+        |t: u32| if (t as usize) < kept.len() { kept_owner[t as usize] } else { added_owner[t as usize - kept.len()] };
+    let mut offending = FxHashSet::default();
+    for pair in ffi::added_triangle_intersections(positions, &kept, &added)? {
+        offending.extend(pair.iter().filter_map(|&t| owner(t)));
+    }
+    Ok(offending)
+}

@@ -1,0 +1,123 @@
+//! The record of a simplification: each level's plans carried out on the OpenMesh store
+//! and written into the removals and the parametrization (MAPS, §4.4.1.2). Planning needs
+//! only the rings and the quadrics, so the record runs on its own thread, one level
+//! behind.
+
+use std::time::Instant;
+
+use glam::DVec3;
+
+use super::cluster::ClusterPlan;
+use super::param::{ParamBuckets, ParamPoint};
+use super::simplify::{expect_done, exported_triangles};
+use super::{LevelMesh, Removal};
+use crate::error::Result;
+use crate::ffi::{CollapseOptions, HalfEdgeMesh};
+
+/// The store, the removals and the parametrization, level by level.
+pub(super) struct Recorder<'a> {
+    positions: &'a [DVec3],
+    /// The half-edge store, at the last recorded level.
+    pub store: HalfEdgeMesh,
+    params: ParamBuckets,
+    /// Every removal so far, in order.
+    pub removals: Vec<Removal>,
+    /// The link edges of the removals (see [`Removal::restore`]).
+    pub restore: Vec<[u32; 2]>,
+    /// Where each step's removals start, plus the end.
+    pub step_starts: Vec<usize>,
+    /// Every level's mesh, when recorded.
+    pub levels: Option<Vec<LevelMesh>>,
+    /// Seconds spent on the store, the parametrization and level exports.
+    pub seconds: [f64; 3],
+}
+
+impl<'a> Recorder<'a> {
+    /// Starts at the input, held in `store` (recorded as the first level if asked).
+    ///
+    /// # Errors
+    /// [`crate::Error::Native`] if the export fails.
+    pub fn new(positions: &'a [DVec3], store: HalfEdgeMesh, record_levels: bool) -> Result<Self> {
+        let levels = match record_levels {
+            true => Some(vec![LevelMesh::compact(positions, &exported_triangles(&store)?)]),
+            false => None,
+        };
+        Ok(Recorder {
+            positions,
+            store,
+            params: ParamBuckets::new(positions.len()),
+            removals: Vec::new(),
+            restore: Vec::new(),
+            step_starts: vec![0],
+            levels,
+            seconds: [0.0; 3],
+        })
+    }
+
+    /// Records one simplification step.
+    ///
+    /// # Errors
+    /// [`crate::Error::Internal`] if OpenMesh refuses a planned operation.
+    pub fn record(&mut self, plans: &[ClusterPlan]) -> Result<()> {
+        let clock = Instant::now();
+        self.apply_to_store(plans)?;
+        let stored = Instant::now();
+        let step = (self.step_starts.len() - 1) as u32;
+        for plan in plans {
+            let point = self.params.apply_removal(plan);
+            let restore_start = self.restore.len() as u32;
+            self.restore.extend(plan.triangles[..plan.flips.len()].iter().rev().map(|ear| [ear[0], ear[1]]));
+            self.removals.push(Removal {
+                vertex: plan.vertex,
+                step,
+                degree: plan.ring.len() as u32,
+                local: point,
+                diagonal: plan.diagonal,
+                restore: [restore_start, self.restore.len() as u32],
+            });
+        }
+        self.step_starts.push(self.removals.len());
+        let parametrized = Instant::now();
+        if let Some(levels) = &mut self.levels {
+            levels.push(LevelMesh::compact(self.positions, &exported_triangles(&self.store)?));
+        }
+        self.seconds[0] += (stored - clock).as_secs_f64();
+        self.seconds[1] += (parametrized - stored).as_secs_f64();
+        self.seconds[2] += parametrized.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// What was recorded, with the final base-domain point of every removed vertex.
+    pub fn finish(self) -> Recorded {
+        Recorded {
+            store: self.store,
+            params: self.params.into_points(),
+            removals: self.removals,
+            restore: self.restore,
+            step_starts: self.step_starts,
+            levels: self.levels.unwrap_or_default(),
+            seconds: self.seconds,
+        }
+    }
+
+    /// Replays the planned flips, then the welds, on the store (one call each).
+    fn apply_to_store(&mut self, plans: &[ClusterPlan]) -> Result<()> {
+        let flips: Vec<[u32; 2]> = plans.iter().flat_map(|p| p.flips.iter().map(move |&a| [p.vertex, a])).collect();
+        expect_done("flip", &flips, &self.store.flip_edges(&flips)?)?;
+        let welds: Vec<[u32; 2]> = plans.iter().map(|p| [p.vertex, p.weld_to]).collect();
+        let options = CollapseOptions { required_degree: 4, check_normals: false };
+        expect_done("weld", &welds, &self.store.collapse_halfedges(&welds, options)?)
+    }
+}
+
+/// Everything a [`Recorder`] kept.
+pub(super) struct Recorded {
+    pub store: HalfEdgeMesh,
+    pub params: Vec<Option<ParamPoint>>,
+    pub removals: Vec<Removal>,
+    pub restore: Vec<[u32; 2]>,
+    pub step_starts: Vec<usize>,
+    pub levels: Vec<LevelMesh>,
+    /// Store, parametrization and export seconds.
+    pub seconds: [f64; 3],
+}
