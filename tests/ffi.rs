@@ -269,3 +269,43 @@ fn native_errors_are_results_not_aborts() {
     let he = HalfEdgeMesh::from_mesh(&grid(1)).unwrap();
     assert!(matches!(he.valences(&[VertexId(99)]), Err(Error::Native(_))));
 }
+
+#[test]
+fn the_plane_side_filter_never_separates_what_cgal_finds_intersecting() {
+    // Small integer coordinates make exactly coplanar, touching and piercing pairs common.
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move |n: i64| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state % n as u64) as i64
+    };
+    let mut point = || DVec3::new((next(5) - 2) as f64, (next(5) - 2) as f64, (next(5) - 2) as f64);
+    let (mut intersecting, mut certified) = (0, 0);
+    for case in 0..3000 {
+        let positions: Vec<DVec3> = (0..6).map(|_| point()).collect();
+        let s = [0u32, 1, 2];
+        let t = match case % 3 {
+            0 => [3, 4, 5],
+            1 => [0, 4, 5],
+            _ => [1, 0, 5],
+        };
+        let area = |t: [u32; 3]| {
+            let [a, b, c] = t.map(|v| positions[v as usize]);
+            (b - a).cross(c - a)
+        };
+        if area(s) == DVec3::ZERO || area(t) == DVec3::ZERO {
+            continue;
+        }
+        let mesh = Mesh::new(positions.clone(), vec![s, t]);
+        let cgal = !ffi::self_intersections(&mesh).unwrap().is_empty();
+        let ours = !ffi::added_triangle_intersections(&positions, &[s], &[t]).unwrap().is_empty();
+        assert_eq!(ours, cgal, "case {case}: {s:?} {t:?} over {positions:?}");
+        let apart = asperity::mesh::certainly_apart(&positions, s, t);
+        assert!(!(apart && cgal), "case {case}: the filter separated an intersecting pair");
+        intersecting += usize::from(cgal);
+        certified += usize::from(apart);
+    }
+    // The cases must exercise both sides.
+    assert!(intersecting > 100 && certified > 500, "{intersecting} intersecting, {certified} certified apart");
+}

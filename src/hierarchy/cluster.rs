@@ -13,9 +13,10 @@
 //! where the recorded face no longer exists.
 
 use glam::{DVec2, DVec3};
+use smallvec::SmallVec;
 
 use super::conformal::{Flattening, locate, orient};
-use super::rings::Rings;
+use super::rings::{RingVec, Rings};
 use crate::ffi::Quadric;
 
 /// Weights and thresholds of the cluster selection.
@@ -42,26 +43,32 @@ pub struct ClusterPlan {
     /// The removed vertex.
     pub vertex: u32,
     /// Its 1-ring before the flips (the level's connectivity).
-    pub ring: Vec<u32>,
+    pub ring: RingVec<u32>,
     /// The ring's conformal flattening (vertex at the origin).
-    pub flat: Vec<DVec2>,
+    pub flat: RingVec<DVec2>,
     /// Ring vertices whose spoke is flipped away, in flip order (refinement flips them
     /// back in reverse order).
-    pub flips: Vec<u32>,
+    pub flips: SmallVec<[u32; 4]>,
     /// The weld: the vertex collapses onto this ring vertex.
     pub weld_to: u32,
     /// The edge the weld creates (refinement splits it to re-insert the vertex).
     pub diagonal: [u32; 2],
     /// The retriangulated ring polygon (ears of the flips, then the two weld triangles),
-    /// counter-clockwise, with planar images.
-    pub triangles: Vec<[u32; 3]>,
-    /// Planar images of `triangles`.
-    pub flat_triangles: Vec<[DVec2; 3]>,
+    /// counter-clockwise.
+    pub triangles: SmallVec<[[u32; 3]; 6]>,
     /// The triangle (index into `triangles`) containing the removed vertex, and its
     /// barycentric coordinates there.
     pub location: (usize, [f64; 3]),
     /// E(v) = α·removal error + β·swap error.
     pub error: f64,
+}
+
+impl ClusterPlan {
+    /// Planar images of `triangles` in the flattening.
+    pub fn flat_triangles(&self) -> RingVec<[DVec2; 3]> {
+        let image = |id: u32| self.ring.iter().position(|&r| r == id).map_or(DVec2::ZERO, |j| self.flat[j]);
+        self.triangles.iter().map(|t| t.map(image)).collect()
+    }
 }
 
 /// Cheap estimate of E(v) used to order the candidates of a level: the removal error
@@ -74,7 +81,7 @@ pub fn estimate_error(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules:
     let removal = (0..d.div_ceil(2))
         .map(|k| q.error((pos[ring[k] as usize] + pos[ring[(k + d / 2) % d] as usize]) * 0.5))
         .fold(f64::INFINITY, f64::min);
-    let mut swaps: Vec<f64> = (0..d).map(|i| spoke_flip_error(v, ring, i, geometry)).collect();
+    let mut swaps: RingVec<f64> = (0..d).map(|i| spoke_flip_error(v, ring, i, geometry)).collect();
     swaps.sort_by(f64::total_cmp);
     let swap: f64 = swaps.iter().take(d.saturating_sub(4)).sum();
     rules.removal_weight * removal + rules.swap_weight * swap
@@ -144,7 +151,7 @@ pub fn widest_link_edge(centre: DVec3, ring: &[u32], positions: &[DVec3], thresh
 
 /// Plans the removal of the interior vertex `v`, or `None` if no valid cluster exists.
 pub fn plan_cluster(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules: &ClusterRules) -> Option<ClusterPlan> {
-    let ring = rings.ring(v).to_vec();
+    let ring = RingVec::from_slice(rings.ring(v));
     let d = ring.len();
     if d < 4 || rings.is_boundary(v) {
         return None;
@@ -152,13 +159,13 @@ pub fn plan_cluster(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules: &
     let pos = geometry.positions;
     let p = |i: usize| pos[ring[i] as usize];
     let pv = pos[v as usize];
-    let ring_points: Vec<DVec3> = (0..d).map(p).collect();
+    let ring_points: RingVec<DVec3> = (0..d).map(p).collect();
     let flat = Flattening::of_closed_ring(pv, &ring_points)?.points;
 
     // Spoke flips, cheapest valid first, until the degree is 4.
-    let mut current: Vec<usize> = (0..d).collect();
-    let mut gain = vec![0i64; d];
-    let mut ears: Vec<[usize; 3]> = Vec::new();
+    let mut current: RingVec<usize> = (0..d).collect();
+    let mut gain: RingVec<i64> = smallvec::smallvec![0; d];
+    let mut ears: RingVec<[usize; 3]> = RingVec::new();
     let mut swap_error = 0.0;
     while current.len() > 4 {
         let m = current.len();
@@ -197,7 +204,7 @@ pub fn plan_cluster(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules: &
     }
 
     // The weld: the cheaper of the two diagonals that keeps the ring valid.
-    let mut options: Vec<(f64, usize)> = Vec::with_capacity(2);
+    let mut options: SmallVec<[(f64, usize); 2]> = SmallVec::new();
     for k in 0..2 {
         let c = [current[k], current[k + 1], current[(k + 2) % 4], current[(k + 3) % 4]];
         if rings.has_edge(ring[c[0]], ring[c[2]])
@@ -222,19 +229,18 @@ pub fn plan_cluster(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules: &
     options.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     if let Some(&(error, k)) = options.first() {
         let c = [current[k], current[k + 1], current[(k + 2) % 4], current[(k + 3) % 4]];
-        let mut triangles: Vec<[usize; 3]> = ears.clone();
+        let mut triangles = ears.clone();
         triangles.push([c[0], c[1], c[2]]);
         triangles.push([c[0], c[2], c[3]]);
-        let flat_triangles: Vec<[DVec2; 3]> = triangles.iter().map(|t| t.map(|i| flat[i])).collect();
         let n = triangles.len();
-        let (t, w) = locate(DVec2::ZERO, &flat_triangles[n - 2..]);
+        let weld_images = [[c[0], c[1], c[2]], [c[0], c[2], c[3]]].map(|t| t.map(|i| flat[i]));
+        let (t, w) = locate(DVec2::ZERO, &weld_images);
         return Some(ClusterPlan {
             vertex: v,
             flips: ears.iter().map(|e| ring[e[1]]).collect(),
             weld_to: ring[c[0]],
             diagonal: [ring[c[0]], ring[c[2]]],
             triangles: triangles.iter().map(|t| t.map(|i| ring[i])).collect(),
-            flat_triangles,
             location: (n - 2 + t, w),
             error,
             ring,
@@ -253,7 +259,7 @@ pub fn plan_still_applies(plan: &ClusterPlan, rings: &Rings) -> bool {
     if rings.ring(plan.vertex) != plan.ring.as_slice() {
         return false;
     }
-    let mut gain = vec![0i64; plan.ring.len()];
+    let mut gain: RingVec<i64> = smallvec::smallvec![0; plan.ring.len()];
     let slot = |id: u32| plan.ring.iter().position(|&r| r == id).expect("a ring vertex");
     let drops_too_low = |id: u32, gain: &[i64]| rings.degree(id) as i64 + gain[slot(id)] - 1 < 3;
     let (ears, weld) = plan.triangles.split_at(plan.flips.len());

@@ -3,6 +3,8 @@
 
 use glam::{DVec2, DVec3};
 
+use super::rings::RingVec;
+
 /// A removed vertex's 1-ring mapped to the plane by z^a: the vertex sits at the origin,
 /// ring vertex k at r_k^a·e^{i·a·θ_k}, with θ_k the sum of the 3D angles between
 /// consecutive spokes and a = 2π/θ_n (closed ring). Radii are divided by their mean first,
@@ -10,7 +12,7 @@ use glam::{DVec2, DVec3};
 #[derive(Debug, Clone)]
 pub struct Flattening {
     /// One planar point per ring vertex, in ring order.
-    pub points: Vec<DVec2>,
+    pub points: RingVec<DVec2>,
 }
 
 impl Flattening {
@@ -21,12 +23,12 @@ impl Flattening {
         if n < 3 {
             return None;
         }
-        let spokes: Vec<DVec3> = ring.iter().map(|&p| p - centre).collect();
-        let radii: Vec<f64> = spokes.iter().map(|s| s.length()).collect();
+        let spokes: RingVec<DVec3> = ring.iter().map(|&p| p - centre).collect();
+        let radii: RingVec<f64> = spokes.iter().map(|s| s.length()).collect();
         if radii.iter().any(|&r| r <= 0.0 || !r.is_finite()) {
             return None;
         }
-        let mut theta = Vec::with_capacity(n);
+        let mut theta = RingVec::with_capacity(n);
         let mut total = 0.0;
         for k in 0..n {
             theta.push(total);

@@ -26,7 +26,7 @@ pub use cluster::{ClusterPlan, ClusterRules, nearest_edge, widest_link_edge};
 pub use conformal::{Flattening, barycentric, clamp_barycentric, interpolate, locate};
 pub use param::ParamPoint;
 pub use refine::{LevelMesh, LevelReport, Refiner, connectivity_match};
-pub use rings::Rings;
+pub use rings::{RingVec, Rings};
 pub use simplify::build;
 
 pub use crate::mesh::used_vertices;

@@ -59,6 +59,7 @@ impl ParamBuckets {
             }
             plan.ring.iter().position(|&r| r == id).map_or(DVec2::ZERO, |j| plan.flat[j])
         };
+        let flat_triangles = plan.flat_triangles();
         for k in 0..d {
             let star_face = [v, plan.ring[k], plan.ring[(k + 1) % d]];
             let Some(mut w) = self.heads.remove(&face_key(star_face)) else { continue };
@@ -66,7 +67,7 @@ impl ParamBuckets {
                 let after = self.next[w as usize];
                 if let Some(old) = self.points[w as usize] {
                     let image = old.face.iter().zip(old.bary).fold(DVec2::ZERO, |acc, (&id, b)| acc + flat_of(id) * b);
-                    let (t, bary) = locate(image, &plan.flat_triangles);
+                    let (t, bary) = locate(image, &flat_triangles);
                     self.insert(w, ParamPoint { face: plan.triangles[t], bary });
                 }
                 w = after;

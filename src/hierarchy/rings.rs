@@ -16,8 +16,12 @@ use crate::error::{Error, Result};
 use crate::ffi::HalfEdgeMesh;
 use crate::mesh::VertexId;
 
-/// One vertex's ring; most fit inline (a ring grows past 8 only on coarse levels).
-type Ring = SmallVec<[u32; 8]>;
+/// Ring-sized storage: inline up to degree 8 (rings grow past it only on coarse levels),
+/// so planning allocates nothing per cluster and a level's plans stay compact.
+pub type RingVec<T> = SmallVec<[T; 8]>;
+
+/// One vertex's ring.
+type Ring = RingVec<u32>;
 
 /// 1-rings of a half-edge store's live vertices, edited in place; a journal can take a
 /// batch of edits back.

@@ -42,9 +42,10 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
 
     let mut planner = Planner { mesh, options, kept: &kept, quadrics, rings, live, locked: vec![false; n] };
     // Planning runs here; the record (OpenMesh and the parametrization) follows a level
-    // behind on its own thread.
+    // behind on its own thread. The channel holds nothing: a level's plans are handed over
+    // when the recorder is free, so at most two levels of plans exist at once.
     let (planned, recorded) = std::thread::scope(|scope| {
-        let (sender, receiver) = std::sync::mpsc::sync_channel::<Vec<ClusterPlan>>(1);
+        let (sender, receiver) = std::sync::mpsc::sync_channel::<Vec<ClusterPlan>>(0);
         let worker = scope.spawn(move || -> Result<Recorded> {
             let mut recorder = recorder;
             for plans in receiver {
