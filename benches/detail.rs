@@ -63,6 +63,8 @@ fn run(name: &str, mesh: &Mesh) {
 }
 
 fn main() {
+    // As the asperity binary does: large freed buffers go back to the OS.
+    asperity::memory::return_large_buffers_to_the_os();
     let quick = std::env::args().any(|a| a == "--quick");
     let femur = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/meshes/femur.off");
     if let Ok(read) = io::read(&femur) {

@@ -30,6 +30,8 @@ fn displaced_sphere(level: u32) -> Mesh {
 }
 
 fn main() {
+    // As the asperity binary does: large freed buffers go back to the OS.
+    asperity::memory::return_large_buffers_to_the_os();
     let quick = std::env::args().any(|a| a == "--quick");
     let mesh = displaced_sphere(if quick { 7 } else { 8 });
     let target = mesh.vertex_count() / 100;

@@ -14,6 +14,8 @@ use asperity::hierarchy::{KeepFeatures, Refiner, SimplifyOptions, build};
 use asperity::mesh::loop_subdivide;
 
 fn main() {
+    // As the asperity binary does: large freed buffers go back to the OS.
+    asperity::memory::return_large_buffers_to_the_os();
     let args: Vec<String> = std::env::args().collect();
     let steps: usize =
         args.iter().position(|a| a == "--steps").and_then(|i| args.get(i + 1)?.parse().ok()).unwrap_or(5);

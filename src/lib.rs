@@ -16,6 +16,7 @@ pub mod ffi;
 pub mod fuzzing;
 pub mod hierarchy;
 pub mod io;
+pub mod memory;
 pub mod mesh;
 pub mod noise;
 pub mod render;

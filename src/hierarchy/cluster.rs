@@ -44,8 +44,6 @@ pub struct ClusterPlan {
     pub vertex: u32,
     /// Its 1-ring before the flips (the level's connectivity).
     pub ring: RingVec<u32>,
-    /// The ring's conformal flattening (vertex at the origin).
-    pub flat: RingVec<DVec2>,
     /// Ring vertices whose spoke is flipped away, in flip order (refinement flips them
     /// back in reverse order).
     pub flips: SmallVec<[u32; 4]>,
@@ -64,9 +62,19 @@ pub struct ClusterPlan {
 }
 
 impl ClusterPlan {
-    /// Planar images of `triangles` in the flattening.
-    pub fn flat_triangles(&self) -> RingVec<[DVec2; 3]> {
-        let image = |id: u32| self.ring.iter().position(|&r| r == id).map_or(DVec2::ZERO, |j| self.flat[j]);
+    /// The ring's conformal flattening (the vertex at the origin), as planning computed
+    /// it: recomputed from the positions when needed, so a level's plans stay small while
+    /// the recorder holds them.
+    pub fn flattening(&self, positions: &[DVec3]) -> RingVec<DVec2> {
+        let ring_points: RingVec<DVec3> = self.ring.iter().map(|&r| positions[r as usize]).collect();
+        Flattening::of_closed_ring(positions[self.vertex as usize], &ring_points)
+            .map(|f| f.points)
+            .unwrap_or_else(|| smallvec::smallvec![DVec2::ZERO; self.ring.len()])
+    }
+
+    /// Planar images of `triangles` in `flat` (the plan's flattening).
+    pub fn flat_triangles(&self, flat: &[DVec2]) -> RingVec<[DVec2; 3]> {
+        let image = |id: u32| self.ring.iter().position(|&r| r == id).map_or(DVec2::ZERO, |j| flat[j]);
         self.triangles.iter().map(|t| t.map(image)).collect()
     }
 }
@@ -244,7 +252,6 @@ pub fn plan_cluster(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules: &
             location: (n - 2 + t, w),
             error,
             ring,
-            flat,
         });
     }
     None

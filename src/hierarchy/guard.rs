@@ -54,27 +54,27 @@ fn intersecting_plans(
     restored: Option<&FxHashSet<u32>>,
 ) -> Result<FxHashSet<u32>> {
     let planned: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
-    let (mut kept, mut kept_owner, mut added, mut added_owner) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut kept, mut added) = (Vec::new(), Vec::new());
     for t in level_faces {
         if t.iter().any(|v| planned.contains(v)) {
             continue;
         }
         if restored.is_some_and(|r| t.iter().any(|v| r.contains(v))) {
             added.push(*t);
-            added_owner.push(None);
         } else {
             kept.push(*t);
-            kept_owner.push(None);
         }
     }
-    let (faces, owners) =
-        if restored.is_some() { (&mut kept, &mut kept_owner) } else { (&mut added, &mut added_owner) };
+    // The plans' triangles go last on their side; `owners` names each one's plan.
+    let faces = if restored.is_some() { &mut kept } else { &mut added };
+    let first_planned = faces.len();
+    let mut owners = Vec::new();
     for plan in plans {
         faces.extend(&plan.triangles);
-        owners.extend(std::iter::repeat_n(Some(plan.vertex), plan.triangles.len()));
+        owners.extend(std::iter::repeat_n(plan.vertex, plan.triangles.len()));
     }
-    let owner =
-        |t: u32| if (t as usize) < kept.len() { kept_owner[t as usize] } else { added_owner[t as usize - kept.len()] };
+    let first_planned = if restored.is_some() { first_planned } else { kept.len() + first_planned };
+    let owner = |t: u32| (t as usize).checked_sub(first_planned).and_then(|i| owners.get(i).copied());
     let mut offending = FxHashSet::default();
     for pair in ffi::added_triangle_intersections(positions, &kept, &added)? {
         offending.extend(pair.iter().filter_map(|&t| owner(t)));

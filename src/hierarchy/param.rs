@@ -3,7 +3,7 @@
 //! current coarse level, and when a face it lies on disappears its point is carried through
 //! the conformal flattening of the removed vertex onto the face that replaces it.
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 use rustc_hash::FxHashMap;
 use serde::Serialize;
 
@@ -50,16 +50,17 @@ impl ParamBuckets {
     /// removed vertex's star faces are re-mapped through its flattening onto the
     /// retriangulated ring, and the removed vertex is placed where its image (the origin)
     /// falls. Returns the removed vertex's own point.
-    pub fn apply_removal(&mut self, plan: &ClusterPlan) -> ParamPoint {
+    pub fn apply_removal(&mut self, plan: &ClusterPlan, positions: &[DVec3]) -> ParamPoint {
         let v = plan.vertex;
         let d = plan.ring.len();
+        let flat = plan.flattening(positions);
         let flat_of = |id: u32| -> DVec2 {
             if id == v {
                 return DVec2::ZERO;
             }
-            plan.ring.iter().position(|&r| r == id).map_or(DVec2::ZERO, |j| plan.flat[j])
+            plan.ring.iter().position(|&r| r == id).map_or(DVec2::ZERO, |j| flat[j])
         };
-        let flat_triangles = plan.flat_triangles();
+        let flat_triangles = plan.flat_triangles(&flat);
         for k in 0..d {
             let star_face = [v, plan.ring[k], plan.ring[(k + 1) % d]];
             let Some(mut w) = self.heads.remove(&face_key(star_face)) else { continue };

@@ -64,7 +64,7 @@ impl<'a> Recorder<'a> {
         let stored = Instant::now();
         let step = (self.step_starts.len() - 1) as u32;
         for plan in plans {
-            let point = self.params.apply_removal(plan);
+            let point = self.params.apply_removal(plan, self.positions);
             let restore_start = self.restore.len() as u32;
             self.restore.extend(plan.triangles[..plan.flips.len()].iter().rev().map(|ear| [ear[0], ear[1]]));
             self.removals.push(Removal {

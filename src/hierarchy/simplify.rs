@@ -29,10 +29,16 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
     let started = Instant::now();
     let mut stages = BuildStages::default();
     let mut clock = Instant::now();
-    prepare_input(mesh)?;
+    // Validation, the store and the quadrics are independent: the first error reported
+    // is validation's, as if it had run alone.
+    mesh.check()?;
+    let (prepared, (store, quadrics)) = rayon::join(
+        || prepare_input(mesh),
+        || rayon::join(|| HalfEdgeMesh::from_mesh(mesh), || ffi::vertex_quadrics(mesh, 100.0)),
+    );
+    prepared?;
+    let (store, quadrics) = (store?, quadrics?);
     let n = mesh.vertex_count();
-    let store = HalfEdgeMesh::from_mesh(mesh)?;
-    let quadrics = ffi::vertex_quadrics(mesh, 100.0)?;
     let (kept, feature_vertices) = unremovable_vertices(mesh, options)?;
     let referenced = used_vertices(n, &mesh.triangles);
     let live: Vec<u32> = (0..n as u32).filter(|&v| referenced[v as usize]).collect();
