@@ -1,7 +1,7 @@
 # asperity — the two commands: `make demo` and `make test`.
 CARGO ?= cargo
 
-.PHONY: all deps build demo test clippy bench clean install-cpp fuzz sanitize
+.PHONY: all deps build demo test clippy doc bench clean install-cpp fuzz sanitize
 
 all: build
 
@@ -21,6 +21,11 @@ test: deps
 	$(CARGO) test
 	@./scripts/cpp-example.sh
 	@$(MAKE) --no-print-directory clippy
+	@$(MAKE) --no-print-directory doc
+
+# API documentation, private items included; a broken link fails the tests.
+doc:
+	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --workspace --document-private-items
 
 # The C++ package (find_package(asperity)) into PREFIX, optimised.
 PREFIX ?= /usr/local

@@ -1,4 +1,4 @@
-//! Feature classification by normal voting tensors (thesis §4.4.1.1; Wang et al. [78]):
+//! Feature classification by normal voting tensors (thesis §4.4.1.1; Wang et al. \[78\]):
 //! T(vᵢ) = Σ μⱼ nⱼ nⱼᵀ over the incident faces (eq. 4.2) with
 //! μⱼ = area(tⱼ)/area_max · exp(−‖cⱼ − vᵢ‖ / ‖cⱼ − vᵢ‖_max) (eq. 4.3); eigenvalues sorted
 //! λ1 ≥ λ2 ≥ λ3 and normalised by √(λ1² + λ2² + λ3²); the classes of Algorithm 1 with the

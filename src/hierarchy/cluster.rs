@@ -1,4 +1,4 @@
-//! Planning one four-face cluster (thesis §3.1.7, §4.4.1; Velho & Gomes [3]): the spoke
+//! Planning one four-face cluster (thesis §3.1.7, §4.4.1; Velho & Gomes \[3\]): the spoke
 //! flips that bring a vertex to degree 4, the edge weld that removes it, their errors
 //! (eq. 4.1), and the MAPS data of the removal (§4.4.1.2).
 //!
@@ -95,7 +95,7 @@ pub fn estimate_error(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules:
     rules.removal_weight * removal + rules.swap_weight * swap
 }
 
-/// Error of flipping the spoke v–ring[i]: the new edge ring[i−1]–ring[i+1] measured at its
+/// Error of flipping the spoke v–`ring[i]`: the new edge `ring[i−1]`–`ring[i+1]` measured at its
 /// midpoint against the quadrics of the old edge's two endpoints.
 fn spoke_flip_error(v: u32, ring: &[u32], i: usize, geometry: LevelGeometry<'_>) -> f64 {
     let d = ring.len();
@@ -116,7 +116,7 @@ fn is_sliver(a: DVec3, b: DVec3, c: DVec3) -> bool {
     normal(a, b, c).length() <= 1e-8 * longest
 }
 
-/// Index i of the edge (t[i], t[i+1]) of a 3D triangle nearest to `p` (Algorithm 2 of
+/// Index i of the edge (`t[i]`, `t[i+1]`) of a 3D triangle nearest to `p` (Algorithm 2 of
 /// §4.6); ties go to the lower index.
 pub fn nearest_edge(t: [DVec3; 3], p: DVec3) -> usize {
     let mut best = (0, f64::INFINITY);
@@ -136,7 +136,7 @@ pub(super) fn point_segment_distance_squared(p: DVec3, a: DVec3, b: DVec3) -> f6
     (a + ab * t - p).length_squared()
 }
 
-/// Algorithm 3's choice: the link edge (ring[j], ring[j+1]) of a closed ring whose angle
+/// Algorithm 3's choice: the link edge (`ring[j]`, `ring[j+1]`) of a closed ring whose angle
 /// at `centre` is widest, if that angle reaches `threshold`. Ties go to the edge with the
 /// smaller vertex ids, so the choice does not depend on where the ring starts.
 pub fn widest_link_edge(centre: DVec3, ring: &[u32], positions: &[DVec3], threshold: f64) -> Option<usize> {

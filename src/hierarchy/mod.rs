@@ -1,5 +1,5 @@
-//! The variable-resolution 4-k mesh hierarchy (thesis §4.4, §4.6; Velho [13], Velho &
-//! Gomes [3], MAPS [4]): feature-sensitive four-face-cluster simplification down to a base
+//! The variable-resolution 4-k mesh hierarchy (thesis §4.4, §4.6; Velho \[13\], Velho &
+//! Gomes \[3\], MAPS \[4\]): feature-sensitive four-face-cluster simplification down to a base
 //! domain, the hierarchical parametrization of every removed vertex, and adaptive
 //! refinement back to full resolution (or to any level, or only where a selection asks).
 //!

@@ -1,4 +1,4 @@
-//! Mesh files: one reader and one writer per format behind [`read`] and [`write`], which
+//! Mesh files: one reader and one writer per format behind [`read`] and [`write()`], which
 //! pick the format by extension. Readers never panic on bad input: they return
 //! [`Error::Parse`] naming the file and the line, byte or element. Writers are atomic.
 
@@ -65,7 +65,7 @@ pub struct ReadOutcome {
     pub notes: Vec<String>,
 }
 
-/// Options for [`write`].
+/// Options for [`write()`].
 #[derive(Debug, Clone, Copy, Default)]
 pub struct WriteOptions {
     /// Write text instead of binary where the format has both (PLY, STL).
@@ -110,10 +110,10 @@ pub fn write(mesh: &Mesh, path: &Path, options: WriteOptions) -> Result<()> {
     write_as(mesh, path, Format::from_path(path)?, options)
 }
 
-/// Writes a mesh in a given format whatever the file name; atomic like [`write`].
+/// Writes a mesh in a given format whatever the file name; atomic like [`write()`].
 ///
 /// # Errors
-/// As [`write`].
+/// As [`write()`].
 pub fn write_as(mesh: &Mesh, path: &Path, format: Format, options: WriteOptions) -> Result<()> {
     mesh.check()?;
     if format == Format::Glb {

@@ -5,7 +5,7 @@
 //! positions, weights uniform in [−1, 1], and in isotropic mode a uniform random
 //! orientation — are a pure function of (seed, cell). A point sums the impulses of its
 //! 3×3 (or 3×3×3) neighbouring cells. Output is divided by the analytic standard
-//! deviation σ, σ² = λ E[w²] ∫g² (Campbell's theorem), so it has unit variance.
+//! deviation σ, σ² = λ E\[w²\] ∫g² (Campbell's theorem), so it has unit variance.
 
 use std::f64::consts::{PI, TAU};
 
