@@ -15,19 +15,21 @@ use crate::ffi;
 /// in their order, dropping those that no longer apply without the dropped ones
 /// ([`plan_still_applies`]); the faces that come back are then checked against the rest,
 /// until nothing offends. Plans are never re-planned, so each round after the first checks
-/// only the restored faces.
+/// only the restored faces. Returns the plans kept and the vertices whose plans offended.
 pub(super) fn guard_plans(
     positions: &[glam::DVec3],
     level_faces: &[[u32; 3]],
     mut plans: Vec<ClusterPlan>,
     rings: &mut Rings,
-) -> Result<Vec<ClusterPlan>> {
+) -> Result<(Vec<ClusterPlan>, FxHashSet<u32>)> {
     let mut restored = None;
+    let mut offenders = FxHashSet::default();
     loop {
         let offending = intersecting_plans(positions, level_faces, &plans, restored.as_ref())?;
         if offending.is_empty() {
-            return Ok(plans);
+            return Ok((plans, offenders));
         }
+        offenders.extend(&offending);
         rings.rollback();
         let mut dropped = FxHashSet::default();
         let mut kept = Vec::with_capacity(plans.len());

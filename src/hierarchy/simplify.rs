@@ -46,7 +46,16 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
     let recorder = Recorder::new(&mesh.positions, store, options.record_levels)?;
     lap(&mut clock, &mut stages.prepare);
 
-    let mut planner = Planner { mesh, options, kept: &kept, quadrics, rings, live, locked: vec![false; n] };
+    let mut planner = Planner {
+        mesh,
+        options,
+        kept: &kept,
+        quadrics,
+        rings,
+        live,
+        locked: vec![false; n],
+        offenders: FxHashSet::default(),
+    };
     // Planning runs here; the record (OpenMesh and the parametrization) follows a level
     // behind on its own thread. The channel holds nothing: a level's plans are handed over
     // when the recorder is free, so at most two levels of plans exist at once.
@@ -96,6 +105,8 @@ struct Planner<'a> {
     rings: Rings,
     live: Vec<u32>,
     locked: Vec<bool>,
+    /// Vertices whose plans the guard dropped as offending on the last level.
+    offenders: FxHashSet<u32>,
 }
 
 impl Planner<'_> {
@@ -112,12 +123,16 @@ impl Planner<'_> {
         let diagonal = self.mesh.bounding_box().map_or(0.0, |(lo, hi)| (hi - lo).length());
         let max_error = options.max_error.map(|f| (f * diagonal).powi(2));
         let mut steps = 0;
+        let mut retried = false;
         while options.levels.is_none_or(|l| steps < l) {
             if options.target_vertices.is_some_and(|t| self.live.len() <= t) {
                 break;
             }
             let geometry = LevelGeometry { positions: &self.mesh.positions, quadrics: &self.quadrics };
-            let order = candidate_order(&self.live, &self.rings, self.kept, geometry, &rules);
+            let mut order = candidate_order(&self.live, &self.rings, self.kept, geometry, &rules);
+            // The last level's offenders wait a level: planned again at once they would
+            // likely offend again and take the place of clusters that can go.
+            order.retain(|v| !self.offenders.contains(v));
             lap(clock, &mut stages.ranking);
             let level_faces = if options.prevent_intersections { self.rings.faces(&self.live) } else { Vec::new() };
             lap(clock, &mut stages.guard);
@@ -137,13 +152,19 @@ impl Planner<'_> {
             }
             lap(clock, &mut stages.planning);
             if options.prevent_intersections {
-                plans = guard_plans(&self.mesh.positions, &level_faces, plans, &mut self.rings)?;
+                (plans, self.offenders) = guard_plans(&self.mesh.positions, &level_faces, plans, &mut self.rings)?;
                 lap(clock, &mut stages.guard);
             }
             self.rings.commit();
             if plans.is_empty() {
-                break;
+                // A level whose every plan offended is retried once without them.
+                if self.offenders.is_empty() || retried {
+                    break;
+                }
+                retried = true;
+                continue;
             }
+            retried = false;
             for plan in &plans {
                 let q = self.quadrics[plan.vertex as usize];
                 for end in plan.diagonal {
