@@ -72,10 +72,15 @@ impl ClusterPlan {
             .unwrap_or_else(|| smallvec::smallvec![DVec2::ZERO; self.ring.len()])
     }
 
+    /// The planar image of vertex `id` in `flat` (the plan's flattening): the removed
+    /// vertex at the origin, a ring vertex at its flattened point.
+    pub fn image(&self, id: u32, flat: &[DVec2]) -> DVec2 {
+        self.ring.iter().position(|&r| r == id).map_or(DVec2::ZERO, |j| flat[j])
+    }
+
     /// Planar images of `triangles` in `flat` (the plan's flattening).
     pub fn flat_triangles(&self, flat: &[DVec2]) -> RingVec<[DVec2; 3]> {
-        let image = |id: u32| self.ring.iter().position(|&r| r == id).map_or(DVec2::ZERO, |j| flat[j]);
-        self.triangles.iter().map(|t| t.map(image)).collect()
+        self.triangles.iter().map(|t| t.map(|id| self.image(id, flat))).collect()
     }
 }
 

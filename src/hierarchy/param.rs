@@ -54,12 +54,6 @@ impl ParamBuckets {
         let v = plan.vertex;
         let d = plan.ring.len();
         let flat = plan.flattening(positions);
-        let flat_of = |id: u32| -> DVec2 {
-            if id == v {
-                return DVec2::ZERO;
-            }
-            plan.ring.iter().position(|&r| r == id).map_or(DVec2::ZERO, |j| flat[j])
-        };
         let flat_triangles = plan.flat_triangles(&flat);
         for k in 0..d {
             let star_face = [v, plan.ring[k], plan.ring[(k + 1) % d]];
@@ -67,7 +61,11 @@ impl ParamBuckets {
             while w != END {
                 let after = self.next[w as usize];
                 if let Some(old) = self.points[w as usize] {
-                    let image = old.face.iter().zip(old.bary).fold(DVec2::ZERO, |acc, (&id, b)| acc + flat_of(id) * b);
+                    let image = old
+                        .face
+                        .iter()
+                        .zip(old.bary)
+                        .fold(DVec2::ZERO, |acc, (&id, b)| acc + plan.image(id, &flat) * b);
                     let (t, bary) = locate(image, &flat_triangles);
                     self.insert(w, ParamPoint { face: plan.triangles[t], bary });
                 }

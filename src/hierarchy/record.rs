@@ -18,18 +18,18 @@ use crate::ffi::{CollapseOptions, HalfEdgeMesh};
 pub(super) struct Recorder<'a> {
     positions: &'a [DVec3],
     /// The half-edge store, at the last recorded level.
-    pub store: HalfEdgeMesh,
+    store: HalfEdgeMesh,
     params: ParamBuckets,
     /// Every removal so far, in order.
-    pub removals: Vec<Removal>,
+    removals: Vec<Removal>,
     /// The link edges of the removals (see [`Removal::restore`]).
-    pub restore: Vec<[u32; 2]>,
+    restore: Vec<[u32; 2]>,
     /// Where each step's removals start, plus the end.
-    pub step_starts: Vec<usize>,
+    step_starts: Vec<usize>,
     /// Every level's mesh, when recorded.
-    pub levels: Option<Vec<LevelMesh>>,
+    levels: Option<Vec<LevelMesh>>,
     /// Seconds spent on the store, the parametrization and level exports.
-    pub seconds: [f64; 3],
+    seconds: [f64; 3],
 }
 
 impl<'a> Recorder<'a> {

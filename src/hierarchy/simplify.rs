@@ -213,9 +213,8 @@ fn lap(clock: &mut Instant, stage: &mut f64) {
 /// Input preparation (§4.3): the mesh must be a consistently oriented manifold triangle
 /// mesh without degenerate faces or unreferenced vertices (polygons are triangulated by the
 /// readers; [`crate::mesh::repair`] fixes the rest); degree-4 clusters are then made by
-/// flips during simplification.
+/// flips during simplification. [`build`] has run `Mesh::check` (indices in range) first.
 fn prepare_input(mesh: &Mesh) -> Result<()> {
-    mesh.check()?;
     if mesh.face_count() == 0 {
         return Err(Error::InvalidInput("the mesh has no faces to simplify".into()));
     }
