@@ -315,6 +315,28 @@ fn simplify_writes_the_base_levels_and_parametrization_and_reports_json() {
 }
 
 #[test]
+fn simplify_without_the_intersection_guard_is_asked_for_by_name() {
+    let tmp = temp_dir();
+    let input = tmp.path().join("pancake.off");
+    asperity::io::write(&crate::common::thin_pancake(), &input, Default::default()).unwrap();
+    let intersecting_pairs = |extra: &[&str], dir: &str| {
+        let mut args = vec!["simplify", "pancake.off", "--target-vertices", "20", "--keep-features", "none"];
+        args.extend(["-o", "base.ply", "--levels-out", dir]);
+        args.extend(extra);
+        let out = asperity(&args, tmp.path());
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let mut pairs = 0;
+        for entry in std::fs::read_dir(tmp.path().join(dir)).unwrap() {
+            let level = asperity::io::read(&entry.unwrap().path()).unwrap().mesh;
+            pairs += asperity::ffi::self_intersections(&level).unwrap().len();
+        }
+        pairs
+    };
+    assert_eq!(intersecting_pairs(&[], "guarded"), 0);
+    assert!(intersecting_pairs(&["--no-intersection-guard"], "unguarded") > 0);
+}
+
+#[test]
 fn detail_without_a_recipe_gives_the_input_back() {
     let Some(dir) = shared_meshes() else { return };
     let tmp = temp_dir();

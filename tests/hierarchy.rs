@@ -152,6 +152,28 @@ fn no_level_intersects_itself() {
 }
 
 #[test]
+fn the_guard_keeps_a_thin_pancake_from_cutting_itself() {
+    let mesh = crate::common::thin_pancake();
+    assert!(ffi::self_intersections(&mesh).unwrap().is_empty());
+    let intersecting_pairs = |guard: bool| {
+        let options = SimplifyOptions {
+            target_vertices: Some(20),
+            keep_features: KeepFeatures::None,
+            record_levels: true,
+            prevent_intersections: guard,
+            ..SimplifyOptions::default()
+        };
+        let h = build(&mesh, &options).unwrap();
+        assert_eq!(h.base_vertex_count(), 20);
+        h.levels.iter().map(|level| ffi::self_intersections(&level.mesh).unwrap().len()).sum::<usize>()
+    };
+    assert_eq!(intersecting_pairs(true), 0);
+    // Without the guard the same simplification does cut through: the check above is the
+    // guard's doing, not the mesh's.
+    assert!(intersecting_pairs(false) > 0);
+}
+
+#[test]
 fn fandisk_corners_reach_the_base_domain() {
     let Some(mesh) = shared("fandisk.off") else { return };
     let analysis = analysis::analyze(&mesh, &Default::default()).unwrap();

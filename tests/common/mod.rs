@@ -72,3 +72,15 @@ pub fn read_text(name: &str, contents: &str) -> (tempfile::TempDir, asperity::io
     let outcome = asperity::io::read(&path).expect("read test file");
     (dir, outcome)
 }
+
+/// A closed, bumpy, very flat ellipsoid (an icosphere of subdivision level 3 squashed
+/// to 0.005 of its height): its top and bottom are so close that removing vertices
+/// without the intersection guard makes levels cut through themselves.
+pub fn thin_pancake() -> Mesh {
+    let mut mesh = asperity::mesh::primitives::icosphere(1.0, 3);
+    for p in &mut mesh.positions {
+        p.z *= 0.005;
+        p.z += 0.0015 * (5.0 * p.x).sin() * (4.0 * p.y).cos();
+    }
+    mesh
+}
