@@ -61,8 +61,7 @@ fn main() {
     println!("asperity build stages: {}", hierarchy.stages);
     drop(refiner);
 
-    let rows = compare(&mesh, target, &["asperity", "openmesh", "cgal", "meshoptimizer"], KeepFeatures::None)
-        .expect("compare");
+    let rows = compare(&mesh, target, &["asperity", "openmesh", "cgal", "meshoptimizer"], &options).expect("compare");
     for r in &rows {
         println!(
             "{:<14} {:>7} vertices in {:>7.2} s, hausdorff {:.3} %, rms {:.4} %, min angle {:.2}°",

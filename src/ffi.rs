@@ -395,6 +395,20 @@ impl Quadric {
         x * (a * x + 2.0 * (b * y + c * z + d)) + y * (e * y + 2.0 * (f * z + g)) + z * (h * z + 2.0 * i) + j
     }
 
+    /// The total weight of the planes summed into the quadric: the trace of its 3×3 part
+    /// (a plane with normal n adds |n|²).
+    pub fn weight(&self) -> f64 {
+        self.0[0] + self.0[4] + self.0[7]
+    }
+
+    /// The weighted mean of the squared plane distances at `p`: [`Quadric::error`] divided
+    /// by [`Quadric::weight`] (meshoptimizer's normalisation), so a quadric that has
+    /// absorbed many planes is not dearer for that alone. Zero for an empty quadric.
+    pub fn mean_error(&self, p: DVec3) -> f64 {
+        let w = self.weight();
+        if w > 0.0 { (self.error(p) / w).max(0.0) } else { 0.0 }
+    }
+
     /// Adds `scale` times `other`.
     pub fn add_scaled(&mut self, other: &Quadric, scale: f64) {
         for (a, b) in self.0.iter_mut().zip(other.0) {

@@ -36,10 +36,9 @@ fn angle_deficits_sum_to_two_pi_chi() {
         ("cube".into(), cube(DVec3::ZERO, DVec3::ONE, 3)),
         ("grid".into(), grid(5)),
     ];
-    if let Some(dir) = shared_meshes() {
-        for name in ["eight.off", "3torus.off", "double-torus-3-holes.off", "mushroom.off"] {
-            cases.push((name.into(), io::read(&dir.join(name)).unwrap().mesh));
-        }
+    let dir = shared_meshes();
+    for name in ["eight.off", "3torus.off", "double-torus-3-holes.off", "mushroom.off"] {
+        cases.push((name.into(), io::read(&dir.join(name)).unwrap().mesh));
     }
     for (name, mesh) in cases {
         let chi = mesh.validate().euler as f64;
@@ -82,7 +81,7 @@ fn box_corners_edges_and_faces_are_classified_exactly() {
 
 #[test]
 fn fandisk_sharp_vertices_match_dihedral_ground_truth() {
-    let Some(dir) = shared_meshes() else { return };
+    let dir = shared_meshes();
     let mesh = io::read(&dir.join("fandisk.off")).unwrap().mesh;
     let normals = face_normals(&mesh);
     // Ground truth: vertices on an edge whose faces meet at more than 40°.

@@ -3,7 +3,7 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-use crate::common::{shared_meshes, temp_dir};
+use crate::common::{shared_meshes, shared_meshes_present, temp_dir};
 
 fn asperity(args: &[&str], cwd: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_asperity")).args(args).current_dir(cwd).output().expect("run asperity")
@@ -21,7 +21,7 @@ fn assert_one_line_error(out: &Output, code: i32, phrases: &[&str]) {
 
 #[test]
 fn info_json_reports_the_required_keys() {
-    let Some(dir) = shared_meshes() else { return };
+    let dir = shared_meshes();
     let tmp = temp_dir();
     let out = asperity(&["info", dir.join("3torus.off").to_str().unwrap(), "--json"], tmp.path());
     assert!(out.status.success());
@@ -121,7 +121,7 @@ fn demo_writes_its_meshes() {
         "clouds.png",
         "torus-base.ply",
         // The feature analysis uses fandisk when the shared meshes are there.
-        if shared_meshes().is_some() { "fandisk-features.ply" } else { "torus-features.ply" },
+        if shared_meshes_present() { "fandisk-features.ply" } else { "torus-features.ply" },
     ] {
         assert!(tmp.path().join("results").join(file).is_file(), "{file}");
     }
@@ -139,7 +139,7 @@ fn demo_writes_its_meshes() {
             pictures += 1;
         }
     }
-    let expected = if shared_meshes().is_some() { 23 } else { 20 };
+    let expected = if shared_meshes_present() { 23 } else { 20 };
     assert!(pictures >= expected, "{pictures} pictures");
     for file in
         ["noise-panel.png", "terrain-map.png", "terrain-views.png", "torus-hierarchy.png", "detail-sphere-marble.png"]
@@ -193,7 +193,7 @@ fn noise_writes_png16_and_raw_f32_deterministically() {
 
 #[test]
 fn analyze_writes_every_property_and_a_json_report() {
-    let Some(dir) = shared_meshes() else { return };
+    let dir = shared_meshes();
     let tmp = temp_dir();
     let input = dir.join("fandisk.off");
     let out = asperity(&["analyze", input.to_str().unwrap(), "-o", "f.ply", "--json"], tmp.path());
@@ -276,7 +276,7 @@ fn terrain_streams_tiles_and_refuses_bad_sizes() {
 
 #[test]
 fn simplify_writes_the_base_levels_and_parametrization_and_reports_json() {
-    let Some(dir) = shared_meshes() else { return };
+    let dir = shared_meshes();
     let tmp = temp_dir();
     let input = dir.join("elephant.off");
     let out = asperity(
@@ -338,7 +338,7 @@ fn simplify_without_the_intersection_guard_is_asked_for_by_name() {
 
 #[test]
 fn detail_without_a_recipe_gives_the_input_back() {
-    let Some(dir) = shared_meshes() else { return };
+    let dir = shared_meshes();
     let tmp = temp_dir();
     let input = dir.join("femur.off");
     let out = asperity(&["detail", input.to_str().unwrap(), "-o", "back.off", "--json"], tmp.path());
@@ -353,7 +353,7 @@ fn detail_without_a_recipe_gives_the_input_back() {
 
 #[test]
 fn compare_runs_every_method_to_the_same_budget() {
-    let Some(dir) = shared_meshes() else { return };
+    let dir = shared_meshes();
     let tmp = temp_dir();
     let out = asperity(
         &["compare", dir.join("elephant.off").to_str().unwrap(), "--target-vertices", "600", "--json"],

@@ -11,9 +11,8 @@ use asperity::{analysis, io};
 
 use crate::common::shared_meshes;
 
-fn shared(name: &str) -> Option<Mesh> {
-    let dir = shared_meshes()?;
-    Some(io::read(&dir.join(name)).expect("shared mesh reads").mesh)
+fn shared(name: &str) -> Mesh {
+    io::read(&shared_meshes().join(name)).expect("shared mesh reads").mesh
 }
 
 fn options() -> SimplifyOptions {
@@ -110,7 +109,7 @@ fn assert_levels_keep_topology(name: &str, mesh: &Mesh, options: &SimplifyOption
 fn every_level_keeps_genus_and_manifoldness() {
     assert_levels_keep_topology("torus", &torus(1.0, 0.35, 48, 24), &options());
     for name in ["eight.off", "elephant.off", "femur.off", "blade.off", "mushroom.off"] {
-        let Some(mesh) = shared(name) else { return };
+        let mesh = shared(name);
         assert_levels_keep_topology(name, &mesh, &options());
         assert_levels_keep_topology(name, &mesh, &SimplifyOptions { keep_features: KeepFeatures::None, ..options() });
     }
@@ -119,7 +118,7 @@ fn every_level_keeps_genus_and_manifoldness() {
 #[test]
 fn boundary_loops_and_boundary_vertices_survive() {
     for name in ["blade.off", "mushroom.off", "double-torus-3-holes.off"] {
-        let Some(mesh) = shared(name) else { return };
+        let mesh = shared(name);
         let h =
             build(&mesh, &SimplifyOptions { keep_features: KeepFeatures::None, ..SimplifyOptions::default() }).unwrap();
         let base = h.base_mesh();
@@ -141,7 +140,7 @@ fn boundary_loops_and_boundary_vertices_survive() {
 #[test]
 fn no_level_intersects_itself() {
     for name in ["eight.off", "elephant.off", "fandisk.off"] {
-        let Some(mesh) = shared(name) else { return };
+        let mesh = shared(name);
         assert!(ffi::self_intersections(&mesh).unwrap().is_empty(), "{name} input");
         let h = build(&mesh, &options()).unwrap();
         for (k, level) in h.levels.iter().enumerate() {
@@ -175,7 +174,7 @@ fn the_guard_keeps_a_thin_pancake_from_cutting_itself() {
 
 #[test]
 fn fandisk_corners_reach_the_base_domain() {
-    let Some(mesh) = shared("fandisk.off") else { return };
+    let mesh = shared("fandisk.off");
     let analysis = analysis::analyze(&mesh, &Default::default()).unwrap();
     let h = build(&mesh, &SimplifyOptions::default()).unwrap();
     let base: HashSet<u32> = h.base_mesh().ids.into_iter().collect();
@@ -190,7 +189,7 @@ fn fandisk_corners_reach_the_base_domain() {
 
 #[test]
 fn bunny_reaches_one_percent_of_its_vertices() {
-    let Some(mesh) = shared("bunny00.off") else { return };
+    let mesh = shared("bunny00.off");
     let target = mesh.vertex_count() / 100;
     let h = build(&mesh, &SimplifyOptions { target_vertices: Some(target), ..SimplifyOptions::default() }).unwrap();
     assert!(h.base_vertex_count() <= target, "{} vertices left", h.base_vertex_count());
@@ -216,7 +215,7 @@ fn assert_parameter_points_valid(name: &str, mesh: &Mesh) {
 fn every_vertex_has_a_valid_base_domain_point() {
     assert_parameter_points_valid("torus", &torus(1.0, 0.35, 48, 24));
     for name in ["fandisk.off", "femur.off", "mushroom.off"] {
-        let Some(mesh) = shared(name) else { return };
+        let mesh = shared(name);
         assert_parameter_points_valid(name, &mesh);
     }
 }
@@ -242,7 +241,7 @@ fn round_trip_restores_positions_and_connectivity() {
         round_trip(&icosphere(1.0, 3), &SimplifyOptions { keep_features: KeepFeatures::None, ..Default::default() }),
         1.0
     );
-    let Some(dir) = shared_meshes() else { return };
+    let dir = shared_meshes();
     for path in crate::common::shared_mesh_files() {
         let mesh = io::read(&path).unwrap().mesh;
         let name = path.file_name().unwrap().to_string_lossy().to_string();
@@ -278,7 +277,7 @@ fn refining_a_region_only_inserts_vertices_there() {
 
 #[test]
 fn building_twice_gives_the_same_hierarchy() {
-    let Some(mesh) = shared("elephant.off") else { return };
+    let mesh = shared("elephant.off");
     let a = build(&mesh, &SimplifyOptions::default()).unwrap();
     let b = build(&mesh, &SimplifyOptions::default()).unwrap();
     assert_eq!(a.removals, b.removals);

@@ -10,6 +10,7 @@ mod ffi;
 mod fuzz_regressions;
 mod glb;
 mod hierarchy;
+mod hierarchy_quality;
 mod interrupt;
 mod io_roundtrip;
 mod noise;

@@ -10,8 +10,8 @@ use proptest::prelude::*;
 
 use crate::common::shared_meshes;
 
-fn shared(name: &str) -> Option<Mesh> {
-    Some(asperity::io::read(&shared_meshes()?.join(name)).unwrap().mesh)
+fn shared(name: &str) -> Mesh {
+    asperity::io::read(&shared_meshes().join(name)).unwrap().mesh
 }
 
 fn assert_clean(mesh: &Mesh) {
@@ -36,7 +36,7 @@ fn a_clean_mesh_is_returned_unchanged() {
 #[test]
 fn the_shared_meshes_need_no_repair() {
     for name in ["fandisk.off", "eight.off", "blade.off", "mushroom.off"] {
-        let Some(mesh) = shared(name) else { return };
+        let mesh = shared(name);
         let (out, report) = repair(&mesh).unwrap();
         assert!(!report.changed(), "{name}: {report}");
         assert_eq!(out, mesh, "{name}");
@@ -45,7 +45,7 @@ fn the_shared_meshes_need_no_repair() {
 
 #[test]
 fn flipped_faces_are_flipped_back_to_the_majority_orientation() {
-    let Some(mesh) = shared("fandisk.off") else { return };
+    let mesh = shared("fandisk.off");
     let mut broken = mesh.clone();
     let flipped: Vec<usize> = (0..mesh.face_count()).filter(|f| f % 7 == 3).collect();
     for &f in &flipped {

@@ -260,7 +260,9 @@ DecimatedArrays cgal_decimate(const TriangleArrays& mesh, std::size_t target_ver
   for (auto h : sm.halfedges()) boundary += sm.is_border(h) ? 1 : 0;
   const long long chi = v - e + f;
   const long long edges = 3 * static_cast<long long>(target_vertices) - 3 * chi + boundary;
-  SMS::Count_stop_predicate<SurfaceMesh> stop(static_cast<std::size_t>(std::max<long long>(edges, 0)));
+  // The predicate stops once fewer edges than its threshold remain: one above the target
+  // count stops at the target instead of one collapse past it.
+  SMS::Count_stop_predicate<SurfaceMesh> stop(static_cast<std::size_t>(std::max<long long>(edges + 1, 0)));
   SMS::GarlandHeckbert_plane_policies<SurfaceMesh, Kernel> policies(sm);
   SMS::edge_collapse(sm, stop, CGAL::parameters::get_cost(policies.get_cost()).get_placement(policies.get_placement()));
   sm.collect_garbage();

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use crate::error::Result;
+use crate::hierarchy::SimplifyOptions;
 use crate::hierarchy::compare::{METHODS, compare};
 
 #[derive(Debug, Args)]
@@ -21,6 +22,10 @@ pub struct CompareArgs {
     /// Feature vertices our simplification keeps (they can stop it above the budget).
     #[arg(long, value_enum, default_value_t = super::simplify::KeepArg::Strong)]
     keep_features: super::simplify::KeepArg,
+    /// Our feature vertices on lines: simplified along them or kept [default: along-lines].
+    /// Needs --keep-features strong or all.
+    #[arg(long, value_enum)]
+    feature_vertices: Option<super::simplify::FeatureVerticesArg>,
     #[command(flatten)]
     repair: super::input::RepairArg,
 }
@@ -29,15 +34,21 @@ pub fn run(args: CompareArgs, ctx: super::Context) -> Result<()> {
     let mesh = super::input::read_input(&args.input, args.repair, ctx)?.read.mesh;
     let target = super::simplify::resolve_target(&args.target_vertices, mesh.vertex_count())?;
     let methods: Vec<&str> = args.methods.iter().map(String::as_str).collect();
+    let keep_features = args.keep_features.into();
+    let ours = SimplifyOptions {
+        keep_features,
+        feature_vertices: super::simplify::resolve_feature_vertices(args.feature_vertices, keep_features)?,
+        ..SimplifyOptions::default()
+    };
     let rows = ctx
-        .spin("compare", &methods.join(", "), || compare(&mesh, target, &methods, args.keep_features.into()))
+        .spin("compare", &methods.join(", "), || compare(&mesh, target, &methods, &ours))
         .map_err(|e| e.about_file(&args.input))?;
     if ctx.json {
         println!("{}", serde_json::to_string_pretty(&rows).expect("report serialises"));
     } else if !ctx.quiet {
         for r in &rows {
             println!(
-                "{:<13} {} tris => {} tris, {} vertices (hausdorff {:.3}%, rms {:.4}%, min angle {:.2}°, {} features kept) in {:.0} ms",
+                "{:<13} {} tris => {} tris, {} vertices (hausdorff {:.3}%, rms {:.4}%, min angle {:.2}°, p1 angle {:.2}°, slivers {:.2}%, {} features kept) in {:.0} ms",
                 format!("{}:", r.method),
                 mesh.face_count(),
                 r.faces,
@@ -45,8 +56,18 @@ pub fn run(args: CompareArgs, ctx: super::Context) -> Result<()> {
                 r.hausdorff * 100.0,
                 r.rms * 100.0,
                 r.min_angle_deg,
+                r.min_angle_p1_deg,
+                r.sliver_share * 100.0,
                 r.features_kept,
                 r.seconds * 1e3
+            );
+        }
+        let rerun: Vec<&str> = rows.iter().filter(|r| r.target_vertices != target).map(|r| r.method.as_str()).collect();
+        if let Some(r) = rows.iter().find(|r| r.target_vertices != target) {
+            println!(
+                "note: a method stopped above {target} vertices, so {} ran again to {} vertices (like with like)",
+                rerun.join(", "),
+                r.target_vertices
             );
         }
     }

@@ -10,7 +10,8 @@ use serde_json::json;
 use crate::detail::HierarchySection;
 use crate::error::{Error, Result};
 use crate::ffi::{HausdorffOptions, hausdorff_distance};
-use crate::hierarchy::{Hierarchy, KeepFeatures, SimplifyOptions, build};
+use crate::hierarchy::compare::ShapeReport;
+use crate::hierarchy::{FeatureVertices, Hierarchy, KeepFeatures, SimplifyOptions, build};
 use crate::io::glb::{GlbPart, write_glb_parts};
 use crate::io::{self, WriteOptions};
 use crate::mesh::Mesh;
@@ -30,6 +31,11 @@ pub struct HierarchyArgs {
     /// Feature vertices kept in the base domain (thesis §4.4.1.1) [default: strong].
     #[arg(long, value_enum)]
     keep_features: Option<KeepArg>,
+    /// Feature vertices on a feature line: simplified along their line, so it stays a line
+    /// of every level (along-lines), or never removed (keep: the thesis' literal rule)
+    /// [default: along-lines]. Needs --keep-features strong or all.
+    #[arg(long, value_enum)]
+    feature_vertices: Option<FeatureVerticesArg>,
     /// Weight of the removal error in E(v) (eq. 4.1).
     #[arg(long, default_value_t = 0.75)]
     removal_weight: f64,
@@ -56,6 +62,33 @@ impl From<KeepArg> for KeepFeatures {
             KeepArg::Strong => KeepFeatures::Strong,
             KeepArg::All => KeepFeatures::All,
         }
+    }
+}
+
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum FeatureVerticesArg {
+    AlongLines,
+    Keep,
+}
+
+impl From<FeatureVerticesArg> for FeatureVertices {
+    fn from(f: FeatureVerticesArg) -> Self {
+        match f {
+            FeatureVerticesArg::AlongLines => FeatureVertices::AlongLines,
+            FeatureVerticesArg::Keep => FeatureVertices::Keep,
+        }
+    }
+}
+
+/// `--feature-vertices` resolved against `--keep-features`: refused where no vertex is a
+/// feature.
+pub fn resolve_feature_vertices(arg: Option<FeatureVerticesArg>, keep: KeepFeatures) -> Result<FeatureVertices> {
+    match (arg, keep) {
+        (Some(_), KeepFeatures::None) => Err(Error::InvalidInput(
+            "--feature-vertices applies only with --keep-features strong or all (with none, no vertex is a feature)"
+                .into(),
+        )),
+        (arg, _) => Ok(arg.map_or(FeatureVertices::AlongLines, Into::into)),
     }
 }
 
@@ -133,12 +166,14 @@ impl HierarchyArgs {
                 return Err(Error::InvalidInput(format!("{name} {w} must be non-negative")));
             }
         }
+        let feature_vertices = resolve_feature_vertices(self.feature_vertices, keep.into())?;
         let target_vertices = target.map(|t| t.resolve(vertices));
         Ok(SimplifyOptions {
             target_vertices,
             levels,
             max_error,
             keep_features: keep.into(),
+            feature_vertices,
             removal_weight: self.removal_weight,
             swap_weight: self.swap_weight,
             record_levels,
@@ -206,6 +241,7 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
         io::write(&parametrization_mesh(mesh, &hierarchy), p, WriteOptions::default())?;
     }
     let hausdorff = relative_hausdorff(mesh, &base)?;
+    let shape = ShapeReport::of(&base);
     if ctx.json {
         let report = json!({
             "input": args.input.display().to_string(),
@@ -217,6 +253,8 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
             "levels": hierarchy.steps(),
             "feature_vertices_kept": hierarchy.feature_vertices,
             "hausdorff": hausdorff,
+            "min_angle_deg": shape.min_angle_deg,
+            "sliver_share": shape.sliver_share,
             "repair": input.repair_json(),
             "seconds": hierarchy.seconds,
             "total_seconds": start.elapsed().as_secs_f64(),
@@ -224,12 +262,14 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&report).expect("report serialises"));
     } else if !ctx.quiet {
         println!(
-            "simplify: {} tris => {} tris, {} levels, {} feature vertices kept (hausdorff {:.2}%) in {} ms",
+            "simplify: {} tris => {} tris, {} levels, {} feature vertices kept (hausdorff {:.3}%, min angle {:.2}°, slivers {:.2}%) in {} ms",
             mesh.face_count(),
             base.face_count(),
             hierarchy.steps(),
             hierarchy.feature_vertices,
             hausdorff * 100.0,
+            shape.min_angle_deg,
+            shape.sliver_share * 100.0,
             super::millis(start)
         );
     }

@@ -15,7 +15,10 @@
 use glam::{DVec2, DVec3};
 use smallvec::SmallVec;
 
-use super::conformal::{Flattening, locate, orient};
+use super::conformal::{Flattening, interpolate, locate, orient};
+use super::cost::{Choice, choose, crossing_error, min_angle, point_triangle_distance_squared, spoke_crossing};
+use super::lines::FeatureLines;
+use super::param::ParamBuckets;
 use super::rings::{RingVec, Rings};
 use crate::ffi::Quadric;
 
@@ -26,6 +29,9 @@ pub struct ClusterRules {
     pub removal_weight: f64,
     /// Weight of the swap (flip) error in E(v) (eq. 4.1: 0.25).
     pub swap_weight: f64,
+    /// Smallest angle (radians) a cluster's new triangles may have, unless the star they
+    /// replace already had a smaller one.
+    pub min_angle: f64,
 }
 
 /// Positions and accumulated quadrics of the current level.
@@ -35,6 +41,12 @@ pub struct LevelGeometry<'a> {
     pub positions: &'a [DVec3],
     /// Garland–Heckbert quadrics, accumulated over removed vertices.
     pub quadrics: &'a [Quadric],
+    /// Errors closer than this (a squared distance far below the model's size) are equal.
+    pub tolerance: f64,
+    /// Where the vertices removed so far lie on the level's faces.
+    pub params: &'a ParamBuckets,
+    /// The level's feature lines.
+    pub lines: &'a FeatureLines,
 }
 
 /// A planned removal of one vertex.
@@ -59,6 +71,9 @@ pub struct ClusterPlan {
     pub location: (usize, [f64; 3]),
     /// E(v) = α·removal error + β·swap error.
     pub error: f64,
+    /// For a vertex removed along a feature line: the line's two ends around it (joined by
+    /// the diagonal) and the new feature edge's distance bound.
+    pub along_line: Option<([u32; 2], f64)>,
 }
 
 impl ClusterPlan {
@@ -82,32 +97,6 @@ impl ClusterPlan {
     pub fn flat_triangles(&self, flat: &[DVec2]) -> RingVec<[DVec2; 3]> {
         self.triangles.iter().map(|t| t.map(|id| self.image(id, flat))).collect()
     }
-}
-
-/// Cheap estimate of E(v) used to order the candidates of a level: the removal error
-/// along the best "opposite" diagonal plus the cheapest d − 4 spoke flips.
-pub fn estimate_error(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules: &ClusterRules) -> f64 {
-    let ring = rings.ring(v);
-    let d = ring.len();
-    let pos = geometry.positions;
-    let q = &geometry.quadrics[v as usize];
-    let removal = (0..d.div_ceil(2))
-        .map(|k| q.error((pos[ring[k] as usize] + pos[ring[(k + d / 2) % d] as usize]) * 0.5))
-        .fold(f64::INFINITY, f64::min);
-    let mut swaps: RingVec<f64> = (0..d).map(|i| spoke_flip_error(v, ring, i, geometry)).collect();
-    swaps.sort_by(f64::total_cmp);
-    let swap: f64 = swaps.iter().take(d.saturating_sub(4)).sum();
-    rules.removal_weight * removal + rules.swap_weight * swap
-}
-
-/// Error of flipping the spoke v–`ring[i]`: the new edge `ring[i−1]`–`ring[i+1]` measured at its
-/// midpoint against the quadrics of the old edge's two endpoints.
-fn spoke_flip_error(v: u32, ring: &[u32], i: usize, geometry: LevelGeometry<'_>) -> f64 {
-    let d = ring.len();
-    let pos = geometry.positions;
-    let (prev, apex, next) = (ring[(i + d - 1) % d], ring[i], ring[(i + 1) % d]);
-    let m = (pos[prev as usize] + pos[next as usize]) * 0.5;
-    geometry.quadrics[v as usize].error(m) + geometry.quadrics[apex as usize].error(m)
 }
 
 fn normal(a: DVec3, b: DVec3, c: DVec3) -> DVec3 {
@@ -163,6 +152,19 @@ pub fn widest_link_edge(centre: DVec3, ring: &[u32], positions: &[DVec3], thresh
 }
 
 /// Plans the removal of the interior vertex `v`, or `None` if no valid cluster exists.
+///
+/// The flips and the weld are chosen by the error they really introduce (see
+/// [`super::cost`]): each removed spoke is measured where the edge that replaces it
+/// crosses it, and the removed vertex and every vertex parametrized onto its star against
+/// the new triangle its parameter point lands on. Costs within [`LevelGeometry::tolerance`]
+/// or 10 % of the cheapest are equal, and the shape of the triangles made (their smallest
+/// angle) decides among them; a plan whose triangles have a smaller angle than
+/// [`ClusterRules::min_angle`] and than the star it replaces is refused.
+///
+/// The flips are first chosen greedily, cheapest first. Where that leads to no valid weld,
+/// the fans of the ring (the triangulations a half-edge collapse onto one ring vertex
+/// makes, reached by cutting the ears farthest from that vertex first) are tried, and the
+/// cheapest valid one is kept.
 pub fn plan_cluster(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules: &ClusterRules) -> Option<ClusterPlan> {
     let ring = RingVec::from_slice(rings.ring(v));
     let d = ring.len();
@@ -170,96 +172,232 @@ pub fn plan_cluster(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules: &
         return None;
     }
     let pos = geometry.positions;
-    let p = |i: usize| pos[ring[i] as usize];
     let pv = pos[v as usize];
-    let ring_points: RingVec<DVec3> = (0..d).map(p).collect();
+    let ring_points: RingVec<DVec3> = ring.iter().map(|&r| pos[r as usize]).collect();
     let flat = Flattening::of_closed_ring(pv, &ring_points)?.points;
+    let star_min_angle =
+        (0..d).map(|i| min_angle(pv, ring_points[i], ring_points[(i + 1) % d])).fold(f64::INFINITY, f64::min);
+    let line = match geometry.lines.neighbours(v, rings) {
+        Some((ends, bound)) => Some((ends.map(|e| ring.iter().position(|&r| r == e).expect("a ring vertex")), bound)),
+        None if geometry.lines.is_on_line(v) => return None,
+        None => None,
+    };
+    let floor = rules.min_angle.min(star_min_angle);
+    let star = Star { v, ring, points: ring_points, flat, rings, geometry, rules, floor, line };
+    if let Some(plan) = star.greedy_ears().and_then(|ears| star.weld(ears)) {
+        return Some(plan);
+    }
+    (0..d).filter_map(|j| star.fan_ears(j).and_then(|ears| star.weld(ears))).min_by(|a, b| a.error.total_cmp(&b.error))
+}
 
-    // Spoke flips, cheapest valid first, until the degree is 4.
-    let mut current: RingVec<usize> = (0..d).collect();
-    let mut gain: RingVec<i64> = smallvec::smallvec![0; d];
-    let mut ears: RingVec<[usize; 3]> = RingVec::new();
-    let mut swap_error = 0.0;
-    while current.len() > 4 {
-        let m = current.len();
-        let mut best: Option<(usize, f64)> = None;
-        for i in 0..m {
-            let (prev, apex, next) = (current[(i + m - 1) % m], current[i], current[(i + 1) % m]);
-            if rings.has_edge(ring[prev], ring[next])
-                || rings.degree(ring[apex]) as i64 + gain[apex] - 1 < 3
-                || orient(flat[prev], flat[apex], flat[next]) <= 0.0
-                || orient(DVec2::ZERO, flat[prev], flat[next]) <= 0.0
-            {
-                continue;
-            }
-            let ear = normal(p(prev), p(apex), p(next));
-            if is_sliver(p(prev), p(apex), p(next))
-                || ear.dot(normal(pv, p(prev), p(apex))) <= 0.0
-                || ear.dot(normal(pv, p(apex), p(next))) <= 0.0
-            {
-                continue;
-            }
-            let m3 = (p(prev) + p(next)) * 0.5;
-            let cost = geometry.quadrics[v as usize].error(m3) + geometry.quadrics[ring[apex] as usize].error(m3);
-            if best.is_none_or(|(_, c)| cost < c) {
-                best = Some((i, cost));
-            }
-        }
-        let (i, cost) = best?;
-        let m = current.len();
-        let (prev, apex, next) = (current[(i + m - 1) % m], current[i], current[(i + 1) % m]);
-        gain[apex] -= 1;
-        gain[prev] += 1;
-        gain[next] += 1;
-        ears.push([prev, apex, next]);
-        current.remove(i);
-        swap_error += cost;
+/// A vertex's star while its cluster is planned.
+struct Star<'a> {
+    v: u32,
+    ring: RingVec<u32>,
+    /// The ring's 3D positions.
+    points: RingVec<DVec3>,
+    /// The ring's conformal flattening (the vertex at the origin).
+    flat: RingVec<DVec2>,
+    rings: &'a Rings,
+    geometry: LevelGeometry<'a>,
+    rules: &'a ClusterRules,
+    /// The smallest angle the cluster may make.
+    floor: f64,
+    /// For a vertex on a feature line: the ring slots of its two line neighbours (their
+    /// spokes are never flipped and the diagonal joins them) and the larger bound of its
+    /// two feature edges.
+    line: Option<([usize; 2], f64)>,
+}
+
+/// The ring polygon after some ear cuts (spoke flips): the remaining ring slots, each
+/// slot's degree change, the ears cut and their summed error.
+#[derive(Clone)]
+struct Ears {
+    current: RingVec<usize>,
+    gain: RingVec<i64>,
+    cut: RingVec<[usize; 3]>,
+    swap_error: f64,
+}
+
+impl Star<'_> {
+    fn pv(&self) -> DVec3 {
+        self.geometry.positions[self.v as usize]
     }
 
-    // The weld: the cheaper of the two diagonals that keeps the ring valid.
-    let mut options: SmallVec<[(f64, usize); 2]> = SmallVec::new();
-    for k in 0..2 {
-        let c = [current[k], current[k + 1], current[(k + 2) % 4], current[(k + 3) % 4]];
-        if rings.has_edge(ring[c[0]], ring[c[2]])
-            || rings.degree(ring[c[1]]) as i64 + gain[c[1]] - 1 < 3
-            || rings.degree(ring[c[3]]) as i64 + gain[c[3]] - 1 < 3
-            || orient(flat[c[0]], flat[c[1]], flat[c[2]]) <= 0.0
-            || orient(flat[c[0]], flat[c[2]], flat[c[3]]) <= 0.0
+    /// For a line vertex welded along the diagonal between ring slots `a` and `b` (its
+    /// line neighbours): the new feature edge's bound, the old edges' bound plus the
+    /// vertex's distance from the new edge.
+    fn line_bound(&self, a: usize, b: usize) -> Option<f64> {
+        let (_, bound) = self.line?;
+        Some(bound + point_segment_distance_squared(self.pv(), self.points[a], self.points[b]).sqrt())
+    }
+
+    fn start(&self) -> Ears {
+        let d = self.ring.len();
+        Ears { current: (0..d).collect(), gain: smallvec::smallvec![0; d], cut: RingVec::new(), swap_error: 0.0 }
+    }
+
+    /// The ear at position `i` of the current polygon, if cutting it (flipping its spoke)
+    /// is valid: its error and shape.
+    fn ear(&self, ears: &Ears, i: usize) -> Option<Choice> {
+        let (ring, flat, p) = (&self.ring, &self.flat, &self.points);
+        let m = ears.current.len();
+        let (prev, apex, next) = (ears.current[(i + m - 1) % m], ears.current[i], ears.current[(i + 1) % m]);
+        if self.line.is_some_and(|(ends, _)| ends.contains(&apex))
+            || self.rings.has_edge(ring[prev], ring[next])
+            || self.rings.degree(ring[apex]) as i64 + ears.gain[apex] - 1 < 3
+            || orient(flat[prev], flat[apex], flat[next]) <= 0.0
+            || orient(DVec2::ZERO, flat[prev], flat[next]) <= 0.0
         {
-            continue;
+            return None;
         }
-        if is_sliver(p(c[0]), p(c[1]), p(c[2])) || is_sliver(p(c[0]), p(c[2]), p(c[3])) {
-            continue;
+        let pv = self.pv();
+        let ear = normal(p[prev], p[apex], p[next]);
+        if is_sliver(p[prev], p[apex], p[next])
+            || ear.dot(normal(pv, p[prev], p[apex])) <= 0.0
+            || ear.dot(normal(pv, p[apex], p[next])) <= 0.0
+        {
+            return None;
         }
-        let t0 = normal(p(c[0]), p(c[1]), p(c[2]));
-        let t1 = normal(p(c[0]), p(c[2]), p(c[3]));
-        if t0.dot(normal(pv, p(c[1]), p(c[2]))) <= 0.0 || t1.dot(normal(pv, p(c[2]), p(c[3]))) <= 0.0 {
-            continue;
+        let shape = min_angle(p[prev], p[apex], p[next]);
+        if shape < self.floor {
+            return None;
         }
-        let removal = geometry.quadrics[v as usize].error((p(c[0]) + p(c[2])) * 0.5);
-        options.push((rules.removal_weight * removal + rules.swap_weight * swap_error, k));
+        let (_, s) = spoke_crossing(flat[apex], flat[prev], flat[next]).unwrap_or((0.5, 0.5));
+        let cost = crossing_error(pv, p[prev], p[apex], p[next], p[prev].lerp(p[next], s));
+        Some(Choice { index: i, cost, shape })
     }
-    options.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    if let Some(&(error, k)) = options.first() {
+
+    /// Cuts the ear at position `i`.
+    fn cut(ears: &mut Ears, choice: Choice) {
+        let m = ears.current.len();
+        let i = choice.index;
+        let (prev, apex, next) = (ears.current[(i + m - 1) % m], ears.current[i], ears.current[(i + 1) % m]);
+        ears.gain[apex] -= 1;
+        ears.gain[prev] += 1;
+        ears.gain[next] += 1;
+        ears.cut.push([prev, apex, next]);
+        ears.current.remove(i);
+        ears.swap_error += choice.cost;
+    }
+
+    /// Spoke flips until the degree is 4: the cheapest valid one each time, shape breaking
+    /// near-ties.
+    fn greedy_ears(&self) -> Option<Ears> {
+        let mut ears = self.start();
+        while ears.current.len() > 4 {
+            let choices: RingVec<Choice> = (0..ears.current.len()).filter_map(|i| self.ear(&ears, i)).collect();
+            Self::cut(&mut ears, choose(&choices, self.geometry.tolerance)?);
+        }
+        Some(ears)
+    }
+
+    /// The ear cuts that leave the fan of ring slot `j`: the ears farthest from it first.
+    fn fan_ears(&self, j: usize) -> Option<Ears> {
+        let d = self.ring.len();
+        let mut ears = self.start();
+        for k in 1..=d - 4 {
+            let apex = (j + d - k) % d;
+            let i = ears.current.iter().position(|&c| c == apex)?;
+            let choice = self.ear(&ears, i)?;
+            Self::cut(&mut ears, choice);
+        }
+        Some(ears)
+    }
+
+    /// The weld closing `ears` (a quadrilateral left): of its two diagonals that keep the
+    /// ring valid, the one whose removal error (the mapped vertices, the vertex's image
+    /// against its quadric, the diagonal where it crosses a spoke) is lower.
+    fn weld(&self, ears: Ears) -> Option<ClusterPlan> {
+        let (ring, flat, p, rings) = (&self.ring, &self.flat, &self.points, self.rings);
+        let (current, gain) = (&ears.current, &ears.gain);
+        let pv = self.pv();
+        let mut choices: RingVec<Choice> = RingVec::new();
+        for k in 0..2 {
+            let c = [current[k], current[k + 1], current[(k + 2) % 4], current[(k + 3) % 4]];
+            if self.line.is_some_and(|([a, b], _)| [a.min(b), a.max(b)] != [c[0].min(c[2]), c[0].max(c[2])])
+                || rings.has_edge(ring[c[0]], ring[c[2]])
+                || rings.degree(ring[c[1]]) as i64 + gain[c[1]] - 1 < 3
+                || rings.degree(ring[c[3]]) as i64 + gain[c[3]] - 1 < 3
+                || orient(flat[c[0]], flat[c[1]], flat[c[2]]) <= 0.0
+                || orient(flat[c[0]], flat[c[2]], flat[c[3]]) <= 0.0
+            {
+                continue;
+            }
+            if is_sliver(p[c[0]], p[c[1]], p[c[2]]) || is_sliver(p[c[0]], p[c[2]], p[c[3]]) {
+                continue;
+            }
+            let t0 = normal(p[c[0]], p[c[1]], p[c[2]]);
+            let t1 = normal(p[c[0]], p[c[2]], p[c[3]]);
+            if t0.dot(normal(pv, p[c[1]], p[c[2]])) <= 0.0 || t1.dot(normal(pv, p[c[2]], p[c[3]])) <= 0.0 {
+                continue;
+            }
+            let shape = min_angle(p[c[0]], p[c[1]], p[c[2]]).min(min_angle(p[c[0]], p[c[2]], p[c[3]]));
+            if shape < self.floor {
+                continue;
+            }
+            let weld = [[c[0], c[1], c[2]], [c[0], c[2], c[3]]];
+            let (t, w) = locate(DVec2::ZERO, &weld.map(|t| t.map(|i| flat[i])));
+            let image = interpolate(weld[t].map(|i| p[i]), w);
+            let mut made: RingVec<[usize; 3]> = ears.cut.clone();
+            made.extend(weld);
+            let mapped = mapped_error(self.v, ring, flat, &made, self.geometry);
+            let mut removal = self.geometry.quadrics[self.v as usize].mean_error(image).max(mapped);
+            if let Some(bound) = self.line_bound(c[0], c[2]) {
+                removal = removal.max(bound * bound);
+            }
+            for [before, side, after] in [[c[0], c[1], c[2]], [c[2], c[3], c[0]]] {
+                if let Some((_, s)) = spoke_crossing(flat[side], flat[c[0]], flat[c[2]]) {
+                    removal += crossing_error(pv, p[before], p[side], p[after], p[c[0]].lerp(p[c[2]], s));
+                }
+            }
+            let cost = self.rules.removal_weight * removal + self.rules.swap_weight * ears.swap_error;
+            choices.push(Choice { index: k, cost, shape });
+        }
+        let Choice { index: k, cost: error, .. } = choose(&choices, self.geometry.tolerance)?;
         let c = [current[k], current[k + 1], current[(k + 2) % 4], current[(k + 3) % 4]];
-        let mut triangles = ears.clone();
+        let mut triangles = ears.cut.clone();
         triangles.push([c[0], c[1], c[2]]);
         triangles.push([c[0], c[2], c[3]]);
         let n = triangles.len();
         let weld_images = [[c[0], c[1], c[2]], [c[0], c[2], c[3]]].map(|t| t.map(|i| flat[i]));
         let (t, w) = locate(DVec2::ZERO, &weld_images);
-        return Some(ClusterPlan {
-            vertex: v,
-            flips: ears.iter().map(|e| ring[e[1]]).collect(),
+        let along_line = self.line_bound(c[0], c[2]).map(|bound| ([ring[c[0]], ring[c[2]]], bound));
+        Some(ClusterPlan {
+            along_line,
+            vertex: self.v,
+            flips: ears.cut.iter().map(|e| ring[e[1]]).collect(),
             weld_to: ring[c[0]],
             diagonal: [ring[c[0]], ring[c[2]]],
             triangles: triangles.iter().map(|t| t.map(|i| ring[i])).collect(),
             location: (n - 2 + t, w),
             error,
-            ring,
+            ring: ring.clone(),
+        })
+    }
+}
+
+/// The largest squared distance from the removed vertex `v`, and from every vertex
+/// parametrized onto its star, to the new triangle (ring-index triples `made`) its parameter
+/// point lands on in the flattening.
+fn mapped_error(v: u32, ring: &[u32], flat: &[DVec2], made: &[[usize; 3]], geometry: LevelGeometry<'_>) -> f64 {
+    let pos = geometry.positions;
+    let flat_made: RingVec<[DVec2; 3]> = made.iter().map(|t| t.map(|i| flat[i])).collect();
+    let distance = |w: u32, image: DVec2| {
+        let (t, _) = locate(image, &flat_made);
+        let [a, b, c] = made[t].map(|i| pos[ring[i] as usize]);
+        point_triangle_distance_squared(pos[w as usize], a, b, c)
+    };
+    let slot_image = |id: u32| ring.iter().position(|&r| r == id).map_or(DVec2::ZERO, |j| flat[j]);
+    let mut worst = distance(v, DVec2::ZERO);
+    let d = ring.len();
+    for k in 0..d {
+        geometry.params.for_each_on([v, ring[k], ring[(k + 1) % d]], |w, point| {
+            let image = point.face.iter().zip(point.bary).fold(DVec2::ZERO, |acc, (&id, b)| acc + slot_image(id) * b);
+            worst = worst.max(distance(w, image));
         });
     }
-    None
+    worst
 }
 
 /// Whether `plan`, made on an earlier state of the rings, can still be carried out: the

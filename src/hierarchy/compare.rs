@@ -9,7 +9,7 @@ use std::time::Instant;
 use glam::DVec3;
 use serde::Serialize;
 
-use super::{KeepFeatures, LevelMesh, SimplifyOptions, build};
+use super::{LevelMesh, SimplifyOptions, build};
 use crate::analysis::{FaceGeometry, classify, voting_tensors};
 use crate::error::Result;
 use crate::ffi::{self, HausdorffOptions};
@@ -34,48 +34,89 @@ pub struct CompareRow {
     pub min_angle_deg: f64,
     /// Input feature vertices (corners, strong edges) still present at their position.
     pub features_kept: usize,
+    /// Share of the triangles with an angle under 5° (slivers).
+    pub sliver_share: f64,
+    /// The 1st percentile of the triangles' smallest angles, degrees.
+    pub min_angle_p1_deg: f64,
+    /// The vertex count the method was asked for: the requested budget, or the count
+    /// another method stopped at above it (then this row was run again to match).
+    pub target_vertices: usize,
 }
 
 /// The reference decimators run by [`compare`].
 pub const METHODS: [&str; 4] = ["asperity", "openmesh", "cgal", "meshoptimizer"];
 
-/// Runs `methods` (names from [`METHODS`]) on `mesh` down to `target_vertices`; ours keeps
-/// the `keep` feature classes (which can stop it above the budget).
+/// Rows within this share of each other's vertex counts compare like with like.
+pub const SAME_COUNT: f64 = 0.005;
+
+/// Whether two vertex counts are the same for a comparison (within [`SAME_COUNT`]).
+pub fn same_count(a: usize, b: usize) -> bool {
+    a.abs_diff(b) as f64 <= SAME_COUNT * a.max(b) as f64
+}
+
+/// Runs `methods` (names from [`METHODS`]) on `mesh` down to `target_vertices`; ours with
+/// the options `ours` (its target replaced; its kept features can stop it above the
+/// budget). Rows compare like with
+/// like: when a method stops above the budget, the methods below its count are run again
+/// to it (their [`CompareRow::target_vertices`] says so), until every count is within
+/// [`SAME_COUNT`] of the highest or no method moves.
 ///
 /// # Errors
 /// Whatever a decimator or a measure reports for this mesh.
-pub fn compare(mesh: &Mesh, target_vertices: usize, methods: &[&str], keep: KeepFeatures) -> Result<Vec<CompareRow>> {
+pub fn compare(
+    mesh: &Mesh,
+    target_vertices: usize,
+    methods: &[&str],
+    ours: &SimplifyOptions,
+) -> Result<Vec<CompareRow>> {
     let diagonal = mesh.bounding_box().map_or(1.0, |(lo, hi)| (hi - lo).length()).max(f64::MIN_POSITIVE);
     let adjacency = Adjacency::of(mesh);
     let classes = classify(&adjacency, &voting_tensors(mesh, &adjacency, &FaceGeometry::of(mesh)), &Default::default());
     let features: Vec<DVec3> =
         classes.iter().enumerate().filter(|(_, c)| c.is_sharp()).map(|(v, _)| mesh.positions[v]).collect();
-    let mut rows = Vec::new();
-    for &method in methods {
+    let run = |method: &str, target: usize| -> Result<CompareRow> {
         let start = Instant::now();
-        let result = match method {
-            "asperity" => {
-                let options = SimplifyOptions {
-                    target_vertices: Some(target_vertices),
-                    keep_features: keep,
-                    ..SimplifyOptions::default()
-                };
-                build(mesh, &options)?.base_mesh().mesh
-            }
-            "openmesh" => ffi::openmesh_decimate(mesh, target_vertices)?,
-            "cgal" => ffi::cgal_decimate(mesh, target_vertices)?,
-            "meshoptimizer" => meshopt_simplify(mesh, target_vertices),
-            other => {
-                return Err(crate::Error::InvalidInput(format!(
-                    "unknown method '{other}' (expected one of {})",
-                    METHODS.join(", ")
-                )));
-            }
-        };
+        let result = decimate(mesh, method, target, ours)?;
         let seconds = start.elapsed().as_secs_f64();
-        rows.push(measure(method, mesh, &result, seconds, diagonal, &features)?);
+        let mut row = measure(method, mesh, &result, seconds, diagonal, &features)?;
+        row.target_vertices = target;
+        Ok(row)
+    };
+    let mut rows = methods.iter().map(|&m| run(m, target_vertices)).collect::<Result<Vec<_>>>()?;
+    for _ in 0..3 {
+        let Some(top) = rows.iter().map(|r| r.vertices).max() else { break };
+        if top <= target_vertices || rows.iter().all(|r| same_count(r.vertices, top)) {
+            break;
+        }
+        let mut moved = false;
+        for row in rows.iter_mut().filter(|r| !same_count(r.vertices, top) && r.target_vertices != top) {
+            *row = run(&row.method.clone(), top)?;
+            moved = true;
+        }
+        if !moved {
+            break;
+        }
     }
     Ok(rows)
+}
+
+/// One method's simplification of `mesh` to `target` vertices.
+fn decimate(mesh: &Mesh, method: &str, target: usize, ours: &SimplifyOptions) -> Result<Mesh> {
+    Ok(match method {
+        "asperity" => {
+            let options = SimplifyOptions { target_vertices: Some(target), record_levels: false, ..ours.clone() };
+            build(mesh, &options)?.base_mesh().mesh
+        }
+        "openmesh" => ffi::openmesh_decimate(mesh, target)?,
+        "cgal" => ffi::cgal_decimate(mesh, target)?,
+        "meshoptimizer" => meshopt_to_vertices(mesh, target),
+        other => {
+            return Err(crate::Error::InvalidInput(format!(
+                "unknown method '{other}' (expected one of {})",
+                METHODS.join(", ")
+            )));
+        }
+    })
 }
 
 fn measure(
@@ -95,6 +136,7 @@ fn measure(
     present.sort_unstable();
     let features_kept =
         features.iter().filter(|p| present.binary_search(&p.to_array().map(f64::to_bits)).is_ok()).count();
+    let shape = ShapeReport::of(result);
     Ok(CompareRow {
         method: method.to_string(),
         vertices: result.vertex_count(),
@@ -102,29 +144,78 @@ fn measure(
         seconds,
         hausdorff,
         rms,
-        min_angle_deg: min_angle_degrees(result),
+        min_angle_deg: shape.min_angle_deg,
         features_kept,
+        sliver_share: shape.sliver_share,
+        min_angle_p1_deg: shape.min_angle_p1_deg,
+        target_vertices: 0,
     })
 }
 
-fn min_angle_degrees(mesh: &Mesh) -> f64 {
-    let mut smallest = std::f64::consts::PI;
-    for f in 0..mesh.face_count() {
-        let [a, b, c] = mesh.triangle_points(f);
-        for (p, q, r) in [(a, b, c), (b, c, a), (c, a, b)] {
-            smallest = smallest.min((q - p).angle_between(r - p));
-        }
-    }
-    smallest.to_degrees()
+/// The triangle shapes of a mesh: its smallest angle, the 1st percentile of the triangles'
+/// smallest angles and the share of slivers (a smallest angle under 5°).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ShapeReport {
+    /// Smallest angle, degrees (180 for a mesh without faces).
+    pub min_angle_deg: f64,
+    /// 1st percentile of the triangles' smallest angles, degrees.
+    pub min_angle_p1_deg: f64,
+    /// Share of triangles with an angle under 5°.
+    pub sliver_share: f64,
 }
 
-/// meshoptimizer's `simplify` (attribute-free, error bound lifted) to the index count of a
-/// `target_vertices`-vertex surface of the input's topology; vertices keep their positions.
-fn meshopt_simplify(mesh: &Mesh, target_vertices: usize) -> Mesh {
+impl ShapeReport {
+    /// Measures `mesh`'s triangles.
+    pub fn of(mesh: &Mesh) -> Self {
+        let mut angles: Vec<f64> = (0..mesh.face_count())
+            .map(|f| {
+                let [a, b, c] = mesh.triangle_points(f);
+                super::cost::min_angle(a, b, c).to_degrees()
+            })
+            .collect();
+        if angles.is_empty() {
+            return ShapeReport { min_angle_deg: 180.0, min_angle_p1_deg: 180.0, sliver_share: 0.0 };
+        }
+        angles.sort_by(f64::total_cmp);
+        let slivers = angles.partition_point(|&a| a < 5.0);
+        ShapeReport {
+            min_angle_deg: angles[0],
+            min_angle_p1_deg: angles[(angles.len() - 1) / 100],
+            sliver_share: slivers as f64 / angles.len() as f64,
+        }
+    }
+}
+
+/// meshoptimizer's `simplify` (attribute-free, error bound lifted) to `target_vertices`:
+/// its budget is an index count, so the count for a surface of the input's topology with
+/// that many vertices is tried first, then corrected from the vertices it gave (a few
+/// secant steps, F ≈ 2V) until the count is within [`SAME_COUNT`]; the closest result is
+/// kept. Vertices keep their positions.
+fn meshopt_to_vertices(mesh: &Mesh, target_vertices: usize) -> Mesh {
     let report = crate::mesh::ValidationReport::of(mesh);
-    let chi = report.euler;
     let boundary_edges = 2 * report.edges as i64 - 3 * report.faces as i64;
-    let faces = (2 * target_vertices as i64 - 2 * chi + boundary_edges).max(1) as usize;
+    let mut faces = (2 * target_vertices as i64 - 2 * report.euler + boundary_edges).max(1);
+    let mut best: Option<Mesh> = None;
+    for _ in 0..8 {
+        let result = meshopt_simplify(mesh, faces as usize);
+        let got = result.vertex_count();
+        let closer =
+            best.as_ref().is_none_or(|b| got.abs_diff(target_vertices) < b.vertex_count().abs_diff(target_vertices));
+        let done = same_count(got, target_vertices);
+        let step = 2 * (target_vertices as i64 - got as i64);
+        if closer {
+            best = Some(result);
+        }
+        if done || step == 0 {
+            break;
+        }
+        faces = (faces + step).clamp(1, 3 * mesh.face_count() as i64);
+    }
+    best.unwrap_or_default()
+}
+
+/// meshoptimizer's `simplify` to `faces` triangles.
+fn meshopt_simplify(mesh: &Mesh, faces: usize) -> Mesh {
     let points: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.as_vec3().to_array()).collect();
     let adapter =
         meshopt::VertexDataAdapter::new(bytemuck::cast_slice(&points), 12, 0).expect("tightly packed f32 positions");

@@ -12,7 +12,9 @@
 mod cluster;
 pub mod compare;
 mod conformal;
+mod cost;
 mod guard;
+mod lines;
 mod param;
 mod record;
 mod refine;
@@ -24,6 +26,7 @@ use serde::{Deserialize, Serialize};
 
 pub use cluster::{ClusterPlan, ClusterRules, nearest_edge, widest_link_edge};
 pub use conformal::{Flattening, barycentric, clamp_barycentric, interpolate, locate};
+pub use lines::FeatureLines;
 pub use param::ParamPoint;
 pub use refine::{LevelMesh, LevelReport, Refiner, connectivity_match};
 pub use rings::{RingVec, Rings};
@@ -51,6 +54,18 @@ pub enum KeepFeatures {
     All,
 }
 
+/// What becomes of the feature vertices [`KeepFeatures`] chooses.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FeatureVertices {
+    /// Vertices on a feature line (exactly two feature edges) may be removed along it, so
+    /// the line stays a line of every level; corners, junctions and ends are kept.
+    #[default]
+    AlongLines,
+    /// No feature vertex is removed (the thesis' literal rule, §4.4.1.1).
+    Keep,
+}
+
 /// Options of [`build`]. Simplification stops at the first limit reached, or when a
 /// level can remove nothing more.
 #[derive(Debug, Clone, PartialEq)]
@@ -62,8 +77,10 @@ pub struct SimplifyOptions {
     /// Never remove a vertex whose E(v) exceeds this distance, as a fraction of the
     /// bounding-box diagonal (E is a squared distance; it is compared squared).
     pub max_error: Option<f64>,
-    /// Feature classes kept in the base domain.
+    /// Feature classes: the vertices that are features.
     pub keep_features: KeepFeatures,
+    /// Whether feature vertices on lines are simplified along them or kept.
+    pub feature_vertices: FeatureVertices,
     /// Vertices the user marked as unremovable.
     pub keep_vertices: Vec<u32>,
     /// Weight of the removal error in E(v) (eq. 4.1).
@@ -86,6 +103,7 @@ impl Default for SimplifyOptions {
             levels: None,
             max_error: None,
             keep_features: KeepFeatures::Strong,
+            feature_vertices: FeatureVertices::AlongLines,
             keep_vertices: Vec::new(),
             removal_weight: 0.75,
             swap_weight: 0.25,
@@ -144,8 +162,10 @@ pub struct Hierarchy {
     pub params: Vec<Option<ParamPoint>>,
     /// Vertices that could not be removed (features, user marks).
     pub kept: Vec<bool>,
-    /// Number of feature vertices kept.
+    /// Number of feature vertices in the base domain.
     pub feature_vertices: usize,
+    /// The base domain's feature edges (those the lines were simplified to).
+    pub feature_edges: Vec<[u32; 2]>,
     /// Every level's mesh, finest (the input) first, when recorded.
     pub levels: Vec<LevelMesh>,
     /// Algorithm 3's angle threshold, radians (used where a recorded face is gone).
@@ -175,8 +195,10 @@ pub struct BuildStages {
     /// Replaying flips and welds on the store (on the recorder thread, alongside the next
     /// level's planning).
     pub store: f64,
-    /// Updating the parametrization and the removal records (recorder thread).
+    /// Updating the parametrization (MAPS re-mapping of the removed vertices).
     pub parametrization: f64,
+    /// Writing the removal records (recorder thread).
+    pub records: f64,
     /// Planning waiting for the recorder to take a level.
     pub handoff: f64,
 }
@@ -185,14 +207,15 @@ impl std::fmt::Display for BuildStages {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "prepare {:.2} s, ranking {:.2} s, planning {:.2} s, guard {:.2} s, handoff {:.2} s; recorder thread: store {:.2} s, parametrization {:.2} s, export {:.2} s",
+            "prepare {:.2} s, ranking {:.2} s, planning {:.2} s, guard {:.2} s, parametrization {:.2} s, handoff {:.2} s; recorder thread: store {:.2} s, records {:.2} s, export {:.2} s",
             self.prepare,
             self.ranking,
             self.planning,
             self.guard,
+            self.parametrization,
             self.handoff,
             self.store,
-            self.parametrization,
+            self.records,
             self.export
         )
     }

@@ -46,6 +46,18 @@ impl ParamBuckets {
         self.points[vertex as usize] = Some(point);
     }
 
+    /// Calls `f` with each vertex parametrized onto `face` (any rotation) and its point.
+    pub fn for_each_on(&self, face: [u32; 3], mut f: impl FnMut(u32, &ParamPoint)) {
+        let Some(&head) = self.heads.get(&face_key(face)) else { return };
+        let mut w = head;
+        while w != END {
+            if let Some(point) = &self.points[w as usize] {
+                f(w, point);
+            }
+            w = self.next[w as usize];
+        }
+    }
+
     /// Applies one removal (the three categories of Lee et al.): the vertices on the
     /// removed vertex's star faces are re-mapped through its flattening onto the
     /// retriangulated ring, and the removed vertex is placed where its image (the origin)

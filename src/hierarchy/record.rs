@@ -1,6 +1,7 @@
 //! The record of a simplification: each level's plans carried out on the OpenMesh store
-//! and written into the removals and the parametrization (MAPS, §4.4.1.2). Planning needs
-//! only the rings and the quadrics, so the record runs on its own thread, one level
+//! and written into the removals (each removed vertex's point on the next coarser level,
+//! the edge to split, the link edges to flip back). Planning needs only the rings, the
+//! quadrics and the parametrization, so the record runs on its own thread, one level
 //! behind.
 
 use std::time::Instant;
@@ -8,7 +9,7 @@ use std::time::Instant;
 use glam::DVec3;
 
 use super::cluster::ClusterPlan;
-use super::param::{ParamBuckets, ParamPoint};
+use super::param::ParamPoint;
 use super::simplify::{expect_done, exported_triangles};
 use super::{LevelMesh, Removal};
 use crate::error::Result;
@@ -19,7 +20,6 @@ pub(super) struct Recorder<'a> {
     positions: &'a [DVec3],
     /// The half-edge store, at the last recorded level.
     store: HalfEdgeMesh,
-    params: ParamBuckets,
     /// Every removal so far, in order.
     removals: Vec<Removal>,
     /// The link edges of the removals (see [`Removal::restore`]).
@@ -28,7 +28,7 @@ pub(super) struct Recorder<'a> {
     step_starts: Vec<usize>,
     /// Every level's mesh, when recorded.
     levels: Option<Vec<LevelMesh>>,
-    /// Seconds spent on the store, the parametrization and level exports.
+    /// Seconds spent on the store, the removal records and level exports.
     seconds: [f64; 3],
 }
 
@@ -45,7 +45,6 @@ impl<'a> Recorder<'a> {
         Ok(Recorder {
             positions,
             store,
-            params: ParamBuckets::new(positions.len()),
             removals: Vec::new(),
             restore: Vec::new(),
             step_starts: vec![0],
@@ -64,7 +63,7 @@ impl<'a> Recorder<'a> {
         let stored = Instant::now();
         let step = (self.step_starts.len() - 1) as u32;
         for plan in plans {
-            let point = self.params.apply_removal(plan, self.positions);
+            let point = ParamPoint { face: plan.triangles[plan.location.0], bary: plan.location.1 };
             let restore_start = self.restore.len() as u32;
             self.restore.extend(plan.triangles[..plan.flips.len()].iter().rev().map(|ear| [ear[0], ear[1]]));
             self.removals.push(Removal {
@@ -91,7 +90,6 @@ impl<'a> Recorder<'a> {
     pub fn finish(self) -> Recorded {
         Recorded {
             store: self.store,
-            params: self.params.into_points(),
             removals: self.removals,
             restore: self.restore,
             step_starts: self.step_starts,
@@ -113,11 +111,10 @@ impl<'a> Recorder<'a> {
 /// Everything a [`Recorder`] kept.
 pub(super) struct Recorded {
     pub store: HalfEdgeMesh,
-    pub params: Vec<Option<ParamPoint>>,
     pub removals: Vec<Removal>,
     pub restore: Vec<[u32; 2]>,
     pub step_starts: Vec<usize>,
     pub levels: Vec<LevelMesh>,
-    /// Store, parametrization and export seconds.
+    /// Store, removal-record and export seconds.
     pub seconds: [f64; 3],
 }

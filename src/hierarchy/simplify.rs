@@ -9,11 +9,13 @@ use rayon::prelude::*;
 
 use rustc_hash::FxHashSet;
 
-use super::cluster::{ClusterPlan, ClusterRules, LevelGeometry, apply_plan, estimate_error, plan_cluster};
+use super::cluster::{ClusterPlan, ClusterRules, LevelGeometry, apply_plan, plan_cluster};
 use super::guard::guard_plans;
+use super::lines::FeatureLines;
+use super::param::ParamBuckets;
 use super::record::{Recorded, Recorder};
 use super::rings::Rings;
-use super::{BuildStages, Hierarchy, KeepFeatures, SimplifyOptions, used_vertices};
+use super::{BuildStages, FeatureVertices, Hierarchy, KeepFeatures, SimplifyOptions, used_vertices};
 use crate::analysis::{FaceGeometry, FeatureClass, classify, voting_tensors};
 use crate::error::{Error, Result};
 use crate::ffi::{self, HalfEdgeMesh, OpStatus};
@@ -39,7 +41,7 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
     prepared?;
     let (store, quadrics) = (store?, quadrics?);
     let n = mesh.vertex_count();
-    let (kept, feature_vertices) = unremovable_vertices(mesh, options)?;
+    let Features { feature, kept, lines } = features_and_kept(mesh, options)?;
     let referenced = used_vertices(n, &mesh.triangles);
     let live: Vec<u32> = (0..n as u32).filter(|&v| referenced[v as usize]).collect();
     let rings = Rings::fetch(&store, &live, n)?;
@@ -54,7 +56,8 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
         rings,
         live,
         locked: vec![false; n],
-        offenders: FxHashSet::default(),
+        lines,
+        params: ParamBuckets::new(n),
     };
     // Planning runs here; the record (OpenMesh and the parametrization) follows a level
     // behind on its own thread. The channel holds nothing: a level's plans are handed over
@@ -75,9 +78,12 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
     });
     let recorded = recorded?;
     planned?;
-    [stages.store, stages.parametrization, stages.export] = recorded.seconds;
+    [stages.store, stages.records, stages.export] = recorded.seconds;
     let base_triangles = exported_triangles(&recorded.store)?;
     check_agreement(&base_triangles, &planner.rings.faces(&planner.live))?;
+    let feature_vertices = planner.live.iter().filter(|&&v| feature[v as usize]).count();
+    let mut feature_edges: Vec<[u32; 2]> = planner.lines.edges().collect();
+    feature_edges.sort_unstable();
     lap(&mut clock, &mut stages.export);
     Ok(Hierarchy {
         positions: mesh.positions.clone(),
@@ -86,9 +92,10 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
         removals: recorded.removals,
         restore: recorded.restore,
         step_starts: recorded.step_starts,
-        params: recorded.params,
+        params: std::mem::take(&mut planner.params).into_points(),
         kept,
         feature_vertices,
+        feature_edges,
         levels: recorded.levels,
         fix_threshold: options.fix_threshold_degrees.to_radians(),
         seconds: started.elapsed().as_secs_f64(),
@@ -105,8 +112,10 @@ struct Planner<'a> {
     rings: Rings,
     live: Vec<u32>,
     locked: Vec<bool>,
-    /// Vertices whose plans the guard dropped as offending on the last level.
-    offenders: FxHashSet<u32>,
+    /// The level's feature lines.
+    lines: FeatureLines,
+    /// Where every removed vertex lies on the current level (MAPS).
+    params: ParamBuckets,
 }
 
 impl Planner<'_> {
@@ -119,20 +128,37 @@ impl Planner<'_> {
         mut record: impl FnMut(Vec<ClusterPlan>) -> bool,
     ) -> Result<()> {
         let options = self.options;
-        let rules = ClusterRules { removal_weight: options.removal_weight, swap_weight: options.swap_weight };
+        let rules = ClusterRules {
+            removal_weight: options.removal_weight,
+            swap_weight: options.swap_weight,
+            min_angle: MIN_ANGLE_DEGREES.to_radians(),
+        };
         let diagonal = self.mesh.bounding_box().map_or(0.0, |(lo, hi)| (hi - lo).length());
+        let tolerance = (1e-9 * diagonal).powi(2);
         let max_error = options.max_error.map(|f| (f * diagonal).powi(2));
         let mut steps = 0;
-        let mut retried = false;
+        let mut retries = 0;
+        // Vertices whose plans the guard dropped on the last level (or the last tries).
+        let mut waiting: FxHashSet<u32> = FxHashSet::default();
         while options.levels.is_none_or(|l| steps < l) {
             if options.target_vertices.is_some_and(|t| self.live.len() <= t) {
                 break;
             }
-            let geometry = LevelGeometry { positions: &self.mesh.positions, quadrics: &self.quadrics };
-            let mut order = candidate_order(&self.live, &self.rings, self.kept, geometry, &rules);
+            let geometry = LevelGeometry {
+                positions: &self.mesh.positions,
+                quadrics: &self.quadrics,
+                tolerance,
+                params: &self.params,
+                lines: &self.lines,
+            };
+            let mut ranked = ranked_candidates(&self.live, &self.rings, self.kept, geometry, &rules);
             // The last level's offenders wait a level: planned again at once they would
             // likely offend again and take the place of clusters that can go.
-            order.retain(|v| !self.offenders.contains(v));
+            ranked.retain(|(_, v)| !waiting.contains(v));
+            let need = options.target_vertices.map_or(usize::MAX, |t| self.live.len().saturating_sub(t));
+            let limit = level_error_limit(&ranked, need, tolerance).min(max_error.unwrap_or(f64::INFINITY));
+            let order: Vec<u32> = ranked.iter().map(|&(_, v)| v).collect();
+            drop(ranked);
             lap(clock, &mut stages.ranking);
             let level_faces = if options.prevent_intersections { self.rings.faces(&self.live) } else { Vec::new() };
             lap(clock, &mut stages.guard);
@@ -145,36 +171,49 @@ impl Planner<'_> {
                 &mut self.locked,
                 self.live.len(),
                 options,
-                max_error,
+                limit,
             )?;
             for &v in &self.live {
                 self.locked[v as usize] = false;
             }
             lap(clock, &mut stages.planning);
+            let mut offenders = FxHashSet::default();
             if options.prevent_intersections {
-                (plans, self.offenders) = guard_plans(&self.mesh.positions, &level_faces, plans, &mut self.rings)?;
+                (plans, offenders) = guard_plans(&self.mesh.positions, &level_faces, plans, &mut self.rings)?;
                 lap(clock, &mut stages.guard);
             }
             self.rings.commit();
             if plans.is_empty() {
-                // A level whose every plan offended is retried once without them.
-                if self.offenders.is_empty() || retried {
+                // A level whose every plan offended is retried without them (and without
+                // the earlier tries' offenders), a few times.
+                if offenders.is_empty() || retries == MAX_RETRIES {
                     break;
                 }
-                retried = true;
+                retries += 1;
+                waiting.extend(offenders);
                 continue;
             }
-            retried = false;
+            retries = 0;
+            waiting = offenders;
             for plan in &plans {
                 let q = self.quadrics[plan.vertex as usize];
                 for end in plan.diagonal {
                     self.quadrics[end as usize].add_scaled(&q, 0.5);
                 }
             }
+            for plan in &plans {
+                if let Some((ends, bound)) = plan.along_line {
+                    self.lines.merge(plan.vertex, ends, bound);
+                }
+            }
             let removed: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
             self.live.retain(|v| !removed.contains(v));
             steps += 1;
             lap(clock, &mut stages.planning);
+            for plan in &plans {
+                self.params.apply_removal(plan, &self.mesh.positions);
+            }
+            lap(clock, &mut stages.parametrization);
             let recording = record(plans);
             lap(clock, &mut stages.handoff);
             if !recording {
@@ -251,52 +290,80 @@ fn prepare_input(mesh: &Mesh) -> Result<()> {
     Ok(())
 }
 
-/// Vertices never removed: feature vertices (§4.4.1.1, Algorithm 1 classes) and those
-/// the user marked. Returns the flags and the number of feature vertices.
-fn unremovable_vertices(mesh: &Mesh, options: &SimplifyOptions) -> Result<(Vec<bool>, usize)> {
+/// The feature vertices (§4.4.1.1, Algorithm 1 classes chosen by `keep_features`), their
+/// lines, and the vertices never removed: corners, the feature vertices not on a line (or
+/// every feature vertex with [`FeatureVertices::Keep`]) and those the user marked.
+fn features_and_kept(mesh: &Mesh, options: &SimplifyOptions) -> Result<Features> {
     let n = mesh.vertex_count();
-    let mut kept = vec![false; n];
-    let mut features = 0;
+    let mut feature = vec![false; n];
+    let mut corner = vec![false; n];
     if options.keep_features != KeepFeatures::None {
         let adjacency = Adjacency::of(mesh);
         let classes =
             classify(&adjacency, &voting_tensors(mesh, &adjacency, &FaceGeometry::of(mesh)), &Default::default());
         for (v, class) in classes.into_iter().enumerate() {
-            let keep = match options.keep_features {
+            feature[v] = match options.keep_features {
                 KeepFeatures::None => false,
                 KeepFeatures::Strong => class.is_sharp(),
                 KeepFeatures::All => class != FeatureClass::Face,
             };
-            if keep {
-                kept[v] = true;
-                features += 1;
-            }
+            corner[v] = class == FeatureClass::Corner;
         }
     }
+    let along = options.feature_vertices == FeatureVertices::AlongLines;
+    let lines = FeatureLines::new(&feature, &corner, &mesh.triangles, along);
+    let mut kept: Vec<bool> = (0..n).map(|v| feature[v] && !lines.is_on_line(v as u32)).collect();
     for &v in &options.keep_vertices {
         let slot = kept
             .get_mut(v as usize)
             .ok_or_else(|| Error::InvalidInput(format!("vertex {v} marked to keep is out of range ({n} vertices)")))?;
         *slot = true;
     }
-    Ok((kept, features))
+    Ok(Features { feature, kept, lines })
 }
 
-/// Removable candidates in order of increasing estimated E(v), ties by vertex id.
-fn candidate_order(
+/// What [`features_and_kept`] finds.
+struct Features {
+    feature: Vec<bool>,
+    kept: Vec<bool>,
+    lines: FeatureLines,
+}
+
+/// The smallest angle a cluster may make (unless its star had a smaller one), degrees.
+const MIN_ANGLE_DEGREES: f64 = 5.0;
+
+/// How often a level whose every plan offended the intersection guard is tried again.
+const MAX_RETRIES: usize = 4;
+
+/// Share of a level's candidates, cheapest first, whose errors set the level's limit.
+const LEVEL_QUANTILE: f64 = 0.2;
+
+/// Removable candidates with the E(v) of the cluster each would be on this level's rings,
+/// cheapest first (ties by vertex id); vertices with no valid cluster are left out.
+fn ranked_candidates(
     live: &[u32],
     rings: &Rings,
     kept: &[bool],
     geometry: LevelGeometry<'_>,
     rules: &ClusterRules,
-) -> Vec<u32> {
+) -> Vec<(f64, u32)> {
     let mut ranked: Vec<(f64, u32)> = live
         .par_iter()
         .filter(|&&v| !kept[v as usize] && !rings.is_boundary(v) && rings.degree(v) >= 4)
-        .map(|&v| (estimate_error(v, rings, geometry, rules), v))
+        .filter_map(|&v| plan_cluster(v, rings, geometry, rules).map(|plan| (plan.error, v)))
         .collect();
     ranked.par_sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    ranked.into_iter().map(|(_, v)| v).collect()
+    ranked
+}
+
+/// The error limit of one level, after meshoptimizer's passes (Kapoulkine, `simplify`):
+/// 1.5 times the error of the candidate at the goal, where the goal is the number of
+/// vertices still to remove or [`LEVEL_QUANTILE`] of the candidates, whichever is
+/// smaller. A level then removes only clusters among the cheap ones, so the expensive ones
+/// wait for coarser levels, where their errors are measured again.
+fn level_error_limit(ranked: &[(f64, u32)], need: usize, tolerance: f64) -> f64 {
+    let goal = need.min((ranked.len() as f64 * LEVEL_QUANTILE) as usize);
+    ranked.get(goal).map_or(f64::INFINITY, |&(e, _)| 1.5 * e + tolerance)
 }
 
 /// Greedy maximal independent set of clusters (Velho & Gomes' marking): take the cheapest
@@ -310,7 +377,7 @@ fn select_clusters(
     locked: &mut [bool],
     live: usize,
     options: &SimplifyOptions,
-    max_error: Option<f64>,
+    limit: f64,
 ) -> Result<Vec<ClusterPlan>> {
     let mut plans: Vec<ClusterPlan> = Vec::new();
     for &v in order {
@@ -321,7 +388,7 @@ fn select_clusters(
             continue;
         }
         let Some(plan) = plan_cluster(v, rings, geometry, rules) else { continue };
-        if max_error.is_some_and(|m| plan.error > m) {
+        if plan.error > limit {
             continue;
         }
         apply_plan(&plan, rings)?;

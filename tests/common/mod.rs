@@ -4,21 +4,30 @@
 use std::path::PathBuf;
 
 /// `../shared/data/meshes` next to the checkout, or `None` (tests then skip with a message).
-pub fn shared_meshes() -> Option<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/meshes");
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("skipping: {} is absent", dir.display());
-        None
-    }
+pub fn shared_meshes() -> PathBuf {
+    let dir = shared_meshes_dir();
+    assert!(
+        dir.is_dir(),
+        "the shared test meshes are missing: they belong in {} (see ../shared/data/meshes/README.md)",
+        dir.display()
+    );
+    dir
+}
+
+/// Where the shared meshes belong.
+fn shared_meshes_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/meshes")
+}
+
+/// Whether the shared meshes are there (for checks of programs that use them when they
+/// are, as `demo` does).
+pub fn shared_meshes_present() -> bool {
+    shared_meshes_dir().is_dir()
 }
 
 /// Every `.off` file of the shared meshes, sorted.
 pub fn shared_mesh_files() -> Vec<PathBuf> {
-    let Some(dir) = shared_meshes() else {
-        return Vec::new();
-    };
+    let dir = shared_meshes();
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
         .expect("read shared meshes")
         .map(|e| e.expect("entry").path())
@@ -80,7 +89,7 @@ pub fn thin_pancake() -> Mesh {
     let mut mesh = asperity::mesh::primitives::icosphere(1.0, 3);
     for p in &mut mesh.positions {
         p.z *= 0.005;
-        p.z += 0.0015 * (5.0 * p.x).sin() * (4.0 * p.y).cos();
+        p.z += 0.003 * (5.0 * p.x).sin() * (4.0 * p.y).cos();
     }
     mesh
 }

@@ -1,0 +1,99 @@
+//! Feature lines simplified along themselves (#19; an extension of the thesis §4.4.1.1,
+//! whose literal rule keeps every feature vertex).
+//!
+//! The feature edges are the edges joining two feature vertices of the input (Algorithm 1's
+//! classes chosen by `--keep-features`). A feature vertex with exactly two feature edges
+//! lies on a line; one with any other count is a junction or an end and, like a corner, is
+//! never removed. A line vertex may be removed only by the weld whose diagonal joins its
+//! two line neighbours, so the line stays a line of the coarser level: the two feature
+//! edges become one. Each feature edge carries a bound on how far the input's line between
+//! its ends lies from it (Cohen et al. 1997's successive-mapping bound, along the line):
+//! merging v–a and v–b into a–b gives max(bound(v–a), bound(v–b)) + dist(v, a–b).
+
+use rustc_hash::FxHashMap;
+
+use super::rings::Rings;
+
+/// The feature edges of the current level, each with its distance bound.
+#[derive(Debug, Clone, Default)]
+pub struct FeatureLines {
+    /// Feature edges (smaller id first) and the bound on the input line's distance from
+    /// each.
+    edges: FxHashMap<[u32; 2], f64>,
+    /// Vertices that lie on a line (exactly two feature edges) and may go along it.
+    on_line: Vec<bool>,
+}
+
+fn key(a: u32, b: u32) -> [u32; 2] {
+    [a.min(b), a.max(b)]
+}
+
+impl FeatureLines {
+    /// The lines of a mesh whose feature vertices are `feature` (edges from `triangles`).
+    /// Corners are never line vertices, and none is when `along` is false (the lines are
+    /// then only reported); vertices whose removal the caller forbids are left to the
+    /// caller's `kept` flags.
+    pub fn new(feature: &[bool], corner: &[bool], triangles: &[[u32; 3]], along: bool) -> Self {
+        let mut edges = FxHashMap::default();
+        for t in triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                if feature[a as usize] && feature[b as usize] {
+                    edges.insert(key(a, b), 0.0);
+                }
+            }
+        }
+        let mut degree = vec![0u8; feature.len()];
+        for &[a, b] in edges.keys() {
+            degree[a as usize] = degree[a as usize].saturating_add(1);
+            degree[b as usize] = degree[b as usize].saturating_add(1);
+        }
+        let on_line = (0..feature.len()).map(|v| along && feature[v] && !corner[v] && degree[v] == 2).collect();
+        FeatureLines { edges, on_line }
+    }
+
+    /// Whether `v` lies on a line.
+    pub fn is_on_line(&self, v: u32) -> bool {
+        self.on_line.get(v as usize).copied().unwrap_or(false)
+    }
+
+    /// Whether a–b is a feature edge.
+    pub fn is_feature_edge(&self, a: u32, b: u32) -> bool {
+        self.edges.contains_key(&key(a, b))
+    }
+
+    /// The two line neighbours of the line vertex `v` (in ring order) and the larger bound
+    /// of its two feature edges; `None` if `v` is not on a line.
+    pub fn neighbours(&self, v: u32, rings: &Rings) -> Option<([u32; 2], f64)> {
+        if !self.is_on_line(v) {
+            return None;
+        }
+        let mut found = [0u32; 2];
+        let mut count = 0;
+        let mut bound: f64 = 0.0;
+        for &r in rings.ring(v) {
+            if let Some(&b) = self.edges.get(&key(v, r)) {
+                if count < 2 {
+                    found[count] = r;
+                }
+                count += 1;
+                bound = bound.max(b);
+            }
+        }
+        (count == 2).then_some((found, bound))
+    }
+
+    /// Records the removal of the line vertex `v` along its line: its feature edges to
+    /// `ends` become the edge between them, with bound `bound`.
+    pub fn merge(&mut self, v: u32, ends: [u32; 2], bound: f64) {
+        self.edges.remove(&key(v, ends[0]));
+        self.edges.remove(&key(v, ends[1]));
+        self.edges.insert(key(ends[0], ends[1]), bound);
+        self.on_line[v as usize] = false;
+    }
+
+    /// Every feature edge of the current level.
+    pub fn edges(&self) -> impl Iterator<Item = [u32; 2]> + '_ {
+        self.edges.keys().copied()
+    }
+}
