@@ -3,6 +3,8 @@
 //! by each method (ours without feature preservation: the relief makes thousands of
 //! strong-edge vertices); then our refinement back to full resolution and peak memory.
 //!
+//! Then #19's 1 % rows on the shared meshes.
+//!
 //! `cargo bench --bench hierarchy` (`-- --quick` uses the 327 k-triangle sphere).
 
 mod common;
@@ -64,13 +66,14 @@ fn main() {
     let rows = compare(&mesh, target, &["asperity", "openmesh", "cgal", "meshoptimizer"], &options).expect("compare");
     for r in &rows {
         println!(
-            "{:<14} {:>7} vertices in {:>7.2} s, hausdorff {:.3} %, rms {:.4} %, min angle {:.2}°",
+            "{:<14} {:>7} vertices in {:>7.2} s, hausdorff {:.3} %, rms {:.4} %, min angle {:.2}°, slivers {:.2} %",
             r.method,
             r.vertices,
             r.seconds,
             r.hausdorff * 100.0,
             r.rms * 100.0,
-            r.min_angle_deg
+            r.min_angle_deg,
+            r.sliver_share * 100.0
         );
     }
     let ours = &rows[0];
@@ -84,6 +87,40 @@ fn main() {
         );
     }
     report_openmesh_floor(&mesh, &options, &rows);
+    report_shared_meshes_at_one_percent();
+}
+
+/// #19's 1 % rows: every shared mesh simplified to 1 % of its vertices (at least 4) by
+/// each method, without feature preservation, at one vertex count per mesh (`compare` runs
+/// the methods again to the count of one that stops above it).
+fn report_shared_meshes_at_one_percent() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/meshes");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("the shared meshes belong in {}: {e}", dir.display()))
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "off"))
+        .collect();
+    files.sort();
+    let options = SimplifyOptions { keep_features: KeepFeatures::None, ..Default::default() };
+    for path in files {
+        let mesh = asperity::io::read(&path).expect("shared mesh").mesh;
+        let target = (mesh.vertex_count() / 100).max(4);
+        let rows =
+            compare(&mesh, target, &["asperity", "openmesh", "cgal", "meshoptimizer"], &options).expect("compare");
+        let row = |m: &str| rows.iter().find(|r| r.method == m).expect("row");
+        let (ours, om, cgal, mo) = (row("asperity"), row("openmesh"), row("cgal"), row("meshoptimizer"));
+        println!(
+            "1 % {:<26} {:>5} vertices: hausdorff {:.3} % (asperity/meshoptimizer {:.2}x, asperity/cgal {:.2}x), slivers {:.1} % (openmesh {:.1} %), min angle {:.2}°",
+            path.file_name().expect("name").to_string_lossy(),
+            ours.vertices,
+            ours.hausdorff * 100.0,
+            ours.hausdorff / mo.hausdorff.max(f64::MIN_POSITIVE),
+            ours.hausdorff / cgal.hausdorff.max(f64::MIN_POSITIVE),
+            ours.sliver_share * 100.0,
+            om.sliver_share * 100.0,
+            ours.min_angle_deg
+        );
+    }
 }
 
 /// The build-time budgets next to the least the build can cost with its topology in

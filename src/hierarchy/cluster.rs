@@ -16,7 +16,7 @@ use glam::{DVec2, DVec3};
 use smallvec::SmallVec;
 
 use super::conformal::{Flattening, interpolate, locate, orient};
-use super::cost::{Choice, choose, crossing_error, min_angle, point_triangle_distance_squared, spoke_crossing};
+use super::cost::{Choice, choose, crossing_error, min_angle_sine, point_triangle_distance_squared, spoke_crossing};
 use super::lines::FeatureLines;
 use super::param::ParamBuckets;
 use super::rings::{RingVec, Rings};
@@ -54,8 +54,12 @@ pub struct LevelGeometry<'a> {
 pub struct ClusterPlan {
     /// The removed vertex.
     pub vertex: u32,
-    /// Its 1-ring before the flips (the level's connectivity).
+    /// Its 1-ring before the flips (the level's connectivity): cyclic, or open from one
+    /// boundary neighbour to the other for a boundary vertex.
     pub ring: RingVec<u32>,
+    /// Whether the vertex lies on a boundary: it is removed along it, by a weld that
+    /// leaves one triangle (b0, r, b1) and makes b0–b1 a boundary edge.
+    pub boundary: bool,
     /// Ring vertices whose spoke is flipped away, in flip order (refinement flips them
     /// back in reverse order).
     pub flips: SmallVec<[u32; 4]>,
@@ -82,9 +86,12 @@ impl ClusterPlan {
     /// the recorder holds them.
     pub fn flattening(&self, positions: &[DVec3]) -> RingVec<DVec2> {
         let ring_points: RingVec<DVec3> = self.ring.iter().map(|&r| positions[r as usize]).collect();
-        Flattening::of_closed_ring(positions[self.vertex as usize], &ring_points)
-            .map(|f| f.points)
-            .unwrap_or_else(|| smallvec::smallvec![DVec2::ZERO; self.ring.len()])
+        let centre = positions[self.vertex as usize];
+        let flattening = match self.boundary {
+            true => Flattening::of_open_ring(centre, &ring_points),
+            false => Flattening::of_closed_ring(centre, &ring_points),
+        };
+        flattening.map(|f| f.points).unwrap_or_else(|| smallvec::smallvec![DVec2::ZERO; self.ring.len()])
     }
 
     /// The planar image of vertex `id` in `flat` (the plan's flattening): the removed
@@ -168,26 +175,36 @@ pub fn widest_link_edge(centre: DVec3, ring: &[u32], positions: &[DVec3], thresh
 pub fn plan_cluster(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules: &ClusterRules) -> Option<ClusterPlan> {
     let ring = RingVec::from_slice(rings.ring(v));
     let d = ring.len();
-    if d < 4 || rings.is_boundary(v) {
+    let boundary = rings.is_boundary(v);
+    if d < if boundary { 3 } else { 4 } {
         return None;
     }
     let pos = geometry.positions;
     let pv = pos[v as usize];
     let ring_points: RingVec<DVec3> = ring.iter().map(|&r| pos[r as usize]).collect();
-    let flat = Flattening::of_closed_ring(pv, &ring_points)?.points;
-    let star_min_angle =
-        (0..d).map(|i| min_angle(pv, ring_points[i], ring_points[(i + 1) % d])).fold(f64::INFINITY, f64::min);
+    let flat = match boundary {
+        true => Flattening::of_open_ring(pv, &ring_points)?.points,
+        false => Flattening::of_closed_ring(pv, &ring_points)?.points,
+    };
+    let faces = if boundary { d - 1 } else { d };
+    let star_min_sine =
+        (0..faces).map(|i| min_angle_sine(pv, ring_points[i], ring_points[(i + 1) % d])).fold(1.0, f64::min);
     let line = match geometry.lines.neighbours(v, rings) {
         Some((ends, bound)) => Some((ends.map(|e| ring.iter().position(|&r| r == e).expect("a ring vertex")), bound)),
-        None if geometry.lines.is_on_line(v) => return None,
+        None if geometry.lines.is_on_line(v) || boundary => return None,
         None => None,
     };
-    let floor = rules.min_angle.min(star_min_angle);
-    let star = Star { v, ring, points: ring_points, flat, rings, geometry, rules, floor, line };
+    // A boundary vertex goes along its boundary: its line neighbours are its ring's ends.
+    if boundary && line.is_none_or(|([a, b], _)| [a.min(b), a.max(b)] != [0, d - 1]) {
+        return None;
+    }
+    let floor = rules.min_angle.sin().min(star_min_sine);
+    let star = Star { v, ring, points: ring_points, flat, rings, geometry, rules, floor, line, boundary };
     if let Some(plan) = star.greedy_ears().and_then(|ears| star.weld(ears)) {
         return Some(plan);
     }
-    (0..d).filter_map(|j| star.fan_ears(j).and_then(|ears| star.weld(ears))).min_by(|a, b| a.error.total_cmp(&b.error))
+    let fans = if boundary { 1..d - 1 } else { 0..d };
+    fans.filter_map(|j| star.fan_ears(j).and_then(|ears| star.weld(ears))).min_by(|a, b| a.error.total_cmp(&b.error))
 }
 
 /// A vertex's star while its cluster is planned.
@@ -201,12 +218,14 @@ struct Star<'a> {
     rings: &'a Rings,
     geometry: LevelGeometry<'a>,
     rules: &'a ClusterRules,
-    /// The smallest angle the cluster may make.
+    /// The sine of the smallest angle the cluster may make.
     floor: f64,
     /// For a vertex on a feature line: the ring slots of its two line neighbours (their
     /// spokes are never flipped and the diagonal joins them) and the larger bound of its
     /// two feature edges.
     line: Option<([usize; 2], f64)>,
+    /// Whether the ring is open (a boundary vertex).
+    boundary: bool,
 }
 
 /// The ring polygon after some ear cuts (spoke flips): the remaining ring slots, each
@@ -232,6 +251,23 @@ impl Star<'_> {
         Some(bound + point_segment_distance_squared(self.pv(), self.points[a], self.points[b]).sqrt())
     }
 
+    /// The degree the flips bring the vertex to: 4 inside, 3 on a boundary.
+    fn weld_degree(&self) -> usize {
+        if self.boundary { 3 } else { 4 }
+    }
+
+    /// The ear positions of a polygon of `m` slots: all inside, the inner ones on a
+    /// boundary (the open ring's ends are never apexes).
+    fn ear_positions(&self, m: usize) -> std::ops::Range<usize> {
+        if self.boundary { 1..m - 1 } else { 0..m }
+    }
+
+    /// Whether ring vertex `id` may lose a neighbour, given its degree change so far.
+    fn may_lose_neighbour(&self, id: u32, gain: i64) -> bool {
+        let least = if self.rings.is_boundary(id) { 2 } else { 3 };
+        self.rings.degree(id) as i64 + gain > least
+    }
+
     fn start(&self) -> Ears {
         let d = self.ring.len();
         Ears { current: (0..d).collect(), gain: smallvec::smallvec![0; d], cut: RingVec::new(), swap_error: 0.0 }
@@ -245,7 +281,7 @@ impl Star<'_> {
         let (prev, apex, next) = (ears.current[(i + m - 1) % m], ears.current[i], ears.current[(i + 1) % m]);
         if self.line.is_some_and(|(ends, _)| ends.contains(&apex))
             || self.rings.has_edge(ring[prev], ring[next])
-            || self.rings.degree(ring[apex]) as i64 + ears.gain[apex] - 1 < 3
+            || !self.may_lose_neighbour(ring[apex], ears.gain[apex])
             || orient(flat[prev], flat[apex], flat[next]) <= 0.0
             || orient(DVec2::ZERO, flat[prev], flat[next]) <= 0.0
         {
@@ -259,7 +295,7 @@ impl Star<'_> {
         {
             return None;
         }
-        let shape = min_angle(p[prev], p[apex], p[next]);
+        let shape = min_angle_sine(p[prev], p[apex], p[next]);
         if shape < self.floor {
             return None;
         }
@@ -285,19 +321,25 @@ impl Star<'_> {
     /// near-ties.
     fn greedy_ears(&self) -> Option<Ears> {
         let mut ears = self.start();
-        while ears.current.len() > 4 {
-            let choices: RingVec<Choice> = (0..ears.current.len()).filter_map(|i| self.ear(&ears, i)).collect();
+        while ears.current.len() > self.weld_degree() {
+            let choices: RingVec<Choice> =
+                self.ear_positions(ears.current.len()).filter_map(|i| self.ear(&ears, i)).collect();
             Self::cut(&mut ears, choose(&choices, self.geometry.tolerance)?);
         }
         Some(ears)
     }
 
-    /// The ear cuts that leave the fan of ring slot `j`: the ears farthest from it first.
+    /// The ear cuts that leave the fan of ring slot `j` (inside: the ears farthest from
+    /// it first; on a boundary, `j` is the ring vertex left with the two ends, and the
+    /// ears are cut from both ends towards it).
     fn fan_ears(&self, j: usize) -> Option<Ears> {
         let d = self.ring.len();
+        let apexes: RingVec<usize> = match self.boundary {
+            true => (1..j).chain((j + 1..d - 1).rev()).collect(),
+            false => (1..=d - 4).map(|k| (j + d - k) % d).collect(),
+        };
         let mut ears = self.start();
-        for k in 1..=d - 4 {
-            let apex = (j + d - k) % d;
+        for apex in apexes {
             let i = ears.current.iter().position(|&c| c == apex)?;
             let choice = self.ear(&ears, i)?;
             Self::cut(&mut ears, choice);
@@ -309,16 +351,20 @@ impl Star<'_> {
     /// ring valid, the one whose removal error (the mapped vertices, the vertex's image
     /// against its quadric, the diagonal where it crosses a spoke) is lower.
     fn weld(&self, ears: Ears) -> Option<ClusterPlan> {
+        if self.boundary {
+            return self.weld_boundary(ears);
+        }
         let (ring, flat, p, rings) = (&self.ring, &self.flat, &self.points, self.rings);
         let (current, gain) = (&ears.current, &ears.gain);
         let pv = self.pv();
         let mut choices: RingVec<Choice> = RingVec::new();
+        let mut points: Option<StarPoints> = None;
         for k in 0..2 {
             let c = [current[k], current[k + 1], current[(k + 2) % 4], current[(k + 3) % 4]];
             if self.line.is_some_and(|([a, b], _)| [a.min(b), a.max(b)] != [c[0].min(c[2]), c[0].max(c[2])])
                 || rings.has_edge(ring[c[0]], ring[c[2]])
-                || rings.degree(ring[c[1]]) as i64 + gain[c[1]] - 1 < 3
-                || rings.degree(ring[c[3]]) as i64 + gain[c[3]] - 1 < 3
+                || !self.may_lose_neighbour(ring[c[1]], gain[c[1]])
+                || !self.may_lose_neighbour(ring[c[3]], gain[c[3]])
                 || orient(flat[c[0]], flat[c[1]], flat[c[2]]) <= 0.0
                 || orient(flat[c[0]], flat[c[2]], flat[c[3]]) <= 0.0
             {
@@ -332,7 +378,7 @@ impl Star<'_> {
             if t0.dot(normal(pv, p[c[1]], p[c[2]])) <= 0.0 || t1.dot(normal(pv, p[c[2]], p[c[3]])) <= 0.0 {
                 continue;
             }
-            let shape = min_angle(p[c[0]], p[c[1]], p[c[2]]).min(min_angle(p[c[0]], p[c[2]], p[c[3]]));
+            let shape = min_angle_sine(p[c[0]], p[c[1]], p[c[2]]).min(min_angle_sine(p[c[0]], p[c[2]], p[c[3]]));
             if shape < self.floor {
                 continue;
             }
@@ -341,7 +387,8 @@ impl Star<'_> {
             let image = interpolate(weld[t].map(|i| p[i]), w);
             let mut made: RingVec<[usize; 3]> = ears.cut.clone();
             made.extend(weld);
-            let mapped = mapped_error(self.v, ring, flat, &made, self.geometry);
+            let points = points.get_or_insert_with(|| star_points(self.v, ring, flat, self.geometry, false));
+            let mapped = mapped_error(points, ring, flat, &made, self.geometry.positions);
             let mut removal = self.geometry.quadrics[self.v as usize].mean_error(image).max(mapped);
             if let Some(bound) = self.line_bound(c[0], c[2]) {
                 removal = removal.max(bound * bound);
@@ -365,6 +412,7 @@ impl Star<'_> {
         let along_line = self.line_bound(c[0], c[2]).map(|bound| ([ring[c[0]], ring[c[2]]], bound));
         Some(ClusterPlan {
             along_line,
+            boundary: false,
             vertex: self.v,
             flips: ears.cut.iter().map(|e| ring[e[1]]).collect(),
             weld_to: ring[c[0]],
@@ -375,29 +423,88 @@ impl Star<'_> {
             ring: ring.clone(),
         })
     }
+
+    /// The weld of a boundary vertex brought to degree 3 (ring b0, r, b1): one triangle
+    /// (b0, r, b1) left, b0–b1 the new boundary edge. Its removal error is that of the
+    /// mapped vertices, of the vertex's image on b0–b1 against its quadric (whose planes
+    /// include CGAL's boundary planes), and the boundary's distance bound.
+    fn weld_boundary(&self, ears: Ears) -> Option<ClusterPlan> {
+        let (ring, flat, p, rings) = (&self.ring, &self.flat, &self.points, self.rings);
+        let c = [ears.current[0], ears.current[1], ears.current[2]];
+        let pv = self.pv();
+        if rings.has_edge(ring[c[0]], ring[c[2]])
+            || !self.may_lose_neighbour(ring[c[1]], ears.gain[c[1]])
+            || orient(flat[c[0]], flat[c[1]], flat[c[2]]) <= 0.0
+            || is_sliver(p[c[0]], p[c[1]], p[c[2]])
+        {
+            return None;
+        }
+        let t = normal(p[c[0]], p[c[1]], p[c[2]]);
+        if t.dot(normal(pv, p[c[0]], p[c[1]])) <= 0.0 || t.dot(normal(pv, p[c[1]], p[c[2]])) <= 0.0 {
+            return None;
+        }
+        let shape = min_angle_sine(p[c[0]], p[c[1]], p[c[2]]);
+        if shape < self.floor {
+            return None;
+        }
+        let (_, w) = locate(DVec2::ZERO, &[c.map(|i| flat[i])]);
+        let image = interpolate(c.map(|i| p[i]), w);
+        let mut made: RingVec<[usize; 3]> = ears.cut.clone();
+        made.push(c);
+        let points = star_points(self.v, ring, flat, self.geometry, true);
+        let mapped = mapped_error(&points, ring, flat, &made, self.geometry.positions);
+        let bound = self.line_bound(c[0], c[2])?;
+        let removal = self.geometry.quadrics[self.v as usize].mean_error(image).max(mapped).max(bound * bound);
+        let error = self.rules.removal_weight * removal + self.rules.swap_weight * ears.swap_error;
+        let mut triangles = ears.cut.clone();
+        triangles.push(c);
+        let n = triangles.len();
+        Some(ClusterPlan {
+            vertex: self.v,
+            ring: ring.clone(),
+            boundary: true,
+            flips: ears.cut.iter().map(|e| ring[e[1]]).collect(),
+            weld_to: ring[c[0]],
+            diagonal: [ring[c[0]], ring[c[2]]],
+            triangles: triangles.iter().map(|t| t.map(|i| ring[i])).collect(),
+            location: (n - 1, w),
+            error,
+            along_line: Some(([ring[c[0]], ring[c[2]]], bound)),
+        })
+    }
 }
 
-/// The largest squared distance from the removed vertex `v`, and from every vertex
-/// parametrized onto its star, to the new triangle (ring-index triples `made`) its parameter
-/// point lands on in the flattening.
-fn mapped_error(v: u32, ring: &[u32], flat: &[DVec2], made: &[[usize; 3]], geometry: LevelGeometry<'_>) -> f64 {
-    let pos = geometry.positions;
-    let flat_made: RingVec<[DVec2; 3]> = made.iter().map(|t| t.map(|i| flat[i])).collect();
-    let distance = |w: u32, image: DVec2| {
-        let (t, _) = locate(image, &flat_made);
-        let [a, b, c] = made[t].map(|i| pos[ring[i] as usize]);
-        point_triangle_distance_squared(pos[w as usize], a, b, c)
-    };
-    let slot_image = |id: u32| ring.iter().position(|&r| r == id).map_or(DVec2::ZERO, |j| flat[j]);
-    let mut worst = distance(v, DVec2::ZERO);
+/// The vertices parametrized onto `v`'s star that lie farthest from their faces, with
+/// their images in the flattening `flat` (the removed vertex itself first, at the origin).
+fn star_points(v: u32, ring: &[u32], flat: &[DVec2], geometry: LevelGeometry<'_>, boundary: bool) -> StarPoints {
+    let mut points: StarPoints = smallvec::smallvec![(v, DVec2::ZERO)];
     let d = ring.len();
-    for k in 0..d {
-        geometry.params.for_each_on([v, ring[k], ring[(k + 1) % d]], |w, point| {
-            let image = point.face.iter().zip(point.bary).fold(DVec2::ZERO, |acc, (&id, b)| acc + slot_image(id) * b);
-            worst = worst.max(distance(w, image));
+    for k in 0..if boundary { d - 1 } else { d } {
+        let corners = [(v, DVec2::ZERO), (ring[k], flat[k]), (ring[(k + 1) % d], flat[(k + 1) % d])];
+        let image_of = |id: u32| corners.iter().find(|c| c.0 == id).map_or(DVec2::ZERO, |c| c.1);
+        geometry.params.for_each_farthest_on([v, ring[k], ring[(k + 1) % d]], |w, point| {
+            let image = point.face.iter().zip(point.bary).fold(DVec2::ZERO, |acc, (&id, b)| acc + image_of(id) * b);
+            points.push((w, image));
         });
     }
-    worst
+    points
+}
+
+/// Vertices with their images in a star's flattening.
+type StarPoints = SmallVec<[(u32, DVec2); 16]>;
+
+/// The largest squared distance from each of `points` to the new triangle (ring-index
+/// triples `made`) its image lands on in the flattening.
+fn mapped_error(points: &StarPoints, ring: &[u32], flat: &[DVec2], made: &[[usize; 3]], pos: &[DVec3]) -> f64 {
+    let flat_made: RingVec<[DVec2; 3]> = made.iter().map(|t| t.map(|i| flat[i])).collect();
+    points
+        .iter()
+        .map(|&(w, image)| {
+            let (t, _) = locate(image, &flat_made);
+            let [a, b, c] = made[t].map(|i| pos[ring[i] as usize]);
+            point_triangle_distance_squared(pos[w as usize], a, b, c)
+        })
+        .fold(0.0, f64::max)
 }
 
 /// Whether `plan`, made on an earlier state of the rings, can still be carried out: the
@@ -411,7 +518,9 @@ pub fn plan_still_applies(plan: &ClusterPlan, rings: &Rings) -> bool {
     }
     let mut gain: RingVec<i64> = smallvec::smallvec![0; plan.ring.len()];
     let slot = |id: u32| plan.ring.iter().position(|&r| r == id).expect("a ring vertex");
-    let drops_too_low = |id: u32, gain: &[i64]| rings.degree(id) as i64 + gain[slot(id)] - 1 < 3;
+    let drops_too_low = |id: u32, gain: &[i64]| {
+        rings.degree(id) as i64 + gain[slot(id)] - 1 < if rings.is_boundary(id) { 2 } else { 3 }
+    };
     let (ears, weld) = plan.triangles.split_at(plan.flips.len());
     for &[prev, apex, next] in ears {
         if rings.has_edge(prev, next) || drops_too_low(apex, &gain) {
@@ -420,6 +529,9 @@ pub fn plan_still_applies(plan: &ClusterPlan, rings: &Rings) -> bool {
         gain[slot(apex)] -= 1;
         gain[slot(prev)] += 1;
         gain[slot(next)] += 1;
+    }
+    if let [[c0, c1, c2]] = *weld {
+        return !(rings.has_edge(c0, c2) || drops_too_low(c1, &gain));
     }
     let ([c0, c1, c2], [_, _, c3]) = (weld[0], weld[1]);
     !(rings.has_edge(c0, c2) || drops_too_low(c1, &gain) || drops_too_low(c3, &gain))
@@ -434,5 +546,8 @@ pub fn apply_plan(plan: &ClusterPlan, rings: &mut Rings) -> crate::Result<()> {
     for &apex in &plan.flips {
         rings.flip(plan.vertex, apex)?;
     }
-    rings.weld(plan.vertex, plan.weld_to)
+    match plan.boundary {
+        true => rings.weld_boundary(plan.vertex),
+        false => rings.weld(plan.vertex, plan.weld_to),
+    }
 }

@@ -19,8 +19,19 @@ impl Flattening {
     /// Flattens the closed ring `ring` around `centre`. `None` for a degenerate ring (a
     /// zero-length spoke or no angle).
     pub fn of_closed_ring(centre: DVec3, ring: &[DVec3]) -> Option<Self> {
+        Self::of_ring(centre, ring, true)
+    }
+
+    /// Flattens the open ring `ring` of a boundary vertex at `centre` onto the upper
+    /// half-disk: a = π/θ_n, so the first ring vertex lands on the positive real axis,
+    /// the last on the negative one, and the vertex (the origin) on the segment between.
+    pub fn of_open_ring(centre: DVec3, ring: &[DVec3]) -> Option<Self> {
+        Self::of_ring(centre, ring, false)
+    }
+
+    fn of_ring(centre: DVec3, ring: &[DVec3], closed: bool) -> Option<Self> {
         let n = ring.len();
-        if n < 3 {
+        if n < if closed { 3 } else { 2 } {
             return None;
         }
         let spokes: RingVec<DVec3> = ring.iter().map(|&p| p - centre).collect();
@@ -32,12 +43,14 @@ impl Flattening {
         let mut total = 0.0;
         for k in 0..n {
             theta.push(total);
-            total += spokes[k].angle_between(spokes[(k + 1) % n]);
+            if closed || k + 1 < n {
+                total += spokes[k].angle_between(spokes[(k + 1) % n]);
+            }
         }
         if total <= 0.0 || !total.is_finite() {
             return None;
         }
-        let a = std::f64::consts::TAU / total;
+        let a = if closed { std::f64::consts::TAU } else { std::f64::consts::PI } / total;
         let mean = radii.iter().sum::<f64>() / n as f64;
         let points = (0..n)
             .map(|k| {

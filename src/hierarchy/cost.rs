@@ -13,7 +13,8 @@
 
 use glam::{DVec2, DVec3};
 
-/// One candidate flip or diagonal: its index, its error and the smallest angle it makes.
+/// One candidate flip or diagonal: its index, its error and the sine of the smallest angle
+/// it makes.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Choice {
     pub index: usize,
@@ -63,6 +64,19 @@ pub fn min_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
     let at_a = ab.angle_between(-ca);
     let at_b = bc.angle_between(-ab);
     at_a.min(at_b).min(std::f64::consts::PI - at_a - at_b).max(0.0)
+}
+
+/// The sine of the smallest corner angle of the triangle (a, b, c) (0 for a degenerate
+/// one): twice its area over the two longer edges, which meet at that corner. The smallest
+/// angle is at most 60°, so the sine orders shapes as the angle does, without an arccosine.
+pub fn min_angle_sine(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let lengths = [(b - a).length_squared(), (c - b).length_squared(), (a - c).length_squared()];
+    let shortest = lengths.iter().copied().fold(f64::INFINITY, f64::min);
+    let product = lengths.iter().product::<f64>() / shortest;
+    if product.is_nan() || product <= 0.0 || !product.is_finite() {
+        return 0.0;
+    }
+    ((b - a).cross(c - a).length() / product.sqrt()).min(1.0)
 }
 
 /// Squared distance from `p` to the triangle (a, b, c): the closest point by Voronoi
@@ -125,6 +139,19 @@ mod tests {
         assert!((d(DVec3::new(0.5, -1.0, 0.0)) - 1.0).abs() < 1e-12, "edge ab");
         assert!((d(DVec3::new(-1.0, 0.5, 0.0)) - 1.0).abs() < 1e-12, "edge ca");
         assert!((d(DVec3::new(1.0, 1.0, 0.0)) - 0.5).abs() < 1e-12, "edge bc");
+    }
+
+    #[test]
+    fn min_angle_sine_is_the_sine_of_the_smallest_angle() {
+        let triangles = [
+            (DVec3::ZERO, DVec3::X, DVec3::Y),
+            (DVec3::ZERO, DVec3::new(10.0, 0.0, 0.0), DVec3::new(3.0, 0.4, 0.0)),
+            (DVec3::new(1.0, 2.0, 3.0), DVec3::new(-2.0, 0.5, 1.0), DVec3::new(0.3, -1.0, 2.0)),
+        ];
+        for (a, b, c) in triangles {
+            assert!((min_angle_sine(a, b, c) - min_angle(a, b, c).sin()).abs() < 1e-12);
+        }
+        assert_eq!(min_angle_sine(DVec3::ZERO, DVec3::X, DVec3::X * 2.0), 0.0);
     }
 
     #[test]

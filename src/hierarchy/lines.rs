@@ -2,9 +2,9 @@
 //! whose literal rule keeps every feature vertex).
 //!
 //! The feature edges are the edges joining two feature vertices of the input (Algorithm 1's
-//! classes chosen by `--keep-features`). A feature vertex with exactly two feature edges
-//! lies on a line; one with any other count is a junction or an end and, like a corner, is
-//! never removed. A line vertex may be removed only by the weld whose diagonal joins its
+//! classes chosen by `--keep-features`) and the boundary edges. A feature or boundary vertex
+//! with exactly two feature edges lies on a line; one with any other count is a junction or
+//! an end and, like a corner, is never removed. A line vertex may be removed only by the weld whose diagonal joins its
 //! two line neighbours, so the line stays a line of the coarser level: the two feature
 //! edges become one. Each feature edge carries a bound on how far the input's line between
 //! its ends lies from it (Cohen et al. 1997's successive-mapping bound, along the line):
@@ -22,6 +22,8 @@ pub struct FeatureLines {
     edges: FxHashMap<[u32; 2], f64>,
     /// Vertices that lie on a line (exactly two feature edges) and may go along it.
     on_line: Vec<bool>,
+    /// Vertices on a boundary of the input.
+    boundary: Vec<bool>,
 }
 
 fn key(a: u32, b: u32) -> [u32; 2] {
@@ -29,27 +31,38 @@ fn key(a: u32, b: u32) -> [u32; 2] {
 }
 
 impl FeatureLines {
-    /// The lines of a mesh whose feature vertices are `feature` (edges from `triangles`).
-    /// Corners are never line vertices, and none is when `along` is false (the lines are
-    /// then only reported); vertices whose removal the caller forbids are left to the
-    /// caller's `kept` flags.
+    /// The lines of a mesh whose feature vertices are `feature` (edges from `triangles`),
+    /// with its boundary loops as lines too. Corners are never line vertices, and none is
+    /// when `along` is false (the lines are then only reported); vertices whose removal the
+    /// caller forbids are left to the caller's `kept` flags.
     pub fn new(feature: &[bool], corner: &[bool], triangles: &[[u32; 3]], along: bool) -> Self {
+        let n = feature.len();
+        let directed: rustc_hash::FxHashSet<[u32; 2]> =
+            triangles.iter().flat_map(|t| (0..3).map(move |k| [t[k], t[(k + 1) % 3]])).collect();
         let mut edges = FxHashMap::default();
-        for t in triangles {
-            for k in 0..3 {
-                let (a, b) = (t[k], t[(k + 1) % 3]);
-                if feature[a as usize] && feature[b as usize] {
-                    edges.insert(key(a, b), 0.0);
-                }
+        let mut boundary = vec![false; n];
+        for &[a, b] in &directed {
+            let open = !directed.contains(&[b, a]);
+            if open {
+                boundary[a as usize] = true;
+                boundary[b as usize] = true;
+            }
+            if open || (feature[a as usize] && feature[b as usize]) {
+                edges.insert(key(a, b), 0.0);
             }
         }
-        let mut degree = vec![0u8; feature.len()];
+        let mut degree = vec![0u8; n];
         for &[a, b] in edges.keys() {
             degree[a as usize] = degree[a as usize].saturating_add(1);
             degree[b as usize] = degree[b as usize].saturating_add(1);
         }
-        let on_line = (0..feature.len()).map(|v| along && feature[v] && !corner[v] && degree[v] == 2).collect();
-        FeatureLines { edges, on_line }
+        let on_line = (0..n).map(|v| along && (feature[v] || boundary[v]) && !corner[v] && degree[v] == 2).collect();
+        FeatureLines { edges, on_line, boundary }
+    }
+
+    /// Whether `v` is on a boundary of the input.
+    pub fn is_boundary(&self, v: u32) -> bool {
+        self.boundary.get(v as usize).copied().unwrap_or(false)
     }
 
     /// Whether `v` lies on a line.

@@ -123,6 +123,9 @@ pub struct Removal {
     pub step: u32,
     /// Its degree on the level it was removed from (restored by refinement, Algorithm 3).
     pub degree: u32,
+    /// Whether it was removed along a boundary (its diagonal is a boundary edge of the
+    /// coarser level, which refinement splits).
+    pub boundary: bool,
     /// Where it lies on the next coarser level: the face the weld left and barycentric
     /// coordinates (refinement re-inserts it there).
     pub local: ParamPoint,

@@ -9,6 +9,7 @@ use serde::Serialize;
 
 use super::cluster::ClusterPlan;
 use super::conformal::locate;
+use super::cost::point_triangle_distance_squared;
 use super::face_key;
 
 /// A point on a level of the hierarchy: a face (counter-clockwise vertex ids) and
@@ -22,12 +23,25 @@ pub struct ParamPoint {
 }
 
 /// Parameter points of the removed vertices, bucketed by the face they lie on: each
-/// face's vertices form a list threaded through `next` (no allocation per face).
+/// face's vertices form a list threaded through `next` (no allocation per face). Each
+/// face also knows the [`WORST`] of its vertices farthest from it, which is what the
+/// clusters' error measure reads (every vertex would cost each candidate cluster a
+/// point location per level).
 #[derive(Debug, Default)]
 pub struct ParamBuckets {
-    heads: FxHashMap<[u32; 3], u32>,
+    heads: FxHashMap<[u32; 3], Bucket>,
     next: Vec<u32>,
     points: Vec<Option<ParamPoint>>,
+}
+
+/// How many of a face's parametrized vertices, the farthest from it, are kept at hand.
+pub const WORST: usize = 2;
+
+/// One face's list and its farthest vertices (squared distance, vertex; `END` unused).
+#[derive(Debug, Clone, Copy)]
+struct Bucket {
+    head: u32,
+    worst: [(f64, u32); WORST],
 }
 
 /// Ends a bucket's list.
@@ -39,22 +53,30 @@ impl ParamBuckets {
         ParamBuckets { heads: FxHashMap::default(), next: vec![END; vertices], points: vec![None; vertices] }
     }
 
-    fn insert(&mut self, vertex: u32, point: ParamPoint) {
-        let head = self.heads.entry(face_key(point.face)).or_insert(END);
-        self.next[vertex as usize] = *head;
-        *head = vertex;
+    /// Puts `vertex` at `point`, `distance` (squared) from the point's face.
+    fn insert(&mut self, vertex: u32, point: ParamPoint, distance: f64) {
+        let bucket = self
+            .heads
+            .entry(face_key(point.face))
+            .or_insert(Bucket { head: END, worst: [(f64::NEG_INFINITY, END); WORST] });
+        self.next[vertex as usize] = bucket.head;
+        bucket.head = vertex;
+        if let Some(slot) = (0..WORST).min_by(|&a, &b| bucket.worst[a].0.total_cmp(&bucket.worst[b].0)) {
+            if distance > bucket.worst[slot].0 {
+                bucket.worst[slot] = (distance, vertex);
+            }
+        }
         self.points[vertex as usize] = Some(point);
     }
 
-    /// Calls `f` with each vertex parametrized onto `face` (any rotation) and its point.
-    pub fn for_each_on(&self, face: [u32; 3], mut f: impl FnMut(u32, &ParamPoint)) {
-        let Some(&head) = self.heads.get(&face_key(face)) else { return };
-        let mut w = head;
-        while w != END {
-            if let Some(point) = &self.points[w as usize] {
+    /// Calls `f` with the vertices parametrized onto `face` (any rotation) that lie farthest
+    /// from it (at most [`WORST`]) and their points.
+    pub fn for_each_farthest_on(&self, face: [u32; 3], mut f: impl FnMut(u32, &ParamPoint)) {
+        let Some(bucket) = self.heads.get(&face_key(face)) else { return };
+        for &(_, w) in &bucket.worst {
+            if let Some(Some(point)) = self.points.get(w as usize) {
                 f(w, point);
             }
-            w = self.next[w as usize];
         }
     }
 
@@ -67,9 +89,9 @@ impl ParamBuckets {
         let d = plan.ring.len();
         let flat = plan.flattening(positions);
         let flat_triangles = plan.flat_triangles(&flat);
-        for k in 0..d {
+        for k in 0..if plan.boundary { d - 1 } else { d } {
             let star_face = [v, plan.ring[k], plan.ring[(k + 1) % d]];
-            let Some(mut w) = self.heads.remove(&face_key(star_face)) else { continue };
+            let Some(Bucket { head: mut w, .. }) = self.heads.remove(&face_key(star_face)) else { continue };
             while w != END {
                 let after = self.next[w as usize];
                 if let Some(old) = self.points[w as usize] {
@@ -79,13 +101,15 @@ impl ParamBuckets {
                         .zip(old.bary)
                         .fold(DVec2::ZERO, |acc, (&id, b)| acc + plan.image(id, &flat) * b);
                     let (t, bary) = locate(image, &flat_triangles);
-                    self.insert(w, ParamPoint { face: plan.triangles[t], bary });
+                    let face = plan.triangles[t];
+                    let distance = distance_to(positions, w, face);
+                    self.insert(w, ParamPoint { face, bary }, distance);
                 }
                 w = after;
             }
         }
         let own = ParamPoint { face: plan.triangles[plan.location.0], bary: plan.location.1 };
-        self.insert(v, own);
+        self.insert(v, own, distance_to(positions, v, own.face));
         own
     }
 
@@ -93,4 +117,10 @@ impl ParamBuckets {
     pub fn into_points(self) -> Vec<Option<ParamPoint>> {
         self.points
     }
+}
+
+/// Squared distance from vertex `w` to the triangle `face`.
+fn distance_to(positions: &[DVec3], w: u32, face: [u32; 3]) -> f64 {
+    let [a, b, c] = face.map(|v| positions[v as usize]);
+    point_triangle_distance_squared(positions[w as usize], a, b, c)
 }

@@ -70,6 +70,7 @@ impl<'a> Recorder<'a> {
                 vertex: plan.vertex,
                 step,
                 degree: plan.ring.len() as u32,
+                boundary: plan.boundary,
                 local: point,
                 diagonal: plan.diagonal,
                 restore: [restore_start, self.restore.len() as u32],
@@ -98,13 +99,21 @@ impl<'a> Recorder<'a> {
         }
     }
 
-    /// Replays the planned flips, then the welds, on the store (one call each).
+    /// Replays the planned flips, then the welds, on the store (one call each; boundary
+    /// welds, of degree 3, in a call of their own).
     fn apply_to_store(&mut self, plans: &[ClusterPlan]) -> Result<()> {
         let flips: Vec<[u32; 2]> = plans.iter().flat_map(|p| p.flips.iter().map(move |&a| [p.vertex, a])).collect();
         expect_done("flip", &flips, &self.store.flip_edges(&flips)?)?;
-        let welds: Vec<[u32; 2]> = plans.iter().map(|p| [p.vertex, p.weld_to]).collect();
-        let options = CollapseOptions { required_degree: 4, check_normals: false };
-        expect_done("weld", &welds, &self.store.collapse_halfedges(&welds, options)?)
+        for (boundary, degree) in [(false, 4), (true, 3)] {
+            let welds: Vec<[u32; 2]> =
+                plans.iter().filter(|p| p.boundary == boundary).map(|p| [p.vertex, p.weld_to]).collect();
+            if welds.is_empty() {
+                continue;
+            }
+            let options = CollapseOptions { required_degree: degree, check_normals: false };
+            expect_done("weld", &welds, &self.store.collapse_halfedges(&welds, options)?)?;
+        }
+        Ok(())
     }
 }
 

@@ -236,7 +236,10 @@ impl<'h> Refiner<'h> {
                 report.skipped += 1;
                 continue;
             };
-            self.rings.split(edge[0], edge[1], r.vertex)?;
+            match r.boundary {
+                true => self.rings.split_boundary(edge[0], edge[1], r.vertex)?,
+                false => self.rings.split(edge[0], edge[1], r.vertex)?,
+            }
             self.positions[r.vertex as usize] = point;
             self.present[r.vertex as usize] = true;
             report.relocated += usize::from(relocated);
@@ -287,6 +290,10 @@ impl<'h> Refiner<'h> {
         if self.rings.has_face(f[0], f[1], f[2]) && self.rings.has_edge(r.diagonal[0], r.diagonal[1]) {
             return Some((r.diagonal, false));
         }
+        if r.boundary {
+            // Moved inside, a boundary vertex would change the boundary: it waits.
+            return None;
+        }
         let edge = self.nearest_interior_edge(&f, point)?;
         (!self.overlaps(edge, point)).then_some((edge, true))
     }
@@ -336,12 +343,23 @@ impl<'h> Refiner<'h> {
             while self.rings.degree(v) < r.degree as usize {
                 let ring = self.rings.ring(v).to_vec();
                 let m = ring.len();
+                // An open (boundary) ring has no link edge from its last vertex to its first.
+                let links = if r.boundary { m - 1 } else { m };
                 let link = |j: usize| (ring[j], ring[(j + 1) % m]);
-                let wanted = recorded
-                    .next()
-                    .and_then(|&[a, x]| (0..m).find(|&j| ring[j] == a && self.rings.right_of(a, link(j).1) == Some(x)));
+                let wanted = recorded.next().and_then(|&[a, x]| {
+                    (0..links).find(|&j| ring[j] == a && self.rings.right_of(a, link(j).1) == Some(x))
+                });
                 let chosen = wanted.or_else(|| {
-                    widest_link_edge(self.positions[v as usize], &ring, &self.positions, self.hierarchy.fix_threshold)
+                    (!r.boundary)
+                        .then(|| {
+                            widest_link_edge(
+                                self.positions[v as usize],
+                                &ring,
+                                &self.positions,
+                                self.hierarchy.fix_threshold,
+                            )
+                        })
+                        .flatten()
                 });
                 let Some((a, b)) = chosen.map(link).filter(|&(a, b)| self.can_flip_link(v, a, b, &fresh)) else {
                     report.degree_misses += 1;
@@ -361,11 +379,17 @@ impl<'h> Refiner<'h> {
                 x != v
                     && !fresh.contains(&x)
                     && !self.rings.has_edge(v, x)
-                    && self.rings.degree(a) > 3
-                    && self.rings.degree(b) > 3
+                    && self.may_lose_neighbour(a)
+                    && self.may_lose_neighbour(b)
             }
             None => false,
         }
+    }
+
+    /// Whether `v` keeps enough neighbours after losing one: three inside, two on a
+    /// boundary (as simplification allowed).
+    fn may_lose_neighbour(&self, v: u32) -> bool {
+        self.rings.degree(v) > if self.rings.is_boundary(v) { 2 } else { 3 }
     }
 
     /// The current mesh, compacted, with input ids.

@@ -214,6 +214,46 @@ impl Rings {
         Ok(())
     }
 
+    /// Splits the boundary edge a–b with the (isolated) vertex `v`: its face (a, b, c) (or
+    /// (b, a, c)) becomes (a, v, c) and (v, b, c), and `v` joins the boundary.
+    ///
+    /// # Errors
+    /// [`Error::Internal`] if a–b is not a boundary edge or `v` is on a face.
+    pub fn split_boundary(&mut self, a: u32, b: u32, v: u32) -> Result<()> {
+        if !self.ring(v).is_empty() {
+            return Err(Error::Internal(format!("vertex {v} is already on a face")));
+        }
+        let (a, b, c) = match (self.left_of(a, b), self.right_of(a, b)) {
+            (Some(c), None) => (a, b, c),
+            (None, Some(c)) => (b, a, c),
+            _ => return Err(Error::Internal(format!("{a}–{b} is not a boundary edge"))),
+        };
+        self.replace(a, b, v)?;
+        self.replace(b, a, v)?;
+        self.insert_after(c, a, v)?;
+        *self.edit(v) = Ring::from_slice(&[b, c, a]);
+        self.boundary[v as usize] = true;
+        Ok(())
+    }
+
+    /// Removes the degree-3 boundary vertex `v` (ring b0, r, b1) by collapsing it onto a
+    /// boundary neighbour: its two faces become (b0, r, b1), and b0–b1 a boundary edge.
+    ///
+    /// # Errors
+    /// [`Error::Internal`] if `v` is not a boundary vertex of degree 3.
+    pub fn weld_boundary(&mut self, v: u32) -> Result<()> {
+        let ring = self.ring(v);
+        if ring.len() != 3 || !self.is_boundary(v) {
+            return Err(Error::Internal(format!("vertex {v} is not a boundary vertex of degree 3")));
+        }
+        let [b0, r, b1] = [ring[0], ring[1], ring[2]];
+        self.replace(b0, v, b1)?;
+        self.replace(b1, v, b0)?;
+        self.remove(r, v)?;
+        self.edit(v).clear();
+        Ok(())
+    }
+
     /// Removes the degree-4 vertex `v` by collapsing it onto its neighbour `to` (a
     /// four-face-cluster weld): with ring (to, c1, c2, c3) the new faces are
     /// (to, c1, c2) and (to, c2, c3).

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use rustc_hash::FxHashSet;
 
-use super::cluster::{ClusterPlan, ClusterRules, LevelGeometry, apply_plan, plan_cluster};
+use super::cluster::{ClusterPlan, ClusterRules, LevelGeometry, apply_plan, plan_cluster, plan_still_applies};
 use super::guard::guard_plans;
 use super::lines::FeatureLines;
 use super::param::ParamBuckets;
@@ -157,14 +157,12 @@ impl Planner<'_> {
             ranked.retain(|(_, v)| !waiting.contains(v));
             let need = options.target_vertices.map_or(usize::MAX, |t| self.live.len().saturating_sub(t));
             let limit = level_error_limit(&ranked, need, tolerance).min(max_error.unwrap_or(f64::INFINITY));
-            let order: Vec<u32> = ranked.iter().map(|&(_, v)| v).collect();
-            drop(ranked);
             lap(clock, &mut stages.ranking);
             let level_faces = if options.prevent_intersections { self.rings.faces(&self.live) } else { Vec::new() };
             lap(clock, &mut stages.guard);
             self.rings.checkpoint();
             let mut plans = select_clusters(
-                &order,
+                &ranked,
                 &mut self.rings,
                 geometry,
                 &rules,
@@ -291,8 +289,9 @@ fn prepare_input(mesh: &Mesh) -> Result<()> {
 }
 
 /// The feature vertices (§4.4.1.1, Algorithm 1 classes chosen by `keep_features`), their
-/// lines, and the vertices never removed: corners, the feature vertices not on a line (or
-/// every feature vertex with [`FeatureVertices::Keep`]) and those the user marked.
+/// lines and the boundary loops, and the vertices never removed: corners, the feature and
+/// boundary vertices not on a line (every one with [`FeatureVertices::Keep`]) and those
+/// the user marked.
 fn features_and_kept(mesh: &Mesh, options: &SimplifyOptions) -> Result<Features> {
     let n = mesh.vertex_count();
     let mut feature = vec![false; n];
@@ -312,7 +311,8 @@ fn features_and_kept(mesh: &Mesh, options: &SimplifyOptions) -> Result<Features>
     }
     let along = options.feature_vertices == FeatureVertices::AlongLines;
     let lines = FeatureLines::new(&feature, &corner, &mesh.triangles, along);
-    let mut kept: Vec<bool> = (0..n).map(|v| feature[v] && !lines.is_on_line(v as u32)).collect();
+    let mut kept: Vec<bool> =
+        (0..n).map(|v| (feature[v] || lines.is_boundary(v as u32)) && !lines.is_on_line(v as u32)).collect();
     for &v in &options.keep_vertices {
         let slot = kept
             .get_mut(v as usize)
@@ -349,7 +349,7 @@ fn ranked_candidates(
 ) -> Vec<(f64, u32)> {
     let mut ranked: Vec<(f64, u32)> = live
         .par_iter()
-        .filter(|&&v| !kept[v as usize] && !rings.is_boundary(v) && rings.degree(v) >= 4)
+        .filter(|&&v| !kept[v as usize] && rings.degree(v) >= if rings.is_boundary(v) { 3 } else { 4 })
         .filter_map(|&v| plan_cluster(v, rings, geometry, rules).map(|plan| (plan.error, v)))
         .collect();
     ranked.par_sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
@@ -366,11 +366,14 @@ fn level_error_limit(ranked: &[(f64, u32)], need: usize, tolerance: f64) -> f64 
     ranked.get(goal).map_or(f64::INFINITY, |&(e, _)| 1.5 * e + tolerance)
 }
 
-/// Greedy maximal independent set of clusters (Velho & Gomes' marking): take the cheapest
-/// unmarked vertex, plan its cluster, and mark it and its ring.
+/// Greedy independent set of clusters (Velho & Gomes' marking) among the candidates whose
+/// E(v) is within the level's `limit`: take the cheapest unmarked vertex, carry out its
+/// cluster, and mark it and its ring. The clusters are planned in parallel on the level's
+/// rings first; one that no longer applies once cheaper ones changed its ring's
+/// neighbourhood is planned again.
 #[allow(clippy::too_many_arguments)]
 fn select_clusters(
-    order: &[u32],
+    ranked: &[(f64, u32)],
     rings: &mut Rings,
     geometry: LevelGeometry<'_>,
     rules: &ClusterRules,
@@ -379,18 +382,26 @@ fn select_clusters(
     options: &SimplifyOptions,
     limit: f64,
 ) -> Result<Vec<ClusterPlan>> {
+    let within = ranked.partition_point(|&(e, _)| e <= limit);
+    let planned: Vec<Option<ClusterPlan>> = {
+        let rings: &Rings = rings;
+        ranked[..within].par_iter().map(|&(_, v)| plan_cluster(v, rings, geometry, rules)).collect()
+    };
     let mut plans: Vec<ClusterPlan> = Vec::new();
-    for &v in order {
+    for (&(_, v), plan) in ranked[..within].iter().zip(planned) {
         if options.target_vertices.is_some_and(|t| live - plans.len() <= t) {
             break;
         }
         if locked[v as usize] {
             continue;
         }
-        let Some(plan) = plan_cluster(v, rings, geometry, rules) else { continue };
-        if plan.error > limit {
-            continue;
-        }
+        let plan = match plan {
+            Some(plan) if plan_still_applies(&plan, rings) => plan,
+            _ => match plan_cluster(v, rings, geometry, rules) {
+                Some(plan) if plan.error <= limit => plan,
+                _ => continue,
+            },
+        };
         apply_plan(&plan, rings)?;
         locked[v as usize] = true;
         for &r in &plan.ring {

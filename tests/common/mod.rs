@@ -89,7 +89,7 @@ pub fn thin_pancake() -> Mesh {
     let mut mesh = asperity::mesh::primitives::icosphere(1.0, 3);
     for p in &mut mesh.positions {
         p.z *= 0.005;
-        p.z += 0.003 * (5.0 * p.x).sin() * (4.0 * p.y).cos();
+        p.z += 0.004 * (13.0 * p.x).sin() * (11.0 * p.y).cos();
     }
     mesh
 }
