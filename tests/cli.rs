@@ -421,3 +421,22 @@ fn every_subcommand_prints_a_json_report() {
         assert!(out.status.success() && out.stdout.is_empty() && out.stderr.is_empty(), "{args:?}");
     }
 }
+
+#[test]
+fn a_closed_stdout_ends_the_program_quietly() {
+    use std::os::fd::FromRawFd;
+    use std::os::unix::process::ExitStatusExt;
+    // A pipe whose reading end is already closed, as after `asperity … | head` has exited.
+    let mut fds = [0i32; 2];
+    assert_eq!(unsafe { libc::pipe(fds.as_mut_ptr()) }, 0);
+    unsafe { libc::close(fds[0]) };
+    let writer = unsafe { std::fs::File::from_raw_fd(fds[1]) };
+    let input = shared_meshes().join("eight.off");
+    let out = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["info", "--json", input.to_str().unwrap()])
+        .stdout(writer)
+        .output()
+        .unwrap();
+    assert!(out.stderr.is_empty(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(out.status.signal(), Some(libc::SIGPIPE), "{:?}", out.status);
+}

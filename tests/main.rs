@@ -14,6 +14,7 @@ mod hierarchy_quality;
 mod interrupt;
 mod io_roundtrip;
 mod noise;
+mod readme;
 mod render;
 mod repair;
 mod terrain;

@@ -97,11 +97,26 @@ pub fn run() -> i32 {
     });
     match outcome {
         Ok(()) => 0,
+        Err(Error::Internal(msg)) if closed_stdout(&msg) => end_quietly_on_closed_stdout(),
         Err(e) => {
             eprintln!("asperity: {}", one_line(&e.to_string()));
             e.exit_code()
         }
     }
+}
+
+/// Whether a failure is standard output closed under us (`asperity … | head`): the
+/// standard library's printing panics with this.
+fn closed_stdout(msg: &str) -> bool {
+    msg.starts_with("failed printing to stdout") && msg.contains("Broken pipe")
+}
+
+/// Standard output was closed by its reader: end as Unix tools do, quietly, by SIGPIPE's
+/// default action (outputs still being written are removed first).
+fn end_quietly_on_closed_stdout() -> i32 {
+    crate::io::abandon_pending_outputs();
+    let _ = signal_hook::low_level::emulate_default_handler(signal_hook::consts::SIGPIPE);
+    128 + signal_hook::consts::SIGPIPE
 }
 
 /// On SIGINT, SIGTERM or SIGHUP: remove the temporary files of outputs being written, then

@@ -1,0 +1,77 @@
+//! The README's `console` examples print what the commands print today (#24 item 16): every
+//! `$ asperity …` line is run from the repository root (outputs under a temporary folder),
+//! and its shown lines must appear in that order in what it printed, timings aside.
+
+use std::path::Path;
+use std::process::Command;
+
+/// One example: the command's arguments and the lines the README shows.
+struct Example {
+    args: Vec<String>,
+    shown: Vec<String>,
+}
+
+fn examples(readme: &str) -> Vec<Example> {
+    let mut out: Vec<Example> = Vec::new();
+    let mut inside = false;
+    for line in readme.lines() {
+        if line.starts_with("```") {
+            inside = line.trim() == "```console";
+            continue;
+        }
+        if !inside {
+            continue;
+        }
+        if let Some(command) = line.strip_prefix("$ asperity ") {
+            out.push(Example { args: command.split_whitespace().map(String::from).collect(), shown: Vec::new() });
+        } else if let Some(example) = out.last_mut() {
+            example.shown.push(line.to_string());
+        }
+    }
+    out
+}
+
+/// "in 123 ms" and "in 1.2 s" become "in … ms": timings vary from run to run.
+fn without_timings(line: &str) -> String {
+    let mut words: Vec<String> = line.split(' ').map(String::from).collect();
+    for i in 1..words.len() {
+        if words[i - 1] == "in" && words[i].parse::<f64>().is_ok() {
+            words[i] = "…".into();
+        }
+    }
+    words.join(" ")
+}
+
+#[test]
+fn readme_console_examples_print_what_the_commands_print() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let examples = examples(&readme);
+    assert!(examples.len() >= 5, "{} console examples", examples.len());
+    crate::common::shared_meshes();
+    let tmp = crate::common::temp_dir();
+    for example in examples {
+        let mut args = example.args.clone();
+        for i in 1..args.len() {
+            if args[i - 1] == "-o" {
+                args[i] = tmp.path().join(&args[i]).display().to_string();
+            }
+        }
+        let out = Command::new(env!("CARGO_BIN_EXE_asperity")).args(&args).current_dir(root).output().unwrap();
+        let printed = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+        assert!(out.status.success(), "asperity {}: {printed}", example.args.join(" "));
+        let printed: Vec<String> = printed.lines().map(without_timings).collect();
+        let mut at = 0;
+        for shown in example.shown.iter().filter(|l| l.trim() != "...") {
+            let shown = without_timings(shown);
+            match printed[at..].iter().position(|p| *p == shown) {
+                Some(k) => at += k + 1,
+                None => panic!(
+                    "README: `asperity {}` shows\n{shown}\nbut prints\n{}",
+                    example.args.join(" "),
+                    printed.join("\n")
+                ),
+            }
+        }
+    }
+}
