@@ -25,8 +25,10 @@ struct Expected {
     at: Option<String>,
     /// A phrase of the message.
     says: String,
-    /// `simplify`: the readers accept the file and simplify must refuse it; `accept`: the
-    /// readers take it (`says` is then part of convert's report). Default: readers refuse.
+    /// `simplify`: the readers accept the file and simplify must refuse it; `convert-stl`,
+    /// `convert-glb`: the readers accept it and converting to that format must refuse it;
+    /// `accept`: the readers take it (`says` is then part of convert's report). Default:
+    /// readers refuse.
     command: Option<String>,
     /// What `--repair` reports when it makes the file acceptable to the command.
     repair: Option<String>,
@@ -90,6 +92,8 @@ fn the_cli_refuses_every_bad_file_with_one_line_and_writes_nothing() {
         let args: Vec<&str> = match c.command.as_deref() {
             None => vec!["convert", input, "out.ply"],
             Some("simplify") => vec!["simplify", input, "--target-vertices", "3", "-o", "out.ply"],
+            Some("convert-stl") => vec!["convert", input, "out.stl"],
+            Some("convert-glb") => vec!["convert", input, "out.glb"],
             Some("accept") => continue,
             Some(other) => panic!("unknown command {other} in expected.toml"),
         };

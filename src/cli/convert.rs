@@ -30,7 +30,8 @@ pub fn run(args: ConvertArgs, ctx: super::Context) -> Result<()> {
     super::guard_overwrite(&args.input, &args.output, args.force)?;
     let input = super::input::read_input(&args.input, args.repair, ctx)?;
     let outcome = &input.read;
-    io::write(&outcome.mesh, &args.output, WriteOptions { ascii: args.ascii })?;
+    io::write(&outcome.mesh, &args.output, WriteOptions { ascii: args.ascii })
+        .map_err(|e| e.about_file(&args.input))?;
     let m = &outcome.mesh;
     let polygons = match outcome.triangulated_polygons {
         0 => String::new(),

@@ -42,6 +42,9 @@ pub fn write_glb(mesh: &Mesh, path: &Path) -> Result<()> {
 /// # Errors
 /// As [`write_glb`].
 pub fn write_glb_parts(parts: &[GlbPart], path: &Path) -> Result<()> {
+    for part in parts {
+        super::fits_single_precision(part.mesh, path)?;
+    }
     let bytes = glb_bytes(parts)?;
     write_atomically(path, |out| out.write_all(&bytes))
 }

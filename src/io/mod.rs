@@ -116,6 +116,9 @@ pub fn write(mesh: &Mesh, path: &Path, options: WriteOptions) -> Result<()> {
 /// As [`write()`].
 pub fn write_as(mesh: &Mesh, path: &Path, format: Format, options: WriteOptions) -> Result<()> {
     mesh.check()?;
+    if matches!(format, Format::Stl | Format::Glb) {
+        fits_single_precision(mesh, path)?;
+    }
     if format == Format::Glb {
         return glb::write_glb(mesh, path);
     }
@@ -126,6 +129,25 @@ pub fn write_as(mesh: &Mesh, path: &Path, format: Format, options: WriteOptions)
         Format::Stl => stl::write(mesh, w, options.ascii),
         Format::Glb => unreachable!("written above"),
     })
+}
+
+/// Refuses a mesh a single-precision format (STL, glTF) cannot hold: a coordinate beyond
+/// f32's range would be written as infinity, a file our own readers refuse.
+///
+/// # Errors
+/// [`Error::InvalidInput`] naming `path`, the first such vertex and its coordinate.
+pub(crate) fn fits_single_precision(mesh: &Mesh, path: &Path) -> Result<()> {
+    let limit = f64::from(f32::MAX);
+    match mesh.positions.iter().enumerate().find(|(_, p)| p.abs().max_element() > limit) {
+        None => Ok(()),
+        Some((v, p)) => Err(Error::InvalidInput(format!(
+            "vertex {v} ({:?}, {:?}, {:?}) lies beyond single precision, which {} would store; write .ply, .off or .obj to keep it",
+            p.x,
+            p.y,
+            p.z,
+            path.display()
+        ))),
+    }
 }
 
 /// Bit pattern of a position for welding duplicates; adding 0.0 turns -0.0 into 0.0 so
