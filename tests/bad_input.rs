@@ -168,3 +168,43 @@ fn without_repair_topology_errors_say_how_to_fix_them() {
         assert!(err.to_string().contains("--repair"), "{}: {err}", c.name);
     }
 }
+
+/// Runs asperity with `args` in `cwd`, failing the test if it takes more than 10 s.
+fn run_within_ten_seconds(args: &[&str], cwd: &Path) -> std::process::Output {
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(args)
+        .current_dir(cwd)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > std::time::Duration::from_secs(10) {
+            child.kill().unwrap();
+            panic!("asperity {args:?} still running after 10 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn special_files_are_refused_before_they_are_read() {
+    // A FIFO would block the reader forever, a link to /dev/zero would be read until memory
+    // runs out (#24 item 3).
+    let tmp = temp_dir();
+    let fifo = tmp.path().join("pipe.off");
+    let name = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+    assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o600) }, 0);
+    std::os::unix::fs::symlink("/dev/zero", tmp.path().join("zero.stl")).unwrap();
+    std::fs::create_dir(tmp.path().join("folder.ply")).unwrap();
+    for (file, kind) in [("pipe.off", "a FIFO"), ("zero.stl", "a character device"), ("folder.ply", "a directory")] {
+        let out = run_within_ten_seconds(&["convert", file, "out.ply"], tmp.path());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{file}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{file}: {stderr}");
+        assert!(stderr.contains(file) && stderr.contains(kind) && stderr.contains("not a regular file"), "{stderr}");
+        assert!(!tmp.path().join("out.ply").exists());
+    }
+}

@@ -481,7 +481,9 @@ impl Recipe {
     /// [`Error::Parse`] naming the file and line for malformed TOML, unknown keys or
     /// invalid values; [`Error::Io`] if the file cannot be read.
     pub fn read(path: &Path) -> Result<Recipe> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let bytes = crate::io::read_regular_file(path)?;
+        let text = String::from_utf8(bytes)
+            .map_err(|e| Error::io(path, std::io::Error::new(std::io::ErrorKind::InvalidData, e.utf8_error())))?;
         Recipe::parse(&text).map_err(|(line, msg)| Error::Parse {
             path: path.to_path_buf(),
             at: line.map_or(Location::File, Location::Line),

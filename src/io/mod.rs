@@ -79,8 +79,48 @@ pub struct WriteOptions {
 /// byte or element for malformed content.
 pub fn read(path: &Path) -> Result<ReadOutcome> {
     let format = Format::from_path(path)?;
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = read_regular_file(path)?;
     read_bytes(&bytes, format, path)
+}
+
+/// The contents of the regular file at `path` (links followed). Anything else — a FIFO,
+/// which would block, a device such as `/dev/zero`, which never ends, a directory — is
+/// refused before it is opened, and no more than the file's size is read.
+///
+/// # Errors
+/// [`Error::InvalidInput`] naming the path for a file that is not regular; [`Error::Io`] if
+/// it cannot be read.
+pub fn read_regular_file(path: &Path) -> Result<Vec<u8>> {
+    use std::io::Read;
+    let metadata = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if !metadata.is_file() {
+        let kind = describe_file_type(&metadata.file_type());
+        return Err(Error::InvalidInput(format!(
+            "{}: {kind}, not a regular file: only files are read",
+            path.display()
+        )));
+    }
+    let size = metadata.len();
+    let mut bytes = Vec::with_capacity(usize::try_from(size).unwrap_or(0).min(1 << 30));
+    std::fs::File::open(path).and_then(|f| f.take(size).read_to_end(&mut bytes)).map_err(|e| Error::io(path, e))?;
+    Ok(bytes)
+}
+
+fn describe_file_type(kind: &std::fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    if kind.is_dir() {
+        "a directory"
+    } else if kind.is_fifo() {
+        "a FIFO"
+    } else if kind.is_char_device() {
+        "a character device"
+    } else if kind.is_block_device() {
+        "a block device"
+    } else if kind.is_socket() {
+        "a socket"
+    } else {
+        "a special file"
+    }
 }
 
 /// Parses mesh file contents already in memory; `path` is used in messages only.
