@@ -208,3 +208,43 @@ fn special_files_are_refused_before_they_are_read() {
         assert!(!tmp.path().join("out.ply").exists());
     }
 }
+
+#[test]
+fn huge_coordinates_simplify_and_compare_as_unit_ones_do() {
+    // ±1e90 crashed CGAL's Hausdorff sampler and ±1e300 was called zero-area (#24 item 1):
+    // measures are taken in the unit frame, so only an overflowing extent is refused.
+    let tmp = temp_dir();
+    for name in ["huge-1e90.off", "huge-1e300.off"] {
+        let input = bad_dir().join(name);
+        for args in [
+            vec!["simplify", input.to_str().unwrap(), "--target-vertices", "4", "-o", "out.ply"],
+            vec!["compare", input.to_str().unwrap(), "--target-vertices", "4"],
+        ] {
+            let out = run_within_ten_seconds(&args, tmp.path());
+            assert!(out.status.success(), "{name} {}: {}", args[0], String::from_utf8_lossy(&out.stderr));
+            let stdout = String::from_utf8_lossy(&out.stdout);
+            assert!(stdout.contains("hausdorff 0.000%") && !stdout.contains("NaN"), "{name}: {stdout}");
+        }
+    }
+    let options = asperity::hierarchy::SimplifyOptions {
+        keep_features: asperity::hierarchy::KeepFeatures::None,
+        ..Default::default()
+    };
+    let sphere = asperity::mesh::primitives::icosphere(1.0, 3);
+    let at_unit = asperity::hierarchy::compare::compare(&sphere, 60, &["asperity"], &options).unwrap();
+    // Scaled by powers of two (exact), the unit-frame images are the same bits, so the
+    // simplification and its measures are the same; other huge and tiny scales only have
+    // to give finite, sensible measures (an icosphere's many exact ties may break apart).
+    for scale in [2f64.powi(-600), 2f64.powi(600), 1e-200, 1e200] {
+        let mut scaled = sphere.clone();
+        scaled.positions.iter_mut().for_each(|p| *p *= scale);
+        let rows = asperity::hierarchy::compare::compare(&scaled, 60, &["asperity"], &options).unwrap();
+        assert_eq!(rows[0].vertices, 60, "scale {scale:e}");
+        let (a, b) = (rows[0].hausdorff, at_unit[0].hausdorff);
+        if scale.log2().fract() == 0.0 {
+            assert_eq!(a, b, "scale {scale:e}: hausdorff {a} vs {b} at unit scale");
+        } else {
+            assert!(a.is_finite() && a < 2.0 * b, "scale {scale:e}: hausdorff {a} vs {b} at unit scale");
+        }
+    }
+}

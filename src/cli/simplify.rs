@@ -14,7 +14,7 @@ use crate::hierarchy::compare::ShapeReport;
 use crate::hierarchy::{FeatureVertices, Hierarchy, KeepFeatures, SimplifyOptions, build};
 use crate::io::glb::{GlbPart, write_glb_parts};
 use crate::io::{self, WriteOptions};
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, UnitFrame};
 
 /// How far to simplify, and what to keep: shared by `simplify` and `detail`.
 #[derive(Debug, Args)]
@@ -277,12 +277,11 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
 }
 
 /// Symmetric Hausdorff distance (CGAL) as a fraction of `reference`'s bounding-box diagonal.
+/// Both are measured in `reference`'s unit frame, so the result does not depend on the
+/// model's units and stays finite for coordinates near the ends of the f64 range.
 pub fn relative_hausdorff(reference: &Mesh, other: &Mesh) -> Result<f64> {
-    let diagonal = reference.bounding_box().map_or(0.0, |(lo, hi)| (hi - lo).length());
-    if diagonal == 0.0 {
-        return Ok(0.0);
-    }
-    Ok(hausdorff_distance(reference, other, HausdorffOptions::default())? / diagonal)
+    let unit = UnitFrame::of(reference)?;
+    hausdorff_distance(&unit.apply(reference), &unit.apply(other), HausdorffOptions::default())
 }
 
 fn write_levels(hierarchy: &Hierarchy, dir: &Path) -> Result<()> {

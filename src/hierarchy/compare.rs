@@ -13,7 +13,7 @@ use super::{LevelMesh, SimplifyOptions, build};
 use crate::analysis::{FaceGeometry, classify, voting_tensors};
 use crate::error::Result;
 use crate::ffi::{self, HausdorffOptions};
-use crate::mesh::{Adjacency, Mesh};
+use crate::mesh::{Adjacency, Mesh, UnitFrame};
 
 /// One decimator's result.
 #[derive(Debug, Clone, Serialize)]
@@ -69,7 +69,6 @@ pub fn compare(
     methods: &[&str],
     ours: &SimplifyOptions,
 ) -> Result<Vec<CompareRow>> {
-    let diagonal = mesh.bounding_box().map_or(1.0, |(lo, hi)| (hi - lo).length()).max(f64::MIN_POSITIVE);
     let adjacency = Adjacency::of(mesh);
     let classes = classify(&adjacency, &voting_tensors(mesh, &adjacency, &FaceGeometry::of(mesh)), &Default::default());
     let features: Vec<DVec3> =
@@ -78,7 +77,7 @@ pub fn compare(
         let start = Instant::now();
         let result = decimate(mesh, method, target, ours)?;
         let seconds = start.elapsed().as_secs_f64();
-        let mut row = measure(method, mesh, &result, seconds, diagonal, &features)?;
+        let mut row = measure(method, mesh, &result, seconds, &features)?;
         row.target_vertices = target;
         Ok(row)
     };
@@ -119,19 +118,16 @@ fn decimate(mesh: &Mesh, method: &str, target: usize, ours: &SimplifyOptions) ->
     })
 }
 
-fn measure(
-    method: &str,
-    input: &Mesh,
-    result: &Mesh,
-    seconds: f64,
-    diagonal: f64,
-    features: &[DVec3],
-) -> Result<CompareRow> {
-    let hausdorff = ffi::hausdorff_distance(input, result, HausdorffOptions::default())? / diagonal;
-    let there = ffi::point_distances(&input.positions, result)?;
-    let back = ffi::point_distances(&result.positions, input)?;
+fn measure(method: &str, input: &Mesh, result: &Mesh, seconds: f64, features: &[DVec3]) -> Result<CompareRow> {
+    // Measured in the input's unit frame: the distances come out as fractions of its
+    // diagonal and stay finite whatever the model's units.
+    let unit = UnitFrame::of(input)?;
+    let (input_unit, result_unit) = (unit.apply(input), unit.apply(result));
+    let hausdorff = ffi::hausdorff_distance(&input_unit, &result_unit, HausdorffOptions::default())?;
+    let there = ffi::point_distances(&input_unit.positions, &result_unit)?;
+    let back = ffi::point_distances(&result_unit.positions, &input_unit)?;
     let squares: f64 = there.iter().chain(&back).map(|d| d * d).sum();
-    let rms = (squares / (there.len() + back.len()).max(1) as f64).sqrt() / diagonal;
+    let rms = (squares / (there.len() + back.len()).max(1) as f64).sqrt();
     let mut present: Vec<[u64; 3]> = result.positions.iter().map(|p| p.to_array().map(f64::to_bits)).collect();
     present.sort_unstable();
     let features_kept =

@@ -57,7 +57,7 @@ pub(super) fn crossing_error(v: DVec3, prev: DVec3, apex: DVec3, next: DVec3, x:
 
 /// The smallest corner angle of the triangle (a, b, c), radians (0 for a degenerate one).
 pub fn min_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
-    let (ab, bc, ca) = (b - a, c - b, a - c);
+    let (ab, bc, ca) = unit_edges(a, b, c);
     if ab.length_squared() == 0.0 || bc.length_squared() == 0.0 || ca.length_squared() == 0.0 {
         return 0.0;
     }
@@ -70,13 +70,22 @@ pub fn min_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
 /// one): twice its area over the two longer edges, which meet at that corner. The smallest
 /// angle is at most 60°, so the sine orders shapes as the angle does, without an arccosine.
 pub fn min_angle_sine(a: DVec3, b: DVec3, c: DVec3) -> f64 {
-    let lengths = [(b - a).length_squared(), (c - b).length_squared(), (a - c).length_squared()];
+    let (ab, bc, ca) = unit_edges(a, b, c);
+    let lengths = [ab.length_squared(), bc.length_squared(), ca.length_squared()];
     let shortest = lengths.iter().copied().fold(f64::INFINITY, f64::min);
     let product = lengths.iter().product::<f64>() / shortest;
     if product.is_nan() || product <= 0.0 || !product.is_finite() {
         return 0.0;
     }
-    ((b - a).cross(c - a).length() / product.sqrt()).min(1.0)
+    (ab.cross(-ca).length() / product.sqrt()).min(1.0)
+}
+
+/// The edges a→b, b→c, c→a divided by their largest coordinate, so that products of them
+/// neither overflow nor underflow whatever the model's units (zero edges for a point).
+fn unit_edges(a: DVec3, b: DVec3, c: DVec3) -> (DVec3, DVec3, DVec3) {
+    let (ab, bc, ca) = (b - a, c - b, a - c);
+    let scale = ab.abs().max_element().max(bc.abs().max_element()).max(ca.abs().max_element());
+    if scale > 0.0 && scale.is_finite() { (ab / scale, bc / scale, ca / scale) } else { (ab, bc, ca) }
 }
 
 /// Squared distance from `p` to the triangle (a, b, c): the closest point by Voronoi

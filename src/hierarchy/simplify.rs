@@ -19,7 +19,7 @@ use super::{BuildStages, FeatureVertices, Hierarchy, KeepFeatures, SimplifyOptio
 use crate::analysis::{FaceGeometry, FeatureClass, classify, voting_tensors};
 use crate::error::{Error, Result};
 use crate::ffi::{self, HalfEdgeMesh, OpStatus};
-use crate::mesh::{Adjacency, FaceId, Mesh, ValidationReport, is_degenerate_face};
+use crate::mesh::{Adjacency, FaceId, Mesh, UnitFrame, ValidationReport, is_degenerate_face};
 
 /// Builds the 4-k hierarchy of `mesh`: simplification down to the base domain, with the
 /// parametrization of every removed vertex.
@@ -34,14 +34,19 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
     // Validation, the store and the quadrics are independent: the first error reported
     // is validation's, as if it had run alone.
     mesh.check()?;
+    // Every geometric decision is made in the unit frame (bounding box centred, diagonal
+    // 1), so none depends on the model's units and no product of coordinates overflows;
+    // the hierarchy keeps the input's own positions.
+    let unit = UnitFrame::of(mesh)?;
+    let working = unit.apply(mesh);
     let (prepared, (store, quadrics)) = rayon::join(
         || prepare_input(mesh),
-        || rayon::join(|| HalfEdgeMesh::from_mesh(mesh), || ffi::vertex_quadrics(mesh, 100.0)),
+        || rayon::join(|| HalfEdgeMesh::from_mesh(mesh), || ffi::vertex_quadrics(&working, 100.0)),
     );
     prepared?;
     let (store, quadrics) = (store?, quadrics?);
     let n = mesh.vertex_count();
-    let Features { feature, kept, lines } = features_and_kept(mesh, options)?;
+    let Features { feature, kept, lines } = features_and_kept(&working, options)?;
     let referenced = used_vertices(n, &mesh.triangles);
     let live: Vec<u32> = (0..n as u32).filter(|&v| referenced[v as usize]).collect();
     let rings = Rings::fetch(&store, &live, n)?;
@@ -49,7 +54,7 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
     lap(&mut clock, &mut stages.prepare);
 
     let mut planner = Planner {
-        mesh,
+        mesh: &working,
         options,
         kept: &kept,
         quadrics,

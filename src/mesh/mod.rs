@@ -10,6 +10,7 @@ mod plane_side;
 pub mod primitives;
 mod repair;
 mod triangulate;
+mod unit;
 mod validate;
 
 use std::collections::BTreeMap;
@@ -26,6 +27,7 @@ pub use repair::{
     split_non_manifold_fans,
 };
 pub use triangulate::{triangulate_polygon, triangulate_polygons};
+pub use unit::UnitFrame;
 pub use validate::{ValidationReport, is_degenerate_face, used_vertices};
 
 use crate::error::{Error, Result};

@@ -229,8 +229,19 @@ pub fn is_degenerate_face(mesh: &Mesh, f: usize) -> bool {
         return true;
     }
     let [a, b, c] = mesh.triangle_points(f);
-    let longest = (b - a).length_squared().max((c - b).length_squared()).max((a - c).length_squared());
-    (b - a).cross(c - a).length() <= 1e-12 * longest
+    // Relative to the triangle's own size, so the test does not depend on the model's
+    // units: the edges are divided by their largest coordinate before any product.
+    let (ab, ac, bc) = (b - a, c - a, c - b);
+    let scale = ab.abs().max_element().max(ac.abs().max_element()).max(bc.abs().max_element());
+    if scale == 0.0 {
+        return true;
+    }
+    if !scale.is_finite() {
+        return false;
+    }
+    let (ab, ac, bc) = (ab / scale, ac / scale, bc / scale);
+    let longest = ab.length_squared().max(bc.length_squared()).max(ac.length_squared());
+    ab.cross(ac).length() <= 1e-12 * longest
 }
 
 /// Union–find with path halving and union by size.
