@@ -150,3 +150,26 @@ fn big_endian_ply_and_other_elements_read() {
     assert_eq!(outcome.mesh.scalars["quality"], vec![0.0, 10.0, 20.0]);
     assert!(outcome.notes.iter().any(|n| n.contains("edge")));
 }
+
+#[test]
+fn faces_repeating_a_vertex_are_dropped_with_a_note_in_every_reader() {
+    // #24 item 6: CAD exports weld corners of thin facets together; such faces have no
+    // area and are dropped (a quad with a doubled corner is the triangle it really is).
+    let cases = [
+        ("r.off", "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n4 1 3 3 2\n3 0 0 1\n"),
+        ("r.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 4 3\nf 1 1 2\n"),
+        (
+            "r.ply",
+            "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 3\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n4 1 3 3 2\n3 0 0 1\n",
+        ),
+    ];
+    for (name, text) in cases {
+        let (_dir, outcome) = crate::common::read_text(name, text);
+        assert_eq!(outcome.mesh.triangles, vec![[0, 1, 2], [1, 3, 2]], "{name}");
+        assert!(
+            outcome.notes.iter().any(|n| n.contains("1 face(s) repeating a vertex dropped")),
+            "{name}: {:?}",
+            outcome.notes
+        );
+    }
+}

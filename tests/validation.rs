@@ -93,3 +93,20 @@ fn shared_meshes_have_their_documented_topology() {
         }
     }
 }
+
+#[test]
+fn boundary_loops_follow_edges_whatever_the_orientation_and_twists_are_not_orientable() {
+    // #24 item 9: two triangles sharing an edge in the same direction have one boundary
+    // loop, not two; a Möbius strip has one loop and no orientation (no genus).
+    let p = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(1.0, 1.0, 0.0)];
+    let same_direction = Mesh::new(p, vec![[0, 1, 2], [1, 2, 3]]).validate();
+    assert_eq!((same_direction.boundary_loops, same_direction.inconsistently_oriented_edges), (1, 1));
+    assert!(same_direction.orientable, "flipping one face orients it");
+    let mobius =
+        io::read(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bad/mobius.off")).unwrap().mesh;
+    let r = mobius.validate();
+    assert_eq!((r.boundary_loops, r.orientable, r.genus), (1, false, None));
+    assert!(r.is_manifold());
+    let torus = torus(1.0, 0.3, 12, 8).validate();
+    assert_eq!((torus.orientable, torus.genus, torus.boundary_loops), (true, Some(1), 0));
+}

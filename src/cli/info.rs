@@ -55,7 +55,9 @@ pub fn run(args: InfoArgs, ctx: super::Context) -> Result<()> {
     println!("  inconsistent edges     {}", r.inconsistently_oriented_edges);
     println!("  components             {}", r.components);
     println!("  euler characteristic   {}", r.euler);
-    println!("  genus                  {}", r.genus.map_or("n/a (not a manifold)".to_string(), |g| g.to_string()));
+    println!("  orientable             {}", if r.orientable { "yes" } else { "no" });
+    let no_genus = if r.orientable { "n/a (not a manifold)" } else { "n/a (not orientable)" };
+    println!("  genus                  {}", r.genus.map_or(no_genus.to_string(), |g| g.to_string()));
     println!("  degenerate faces       {}", r.degenerate_faces);
     println!("  unreferenced vertices  {}", r.unreferenced_vertices);
     println!("  triangulated polygons  {}", outcome.triangulated_polygons);

@@ -318,6 +318,7 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
     let mut out = Mesh::default();
     let (mut normals, mut colors) = (Some(Vec::new()), Some(Vec::new()));
     let mut notes = Vec::new();
+    let mut dropped = 0;
     let mut stack: Vec<(gltf::Node, glam::DMat4, usize)> = match gltf.default_scene().or_else(|| gltf.scenes().next()) {
         Some(scene) => scene.nodes().map(|n| (n, glam::DMat4::IDENTITY, 0)).collect(),
         None => Vec::new(),
@@ -359,6 +360,10 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
                 if let Err(msg) = super::check_polygon(t, positions.len()) {
                     return Err(Error::parse(path, element.clone(), msg));
                 }
+                if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                    dropped += 1;
+                    continue;
+                }
                 out.triangles.push([base + t[0], base + t[1], base + t[2]]);
             }
             normals = match (normals, reader.read_normals()) {
@@ -383,5 +388,6 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
     }
     out.normals = normals.filter(|n| n.len() == out.positions.len());
     out.colors = colors.filter(|c| c.len() == out.positions.len());
+    notes.extend(super::repeated_vertex_note(dropped));
     Ok(super::ReadOutcome { mesh: out, triangulated_polygons: 0, notes })
 }

@@ -196,7 +196,7 @@ pub(crate) fn weld_key(p: glam::DVec3) -> [u64; 3] {
     [(p.x + 0.0).to_bits(), (p.y + 0.0).to_bits(), (p.z + 0.0).to_bits()]
 }
 
-/// Checks a face's indices against the vertex count and for repeated vertices.
+/// Checks a face's corner count and indices against the vertex count.
 pub(crate) fn check_polygon(polygon: &[u32], vertex_count: usize) -> std::result::Result<(), String> {
     if polygon.len() < 3 {
         return Err(format!("a face needs at least 3 vertices, this one has {}", polygon.len()));
@@ -204,12 +204,25 @@ pub(crate) fn check_polygon(polygon: &[u32], vertex_count: usize) -> std::result
     if let Some(v) = polygon.iter().find(|&&v| v as usize >= vertex_count) {
         return Err(format!("vertex index {v} is out of range (there are {vertex_count} vertices)"));
     }
-    for (i, a) in polygon.iter().enumerate() {
-        if polygon[i + 1..].contains(a) {
-            return Err(format!("the face repeats vertex {a}"));
-        }
-    }
     Ok(())
+}
+
+/// Removes corners that repeat the corner before them (cyclically: a quad a b b c is the
+/// triangle a b c) and tells whether what is left is a face: at least three corners, none
+/// repeated. Faces that repeat a vertex — common in CAD exports, whose welded corners
+/// collapse thin facets — have no area; the readers drop them and say how many
+/// ([`repeated_vertex_note`]) instead of refusing the file.
+pub(crate) fn without_repeated_corners(polygon: &mut Vec<u32>) -> bool {
+    polygon.dedup();
+    while polygon.len() > 1 && polygon.first() == polygon.last() {
+        polygon.pop();
+    }
+    polygon.len() >= 3 && polygon.iter().enumerate().all(|(i, a)| !polygon[i + 1..].contains(a))
+}
+
+/// The reader note for `dropped` faces that repeated a vertex (none for zero).
+pub(crate) fn repeated_vertex_note(dropped: usize) -> Option<String> {
+    (dropped > 0).then(|| format!("{dropped} face(s) repeating a vertex dropped (they have no area)"))
 }
 
 /// Largest element count a file of `remaining` bytes can hold at `min_bytes` per element;

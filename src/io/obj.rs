@@ -10,7 +10,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::text::{decode, numbered_lines};
-use super::{ReadOutcome, check_polygon, weld_key};
+use super::{ReadOutcome, check_polygon, repeated_vertex_note, weld_key, without_repeated_corners};
 use crate::error::{Error, Location, Result};
 use crate::mesh::{Mesh, triangulate_polygon};
 
@@ -34,6 +34,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     let mut normals_consistent = true;
     let mut triangles = Vec::new();
     let mut triangulated = 0;
+    let mut dropped = 0;
     let mut earlier: HashMap<[u64; 3], u32> = HashMap::new();
     let mut face_ordinal = 0;
     let all_have_colors = models.iter().all(|m| !m.mesh.vertex_color.is_empty());
@@ -78,6 +79,8 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
                 let line = nth_keyword_line(text, "f", face_ordinal).unwrap_or(0);
                 Error::parse(path, Location::Line(line), format!("face {face_ordinal}: {msg}"))
             })?;
+            let keep = without_repeated_corners(&mut polygon);
+            dropped += usize::from(!keep);
             if !m.normal_indices.is_empty() && m.normal_indices.len() == m.indices.len() {
                 for k in start..end {
                     let n = 3 * m.normal_indices[k] as usize;
@@ -89,10 +92,10 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
                     }
                 }
             }
-            if arity > 3 {
-                triangulated += 1;
+            if keep {
+                triangulated += usize::from(arity > 3);
+                triangulate_polygon(&positions, &polygon, &mut triangles);
             }
-            triangulate_polygon(&positions, &polygon, &mut triangles);
             face_ordinal += 1;
             start = end;
         }
@@ -108,6 +111,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
             notes.push("OBJ normals are per corner, not per vertex: ignored".to_string());
         }
     }
+    notes.extend(repeated_vertex_note(dropped));
     Ok(ReadOutcome { mesh, triangulated_polygons: triangulated, notes })
 }
 

@@ -7,7 +7,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::text::{coordinate, decode, significant_lines, unsigned};
-use super::{ReadOutcome, check_polygon};
+use super::{ReadOutcome, check_polygon, repeated_vertex_note, without_repeated_corners};
 use crate::error::{Error, Location, Result};
 use crate::mesh::{Mesh, triangulate_polygon};
 
@@ -68,6 +68,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
 
     let mut triangles = Vec::with_capacity(face_capacity);
     let mut triangulated = 0;
+    let mut dropped = 0;
     let mut face_colours = false;
     let mut polygon = Vec::new();
     for f in 0..nf {
@@ -85,6 +86,10 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
         }
         check_polygon(&polygon, nv).map_err(|m| err(n, format!("face {f}: {m}")))?;
         face_colours |= tokens.len() > k + 1;
+        if !without_repeated_corners(&mut polygon) {
+            dropped += 1;
+            continue;
+        }
         if k > 3 {
             triangulated += 1;
         }
@@ -93,6 +98,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     if face_colours {
         notes.push("OFF face colours ignored".to_string());
     }
+    notes.extend(repeated_vertex_note(dropped));
     Ok(ReadOutcome { mesh: Mesh::new(positions, triangles), triangulated_polygons: triangulated, notes })
 }
 

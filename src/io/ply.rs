@@ -10,7 +10,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::text::{numbered_lines, shorten};
-use super::{ReadOutcome, check_count_fits, check_polygon};
+use super::{ReadOutcome, check_count_fits, check_polygon, repeated_vertex_note, without_repeated_corners};
 use crate::error::{Error, Location, Result};
 use crate::mesh::{Mesh, triangulate_polygons};
 
@@ -288,6 +288,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     let mut colors: Option<Vec<[u8; 3]>> = None;
     let mut scalars: BTreeMap<String, Vec<f64>> = BTreeMap::new();
     let mut polygons: Vec<u32> = Vec::new();
+    let mut dropped = 0;
     let mut polygon_starts: Vec<usize> = Vec::new();
     let mut notes = Vec::new();
     let mut vertex_count = None;
@@ -394,6 +395,16 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
                                     polygons.push(v as u32);
                                 }
                                 check_polygon(&polygons[start..], nv).map_err(|m| at(&body, m))?;
+                                let face = &polygons[start..];
+                                if face.iter().enumerate().any(|(i, a)| face[i + 1..].contains(a)) {
+                                    let mut polygon = polygons.split_off(start);
+                                    if without_repeated_corners(&mut polygon) {
+                                        polygons.extend(polygon);
+                                    } else {
+                                        polygon_starts.pop();
+                                        dropped += 1;
+                                    }
+                                }
                             }
                             Property::List { count, item, .. } => {
                                 skip_list(&mut body, *count, *item).map_err(|m| at(&body, m))?;
@@ -423,6 +434,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     let ends = polygon_starts.iter().skip(1).copied().chain(std::iter::once(polygons.len()));
     let faces = polygon_starts.iter().zip(ends).map(|(&start, end)| &polygons[start..end]);
     let (triangles, triangulated) = triangulate_polygons(&positions, faces);
+    notes.extend(repeated_vertex_note(dropped));
     let mesh = Mesh { positions, triangles, normals, colors, scalars };
     Ok(ReadOutcome { mesh, triangulated_polygons: triangulated, notes })
 }

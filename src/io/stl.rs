@@ -28,6 +28,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     };
     let mut welder = Welder::default();
     let mut triangles = Vec::new();
+    let mut dropped = 0;
     if is_binary_size {
         let n = binary_count.unwrap_or(0);
         triangles.reserve(n);
@@ -45,11 +46,10 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
                 }
                 *corner = welder.vertex(p);
             }
-            check_facet(corners, path, Location::Element("facet", f))?;
-            triangles.push(corners);
+            push_facet(corners, &mut triangles, &mut dropped);
         }
     } else if looks_ascii {
-        parse_ascii(decode(bytes, path)?, path, &mut welder, &mut triangles)?;
+        parse_ascii(decode(bytes, path)?, path, &mut welder, &mut triangles, &mut dropped)?;
     } else if let Some(n) = binary_count {
         return Err(Error::parse(
             path,
@@ -65,18 +65,28 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     }
     let corners = 3 * triangles.len();
     let welded = corners - welder.positions.len();
-    let notes = if welded > 0 { vec![format!("STL: {welded} duplicate corners welded")] } else { Vec::new() };
+    let mut notes = if welded > 0 { vec![format!("STL: {welded} duplicate corners welded")] } else { Vec::new() };
+    notes.extend(super::repeated_vertex_note(dropped));
     Ok(ReadOutcome { mesh: Mesh::new(welder.positions, triangles), triangulated_polygons: 0, notes })
 }
 
-fn check_facet(corners: [u32; 3], path: &Path, at: Location) -> Result<()> {
+/// Keeps a facet, or counts it in `dropped` when two of its corners welded to one point
+/// (CAD exports make such facets; they have no area).
+fn push_facet(corners: [u32; 3], triangles: &mut Vec<[u32; 3]>, dropped: &mut usize) {
     if corners[0] == corners[1] || corners[1] == corners[2] || corners[0] == corners[2] {
-        return Err(Error::parse(path, at, "the facet repeats a corner (zero-length edge)"));
+        *dropped += 1;
+    } else {
+        triangles.push(corners);
     }
-    Ok(())
 }
 
-fn parse_ascii(text: &str, path: &Path, welder: &mut Welder, triangles: &mut Vec<[u32; 3]>) -> Result<()> {
+fn parse_ascii(
+    text: &str,
+    path: &Path,
+    welder: &mut Welder,
+    triangles: &mut Vec<[u32; 3]>,
+    dropped: &mut usize,
+) -> Result<()> {
     let err = |line: usize, msg: String| Error::parse(path, Location::Line(line), msg);
     let mut lines = significant_lines(text);
     let mut last = 1;
@@ -117,8 +127,7 @@ fn parse_ascii(text: &str, path: &Path, welder: &mut Welder, triangles: &mut Vec
         if tokens != ["endfacet"] {
             return Err(err(n, "expected `endfacet`".into()));
         }
-        check_facet(corners, path, Location::Line(n))?;
-        triangles.push(corners);
+        push_facet(corners, triangles, dropped);
     }
 }
 

@@ -16,7 +16,8 @@ pub struct ValidationReport {
     pub faces: usize,
     /// Distinct undirected edges.
     pub edges: usize,
-    /// Closed chains of boundary edges (edges with one face).
+    /// Closed chains of boundary edges (edges with one face), followed along the edges
+    /// whatever the faces' orientation.
     pub boundary_loops: usize,
     /// Edges with more than two faces.
     pub non_manifold_edges: usize,
@@ -28,7 +29,11 @@ pub struct ValidationReport {
     pub components: usize,
     /// V − E + F over referenced vertices.
     pub euler: i64,
-    /// Total genus, when the mesh is a manifold (`None` otherwise).
+    /// Whether the faces can be oriented consistently (false for a Möbius strip or a Klein
+    /// bottle; a mesh whose faces are merely flipped is orientable). Edges with more than
+    /// two faces are left out of the test.
+    pub orientable: bool,
+    /// Total genus, when the mesh is an orientable manifold (`None` otherwise).
     pub genus: Option<i64>,
     /// Faces repeating a vertex or of (near) zero area.
     pub degenerate_faces: usize,
@@ -72,11 +77,12 @@ impl ValidationReport {
         }
         let edge_count = edges.groups().count();
         let boundary_loops = count_boundary_loops(&boundary);
+        let orientable = is_orientable(mesh.triangles.len(), &edges);
         let non_manifold_vertices = count_non_manifold_vertices(mesh, &edges);
         let components = count_face_components(mesh, &referenced);
 
         let euler = referenced_count as i64 - edge_count as i64 + mesh.triangles.len() as i64;
-        let genus = (non_manifold_edges == 0 && non_manifold_vertices == 0)
+        let genus = (non_manifold_edges == 0 && non_manifold_vertices == 0 && orientable)
             .then(|| 2 * components as i64 - boundary_loops as i64 - euler)
             .filter(|twice| twice % 2 == 0 && *twice >= 0)
             .map(|twice| twice / 2);
@@ -91,6 +97,7 @@ impl ValidationReport {
             non_manifold_vertices,
             inconsistently_oriented_edges: inconsistent,
             components,
+            orientable,
             euler,
             genus,
             degenerate_faces: count_degenerate_faces(mesh),
@@ -109,12 +116,6 @@ pub(crate) struct HalfEdgeUse {
     pub face: u32,
     /// Whether the face traverses the edge from `lo` to `hi`.
     pub forward: bool,
-}
-
-impl HalfEdgeUse {
-    pub fn directed(&self) -> (u32, u32) {
-        if self.forward { (self.lo, self.hi) } else { (self.hi, self.lo) }
-    }
 }
 
 /// Every face's half-edges sorted by undirected edge, so that the uses of one edge are
@@ -145,34 +146,73 @@ impl EdgeTable {
     }
 }
 
-/// Follows boundary half-edges head to tail and counts the closed chains.
+/// Counts the closed chains of boundary edges, walking them as undirected edges (a face
+/// flipped against its neighbour does not split a loop in two): from an unused edge, each
+/// step takes an unused boundary edge at the current vertex until the walk is back.
 fn count_boundary_loops(boundary: &[HalfEdgeUse]) -> usize {
-    let mut by_start: Vec<(u32, u32)> = boundary.iter().map(HalfEdgeUse::directed).collect();
-    by_start.sort_unstable();
-    let mut used = vec![false; by_start.len()];
-    let first_from = |v: u32, list: &[(u32, u32)]| list.partition_point(|&(a, _)| a < v);
+    let mut ends: Vec<(u32, usize)> = Vec::with_capacity(2 * boundary.len());
+    for (i, e) in boundary.iter().enumerate() {
+        ends.push((e.lo, i));
+        ends.push((e.hi, i));
+    }
+    ends.sort_unstable();
+    let at = |v: u32| {
+        let start = ends.partition_point(|&(w, _)| w < v);
+        ends[start..].iter().take_while(move |&&(w, _)| w == v).map(|&(_, i)| i)
+    };
+    let mut used = vec![false; boundary.len()];
     let mut loops = 0;
-    for start in 0..by_start.len() {
-        if used[start] {
+    for first in 0..boundary.len() {
+        if used[first] {
             continue;
         }
-        used[start] = true;
-        let origin = by_start[start].0;
-        let mut at = by_start[start].1;
-        while at != origin {
-            let mut i = first_from(at, &by_start);
-            while i < by_start.len() && by_start[i].0 == at && used[i] {
-                i += 1;
-            }
-            if i >= by_start.len() || by_start[i].0 != at {
-                break; // an open chain (only possible on non-manifold input)
-            }
-            used[i] = true;
-            at = by_start[i].1;
+        used[first] = true;
+        let origin = boundary[first].lo;
+        let mut vertex = boundary[first].hi;
+        while vertex != origin {
+            let Some(next) = at(vertex).find(|&i| !used[i]) else { break };
+            used[next] = true;
+            let e = boundary[next];
+            vertex = if e.lo == vertex { e.hi } else { e.lo };
         }
         loops += 1;
     }
     loops
+}
+
+/// Whether every component's faces can be given one orientation: a face across a
+/// consistently traversed edge keeps its neighbour's sign, across an inconsistent one it
+/// takes the opposite; a conflict means a Möbius-like twist.
+fn is_orientable(faces: usize, edges: &EdgeTable) -> bool {
+    let mut adjacent: Vec<Vec<(u32, bool)>> = vec![Vec::new(); faces];
+    for group in edges.groups().filter(|g| g.len() == 2) {
+        let flip = group[0].forward == group[1].forward;
+        adjacent[group[0].face as usize].push((group[1].face, flip));
+        adjacent[group[1].face as usize].push((group[0].face, flip));
+    }
+    let mut sign: Vec<i8> = vec![0; faces];
+    let mut stack = Vec::new();
+    for start in 0..faces {
+        if sign[start] != 0 {
+            continue;
+        }
+        sign[start] = 1;
+        stack.push(start);
+        while let Some(f) = stack.pop() {
+            for &(g, flip) in &adjacent[f] {
+                let want = if flip { -sign[f] } else { sign[f] };
+                match sign[g as usize] {
+                    0 => {
+                        sign[g as usize] = want;
+                        stack.push(g as usize);
+                    }
+                    s if s != want => return false,
+                    _ => {}
+                }
+            }
+        }
+    }
+    true
 }
 
 /// A vertex is non-manifold when its face corners split into several fans, i.e. the
