@@ -248,3 +248,26 @@ fn huge_coordinates_simplify_and_compare_as_unit_ones_do() {
         }
     }
 }
+
+#[test]
+fn an_error_left_after_repair_does_not_advise_repair() {
+    // #24 item 10: a Möbius strip cannot be oriented; after --repair the message says so
+    // instead of suggesting --repair again.
+    let tmp = temp_dir();
+    let input = bad_dir().join("mobius.off");
+    for extra in [&[][..], &["--repair"][..]] {
+        let mut args = vec!["simplify", input.to_str().unwrap(), "--target-vertices", "10", "-o", "out.ply"];
+        args.extend(extra);
+        let out = run_within_ten_seconds(&args, tmp.path());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(stderr.contains("not orientable") && !stderr.contains("--repair"), "{extra:?}: {stderr}");
+    }
+    let zero_area = bad_dir().join("zero-area.off");
+    let out = run_within_ten_seconds(
+        &["simplify", zero_area.to_str().unwrap(), "--target-vertices", "3", "-o", "out.ply"],
+        tmp.path(),
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--repair fixes it"), "the advice stays where it helps");
+}

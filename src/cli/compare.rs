@@ -42,7 +42,7 @@ pub fn run(args: CompareArgs, ctx: super::Context) -> Result<()> {
     };
     let rows = ctx
         .spin("compare", &methods.join(", "), || compare(&mesh, target, &methods, &ours))
-        .map_err(|e| e.about_file(&args.input))?;
+        .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;
     if ctx.json {
         println!("{}", serde_json::to_string_pretty(&rows).expect("report serialises"));
     } else if !ctx.quiet {

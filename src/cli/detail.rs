@@ -55,7 +55,7 @@ pub fn run(args: DetailArgs, ctx: super::Context) -> Result<()> {
     let simplify = args.hierarchy.options_over(mesh.vertex_count(), false, &recipe.hierarchy)?;
     let hierarchy = ctx
         .spin("simplify", "building the 4-k hierarchy", || build(&mesh, &simplify))
-        .map_err(|e| e.about_file(&args.input))?;
+        .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;
     let options = DetailOptions { simplify, no_self_intersections: args.no_self_intersections, ..Default::default() };
     let outcome =
         ctx.spin("detail", "applying the recipe level by level", || apply_to(&hierarchy, &mesh, &recipe, &options))?;

@@ -228,7 +228,7 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
     let options = args.hierarchy.options(mesh.vertex_count(), record)?;
     let hierarchy = ctx
         .spin("simplify", "building the 4-k hierarchy", || build(mesh, &options))
-        .map_err(|e| e.about_file(&args.input))?;
+        .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;
     let base = hierarchy.base_mesh().mesh;
     io::write(&base, &args.output, WriteOptions::default())?;
     if let Some(dir) = &args.levels_out {

@@ -263,6 +263,10 @@ fn prepare_input(mesh: &Mesh) -> Result<()> {
     let report = ValidationReport::of(mesh);
     let refuse =
         |msg: String, faces: Vec<FaceId>| Err(Error::Topology { msg: format!("{msg}; --repair fixes it"), faces });
+    if report.is_manifold() && !report.orientable {
+        let msg = "the surface is not orientable (a Möbius-like twist): the hierarchy needs an oriented manifold, and no orientation of its faces exists".to_string();
+        return Err(Error::Topology { msg, faces: Vec::new() });
+    }
     if !report.is_manifold() || report.inconsistently_oriented_edges > 0 {
         let msg = format!(
             "the mesh is not an oriented manifold ({} non-manifold edges, {} non-manifold vertices, {} inconsistently oriented edges); --repair splits and orients it where the surface is orientable",
