@@ -397,3 +397,14 @@ fn every_distribution_has_the_requested_mean_and_variance() {
         );
     }
 }
+
+#[test]
+fn corners_set_the_grid_corner_heights_exactly() {
+    // #24 item 12: seed 001's applet sets the corners; they are not added to a random draw.
+    let p = TerrainParams { corners: Some([5.0, 5.0, -5.0, -5.0]), ..params(65, 0.8, 3) };
+    let h = asperity::terrain::heights(&p, asperity::terrain::Rect { x0: 0, y0: 0, x1: 64, y1: 64 }).unwrap();
+    assert_eq!([h.at(0, 0), h.at(64, 0), h.at(0, 64), h.at(64, 64)], [5.0, 5.0, -5.0, -5.0]);
+    let drawn = asperity::terrain::heights(&params(65, 0.8, 3), asperity::terrain::Rect { x0: 0, y0: 0, x1: 0, y1: 0 })
+        .unwrap();
+    assert_ne!(drawn.at(0, 0), 0.0, "without --corners each corner is a random draw");
+}

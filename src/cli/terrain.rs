@@ -76,7 +76,8 @@ pub struct TerrainArgs {
     /// Variance of the distribution.
     #[arg(long, default_value_t = 1.0)]
     variance: f64,
-    /// Initial corner heights A,B,C,D.
+    /// Corner heights A,B,C,D (x0y0, xNy0, x0yN, xNyN), set exactly as in seed 001's
+    /// applet [default: each a random draw around 0].
     #[arg(long, value_parser = super::parse::four, allow_hyphen_values = true)]
     corners: Option<[f64; 4]>,
     /// Seed 001's applet variant: constant scale, random sign.
@@ -151,7 +152,7 @@ pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
         distribution: args.distribution,
         mean: args.mean,
         variance: args.variance,
-        corners: args.corners.unwrap_or([0.0; 4]),
+        corners: args.corners,
         applet: args.applet,
         width: args.width,
         depth: args.depth,

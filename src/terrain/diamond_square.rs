@@ -47,8 +47,9 @@ pub struct DiamondSquare {
     pub hurst: f64,
     /// Displacement scale σ at level 0.
     pub sigma: f64,
-    /// Heights of the four corners (x0y0, xNy0, x0yN, xNyN) before their displacement.
-    pub corners: [f64; 4],
+    /// Heights of the four corners (x0y0, xNy0, x0yN, xNyN), kept exactly; `None` draws
+    /// each (a level-0 displacement around 0).
+    pub corners: Option<[f64; 4]>,
     /// Seed 001's applet: constant scale, random sign.
     pub applet: bool,
     /// Random numbers.
@@ -186,7 +187,10 @@ impl DiamondSquare {
                 .map(|k| {
                     let (x, y) = (r.x0 + (k % cols) as u64 * d, r.y0 + (k / cols) as u64 * d);
                     let corner = usize::from(x == last) + 2 * usize::from(y == last);
-                    self.corners[corner] + self.displacement(0, self.scale(0), x, y)
+                    match self.corners {
+                        Some(fixed) => fixed[corner],
+                        None => self.displacement(0, self.scale(0), x, y),
+                    }
                 })
                 .collect();
             let values: Vec<f64> = values;

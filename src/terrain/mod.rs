@@ -69,8 +69,9 @@ pub struct TerrainParams {
     pub mean: f64,
     /// Variance of the displacements (before scaling).
     pub variance: f64,
-    /// Initial corner heights (x0y0, xNy0, x0yN, xNyN).
-    pub corners: [f64; 4],
+    /// Corner heights (x0y0, xNy0, x0yN, xNyN) as seed 001's applet sets them: the grid's
+    /// four corners are exactly these. `None`: each corner is a random draw around 0.
+    pub corners: Option<[f64; 4]>,
     /// Seed 001's applet variant: scale not decreasing, random sign.
     pub applet: bool,
     /// World extent along x.
@@ -126,7 +127,7 @@ impl Default for TerrainParams {
             distribution: Distribution::Normal,
             mean: 0.0,
             variance: 1.0,
-            corners: [0.0; 4],
+            corners: None,
             applet: false,
             width: 10.0,
             depth: 10.0,
@@ -152,7 +153,8 @@ impl TerrainParams {
             )));
         };
         let numbers = [self.hurst, self.sigma, self.mean, self.variance, self.width, self.depth];
-        if numbers.iter().chain(&self.corners).any(|v| !v.is_finite()) || self.sea_level.is_some_and(|s| !s.is_finite())
+        if numbers.iter().chain(self.corners.iter().flatten()).any(|v| !v.is_finite())
+            || self.sea_level.is_some_and(|s| !s.is_finite())
         {
             return Err(Error::InvalidInput("terrain parameters must be finite numbers".into()));
         }
