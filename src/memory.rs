@@ -28,3 +28,54 @@ pub fn return_large_buffers_to_the_os() -> bool {
         false
     }
 }
+
+/// The memory this process may still allocate, as far as the system tells: the least of
+/// the kernel's available memory (`MemAvailable`), the room left under the cgroup's limit
+/// (v2 `memory.max`, v1 `memory.limit_in_bytes`) and under the address-space limit
+/// (`RLIMIT_AS`, less the current virtual size). `None` where nothing can be read.
+pub fn available_bytes() -> Option<u64> {
+    let meminfo = std::fs::read_to_string("/proc/meminfo").ok();
+    let field = |text: &str, key: &str| -> Option<u64> {
+        let line = text.lines().find(|l| l.starts_with(key))?;
+        line.split_whitespace().nth(1)?.parse::<u64>().ok().map(|kib| kib * 1024)
+    };
+    let read_number = |path: &str| -> Option<u64> { std::fs::read_to_string(path).ok()?.trim().parse().ok() };
+    let mut limits: Vec<u64> = Vec::new();
+    limits.extend(meminfo.as_deref().and_then(|m| field(m, "MemAvailable:")));
+    let cgroup_v2 = read_number("/sys/fs/cgroup/memory.max")
+        .map(|max| max.saturating_sub(read_number("/sys/fs/cgroup/memory.current").unwrap_or(0)));
+    let cgroup_v1 = read_number("/sys/fs/cgroup/memory/memory.limit_in_bytes")
+        .map(|max| max.saturating_sub(read_number("/sys/fs/cgroup/memory/memory.usage_in_bytes").unwrap_or(0)));
+    limits.extend(cgroup_v2.or(cgroup_v1));
+    let mut rlimit = libc::rlimit { rlim_cur: 0, rlim_max: 0 };
+    // SAFETY: getrlimit writes one rlimit struct, which lives on this stack frame.
+    #[allow(unsafe_code)]
+    let ok = unsafe { libc::getrlimit(libc::RLIMIT_AS, &mut rlimit) } == 0;
+    if ok && rlimit.rlim_cur != libc::RLIM_INFINITY {
+        let status = std::fs::read_to_string("/proc/self/status").ok();
+        let used = status.as_deref().and_then(|s| field(s, "VmSize:")).unwrap_or(0);
+        let allowed: u64 = rlimit.rlim_cur;
+        limits.push(allowed.saturating_sub(used));
+    }
+    limits.into_iter().min()
+}
+
+/// Refuses work that needs more memory than [`available_bytes`] says there is, before
+/// anything is allocated: `what` and `advice` make the one-line message.
+///
+/// # Errors
+/// [`crate::Error::InvalidInput`] saying how much is needed and available.
+pub fn ensure_available(needed: u64, what: &str, advice: &str) -> crate::Result<()> {
+    match available_bytes() {
+        Some(available) if needed > available => Err(crate::Error::InvalidInput(format!(
+            "{what} needs about {} in memory, more than the {} available: {advice}",
+            gigabytes(needed),
+            gigabytes(available)
+        ))),
+        _ => Ok(()),
+    }
+}
+
+fn gigabytes(bytes: u64) -> String {
+    format!("{:.1} GB", bytes as f64 / 1e9)
+}

@@ -440,3 +440,32 @@ fn a_closed_stdout_ends_the_program_quietly() {
     assert!(out.stderr.is_empty(), "{}", String::from_utf8_lossy(&out.stderr));
     assert_eq!(out.status.signal(), Some(libc::SIGPIPE), "{:?}", out.status);
 }
+
+#[test]
+fn a_terrain_that_cannot_fit_in_memory_is_refused_before_allocating() {
+    // #24 item 4: under a 1 GB address-space limit a whole 16385² heightmap used to abort
+    // with Rust's allocation-failure message; it is refused in one line, nothing written.
+    use std::os::unix::process::CommandExt;
+    let tmp = temp_dir();
+    let limited = |args: &[&str]| {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_asperity"));
+        command.args(args).current_dir(tmp.path());
+        // SAFETY: setrlimit is async-signal-safe; it only lowers this child's own limit.
+        unsafe {
+            command.pre_exec(|| {
+                let limit = libc::rlimit { rlim_cur: 1 << 30, rlim_max: 1 << 30 };
+                if libc::setrlimit(libc::RLIMIT_AS, &limit) == 0 {
+                    Ok(())
+                } else {
+                    Err(std::io::Error::last_os_error())
+                }
+            });
+        }
+        command.output().unwrap()
+    };
+    let out = limited(&["terrain", "--size", "16385", "-o", "big.png"]);
+    assert_one_line_error(&out, 2, &["needs about", "in memory", "--stream", "--tile"]);
+    assert!(!tmp.path().join("big.png").exists());
+    let streamed = limited(&["terrain", "--size", "4097", "--stream", "-o", "streamed.raw16"]);
+    assert!(streamed.status.success(), "{}", String::from_utf8_lossy(&streamed.stderr));
+}

@@ -129,6 +129,14 @@ pub struct TerrainArgs {
     format: Option<String>,
 }
 
+/// Memory a whole-grid mesh takes per grid point: the heights and their coarser levels,
+/// positions, normals, colours and two triangles (peak measured at 2049²: 99 bytes).
+const MESH_BYTES_PER_POINT: u64 = 112;
+
+/// Memory a heightmap's rows take per point: the heights, the coarser levels that feed them
+/// and the encoded output (peak measured at 2049²: 11 bytes; twice that with smoothing).
+const HEIGHTS_BYTES_PER_POINT: u64 = 16;
+
 pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     let method = match args.method {
@@ -175,7 +183,16 @@ pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
     let scale = params.height_scale();
     let range = args.range.unwrap_or((-scale, scale));
     let points = rect.width() as u64 * rect.height() as u64;
-    if matches!(ext.as_str(), "obj" | "ply") && !args.stream {
+    let whole_mesh = matches!(ext.as_str(), "obj" | "ply") && !args.stream;
+    let rows_at_once = if args.stream { args.band.max(1).min(rect.height()) } else { rect.height() } as u64;
+    let bytes_per_point = if whole_mesh { MESH_BYTES_PER_POINT } else { HEIGHTS_BYTES_PER_POINT };
+    let smoothing = if method == Method::Smooth { 2 } else { 1 };
+    crate::memory::ensure_available(
+        rows_at_once * rect.width() as u64 * bytes_per_point * smoothing,
+        &format!("a {}x{} terrain built whole", rect.width(), rect.height()),
+        "write a heightmap with --stream, or cut it into --tile pieces",
+    )?;
+    if whole_mesh {
         let terrain = ctx.spin("terrain", "generating the mesh", || mesh(&params, rect))?;
         let format = if ext == "obj" { io::Format::Obj } else { io::Format::Ply };
         io::write_as(&terrain, &args.output, format, WriteOptions::default())?;
