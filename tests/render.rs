@@ -184,3 +184,17 @@ fn the_cli_renders_every_shared_mesh_and_terrain_previews() {
     assert_eq!(out.status.code(), Some(2));
     assert!(!tmp.path().join("d.jpg").exists());
 }
+
+#[test]
+fn a_mesh_that_covers_no_pixel_is_refused_and_huge_ones_are_drawn() {
+    // #24 item 10: a mesh the camera cannot frame used to give a blank PNG with exit 0.
+    let collapsed = Mesh::new(vec![DVec3::splat(2.0); 3], vec![[0, 1, 2]]);
+    let err = render(&collapsed, &small(Mode::Faces)).unwrap_err();
+    assert!(err.to_string().contains("nothing to draw"), "{err}");
+    // Coordinates of 1e300 are drawn as their unit-size image is.
+    let mut huge = icosphere(1.0, 3);
+    huge.positions.iter_mut().for_each(|p| *p *= 1e300);
+    let (a, b) =
+        (render(&huge, &small(Mode::Faces)).unwrap(), render(&icosphere(1.0, 3), &small(Mode::Faces)).unwrap());
+    assert_eq!(a.pixel(80, 60), b.pixel(80, 60));
+}

@@ -169,6 +169,11 @@ pub const MAX_SIDE: usize = 16384;
 /// unknown scalar property.
 pub fn render(mesh: &Mesh, options: &RenderOptions) -> Result<Picture> {
     check(mesh, options)?;
+    // Drawn in the mesh's unit frame (a uniform scale and a shift: the picture is the
+    // same), so single-precision projection works whatever the model's units.
+    let unit = crate::mesh::UnitFrame::of(mesh)?;
+    let unit_mesh = unit.apply(mesh);
+    let mesh = &unit_mesh;
     let s = options.samples;
     let (w, h) = (options.width * s, options.height * s);
     let bbox = mesh.bounding_box().ok_or_else(|| Error::InvalidInput("the mesh has no vertices".into()))?;
@@ -210,6 +215,12 @@ pub fn render(mesh: &Mesh, options: &RenderOptions) -> Result<Picture> {
             let spacing = ((w * h) as f32 / (s * s * dots.len().max(1)) as f32).sqrt();
             frame.dots(&dots, (0.25 * spacing).clamp(1.0, 3.0) * s as f32 * 0.9, 5e-3);
         }
+    }
+    if !frame.covered.iter().any(|&c| c) {
+        return Err(Error::InvalidInput(
+            "nothing to draw: no face or point of the mesh covers a pixel (its faces have no area, or it has no extent)"
+                .into(),
+        ));
     }
     Ok(resolve(&frame, s, options.background))
 }
