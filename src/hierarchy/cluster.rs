@@ -1,6 +1,7 @@
 //! Planning one four-face cluster (thesis §3.1.7, §4.4.1; Velho & Gomes \[3\]): the spoke
-//! flips that bring a vertex to degree 4, the edge weld that removes it, their errors
-//! (eq. 4.1), and the MAPS data of the removal (§4.4.1.2).
+//! flips that bring a vertex to degree 4 (3 on a boundary), the edge weld that removes it,
+//! their errors (eq. 4.1, measured as in [`super::cost`]), and the MAPS data of the
+//! removal (§4.4.1.2).
 //!
 //! Every decision is made in the vertex's conformal flattening (see [`Flattening`]), so the
 //! retriangulated ring is a valid planar triangulation containing the removed vertex:
