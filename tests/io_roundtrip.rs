@@ -173,3 +173,14 @@ fn faces_repeating_a_vertex_are_dropped_with_a_note_in_every_reader() {
         );
     }
 }
+
+#[test]
+fn an_overlong_ply_header_is_called_overlong_not_truncated() {
+    // #24 item 10: a 10 MB comment used to be reported as a truncated header.
+    let text = format!("ply\nformat ascii 1.0\ncomment {}\nelement vertex 0\nend_header\n", "x".repeat(2 << 20));
+    let dir = temp_dir();
+    let path = dir.path().join("long.ply");
+    std::fs::write(&path, text).unwrap();
+    let err = io::read(&path).unwrap_err().to_string();
+    assert!(err.contains("longer than that is refused") && !err.contains("truncated"), "{err}");
+}

@@ -114,7 +114,15 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
     let err = |line: usize, msg: String| Error::parse(path, Location::Line(line), msg);
     let window = &bytes[..bytes.len().min(MAX_HEADER_BYTES)];
     let end = find_subslice(window, b"end_header").ok_or_else(|| {
-        Error::parse(path, Location::File, "no `end_header` line: not a PLY file or truncated header")
+        let msg = if bytes.len() > MAX_HEADER_BYTES {
+            format!(
+                "no `end_header` in the first {} MiB: a PLY header longer than that is refused",
+                MAX_HEADER_BYTES >> 20
+            )
+        } else {
+            "no `end_header` line: not a PLY file or truncated header".to_string()
+        };
+        Error::parse(path, Location::File, msg)
     })?;
     let mut body = end + b"end_header".len();
     match (bytes.get(body), bytes.get(body + 1)) {
