@@ -4,11 +4,12 @@
 //! The feature edges are the edges joining two feature vertices of the input (Algorithm 1's
 //! classes chosen by `--keep-features`) and the boundary edges. A feature or boundary vertex
 //! with exactly two feature edges lies on a line; one with any other count is a junction or
-//! an end and, like a corner, is never removed. A line vertex may be removed only by the weld whose diagonal joins its
-//! two line neighbours, so the line stays a line of the coarser level: the two feature
-//! edges become one. Each feature edge carries a bound on how far the input's line between
-//! its ends lies from it (Cohen et al. 1997's successive-mapping bound, along the line):
-//! merging v–a and v–b into a–b gives max(bound(v–a), bound(v–b)) + dist(v, a–b).
+//! an end and, like a corner, is never removed. A line vertex may be removed only by the
+//! weld whose diagonal joins its two line neighbours, so the line stays a line of the
+//! coarser level: the two feature edges become one. Each feature edge carries a bound on
+//! how far the input's line between its ends lies from it (Cohen et al. 1997's
+//! successive-mapping bound, along the line): merging v–a and v–b into a–b gives
+//! max(bound(v–a), bound(v–b)) + dist(v, a–b).
 
 use rustc_hash::FxHashMap;
 
