@@ -20,6 +20,7 @@ use crate::analysis::{FaceGeometry, FeatureClass, classify, voting_tensors};
 use crate::error::{Error, Result};
 use crate::ffi::{self, HalfEdgeMesh, OpStatus};
 use crate::mesh::{Adjacency, FaceId, Mesh, UnitFrame, ValidationReport, is_degenerate_face};
+use glam::DVec3;
 
 /// Builds the 4-k hierarchy of `mesh`: simplification down to the base domain, with the
 /// parametrization of every removed vertex.
@@ -47,6 +48,11 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
     let (store, quadrics) = (store?, quadrics?);
     let n = mesh.vertex_count();
     let Features { feature, kept, lines } = features_and_kept(&working, options)?;
+    // Planning needs only the working positions; the copy's faces go now.
+    let working_positions = {
+        let copy = working;
+        copy.positions
+    };
     let referenced = used_vertices(n, &mesh.triangles);
     let live: Vec<u32> = (0..n as u32).filter(|&v| referenced[v as usize]).collect();
     let rings = Rings::fetch(&store, &live, n)?;
@@ -54,7 +60,7 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
     lap(&mut clock, &mut stages.prepare);
 
     let mut planner = Planner {
-        mesh: &working,
+        positions: &working_positions,
         options,
         kept: &kept,
         quadrics,
@@ -110,7 +116,8 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
 
 /// The planning side of [`build`]: the level's rings, quadrics and live vertices.
 struct Planner<'a> {
-    mesh: &'a Mesh,
+    /// Positions in the unit frame (the build's working copy).
+    positions: &'a [DVec3],
     options: &'a SimplifyOptions,
     kept: &'a [bool],
     quadrics: Vec<ffi::Quadric>,
@@ -138,7 +145,8 @@ impl Planner<'_> {
             swap_weight: options.swap_weight,
             min_angle: MIN_ANGLE_DEGREES.to_radians(),
         };
-        let diagonal = self.mesh.bounding_box().map_or(0.0, |(lo, hi)| (hi - lo).length());
+        // The unit frame's diagonal: fractions of the input's diagonal are absolute here.
+        let diagonal = 1.0_f64;
         let tolerance = (1e-9 * diagonal).powi(2);
         let max_error = options.max_error.map(|f| (f * diagonal).powi(2));
         let mut steps = 0;
@@ -150,7 +158,7 @@ impl Planner<'_> {
                 break;
             }
             let geometry = LevelGeometry {
-                positions: &self.mesh.positions,
+                positions: self.positions,
                 quadrics: &self.quadrics,
                 tolerance,
                 params: &self.params,
@@ -182,7 +190,7 @@ impl Planner<'_> {
             lap(clock, &mut stages.planning);
             let mut offenders = FxHashSet::default();
             if options.prevent_intersections {
-                (plans, offenders) = guard_plans(&self.mesh.positions, &level_faces, plans, &mut self.rings)?;
+                (plans, offenders) = guard_plans(self.positions, &level_faces, plans, &mut self.rings)?;
                 lap(clock, &mut stages.guard);
             }
             self.rings.commit();
@@ -214,7 +222,7 @@ impl Planner<'_> {
             steps += 1;
             lap(clock, &mut stages.planning);
             for plan in &plans {
-                self.params.apply_removal(plan, &self.mesh.positions);
+                self.params.apply_removal(plan, self.positions);
             }
             lap(clock, &mut stages.parametrization);
             let recording = record(plans);
