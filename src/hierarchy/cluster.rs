@@ -263,12 +263,6 @@ impl Star<'_> {
         if self.boundary { 1..m - 1 } else { 0..m }
     }
 
-    /// Whether ring vertex `id` may lose a neighbour, given its degree change so far.
-    fn may_lose_neighbour(&self, id: u32, gain: i64) -> bool {
-        let least = if self.rings.is_boundary(id) { 2 } else { 3 };
-        self.rings.degree(id) as i64 + gain > least
-    }
-
     fn start(&self) -> Ears {
         let d = self.ring.len();
         Ears { current: (0..d).collect(), gain: smallvec::smallvec![0; d], cut: RingVec::new(), swap_error: 0.0 }
@@ -282,7 +276,7 @@ impl Star<'_> {
         let (prev, apex, next) = (ears.current[(i + m - 1) % m], ears.current[i], ears.current[(i + 1) % m]);
         if self.line.is_some_and(|(ends, _)| ends.contains(&apex))
             || self.rings.has_edge(ring[prev], ring[next])
-            || !self.may_lose_neighbour(ring[apex], ears.gain[apex])
+            || !self.rings.may_lose_neighbour(ring[apex], ears.gain[apex])
             || orient(flat[prev], flat[apex], flat[next]) <= 0.0
             || orient(DVec2::ZERO, flat[prev], flat[next]) <= 0.0
         {
@@ -364,8 +358,8 @@ impl Star<'_> {
             let c = [current[k], current[k + 1], current[(k + 2) % 4], current[(k + 3) % 4]];
             if self.line.is_some_and(|([a, b], _)| [a.min(b), a.max(b)] != [c[0].min(c[2]), c[0].max(c[2])])
                 || rings.has_edge(ring[c[0]], ring[c[2]])
-                || !self.may_lose_neighbour(ring[c[1]], gain[c[1]])
-                || !self.may_lose_neighbour(ring[c[3]], gain[c[3]])
+                || !self.rings.may_lose_neighbour(ring[c[1]], gain[c[1]])
+                || !self.rings.may_lose_neighbour(ring[c[3]], gain[c[3]])
                 || orient(flat[c[0]], flat[c[1]], flat[c[2]]) <= 0.0
                 || orient(flat[c[0]], flat[c[2]], flat[c[3]]) <= 0.0
             {
@@ -434,7 +428,7 @@ impl Star<'_> {
         let c = [ears.current[0], ears.current[1], ears.current[2]];
         let pv = self.pv();
         if rings.has_edge(ring[c[0]], ring[c[2]])
-            || !self.may_lose_neighbour(ring[c[1]], ears.gain[c[1]])
+            || !self.rings.may_lose_neighbour(ring[c[1]], ears.gain[c[1]])
             || orient(flat[c[0]], flat[c[1]], flat[c[2]]) <= 0.0
             || is_sliver(p[c[0]], p[c[1]], p[c[2]])
         {
@@ -519,9 +513,7 @@ pub fn plan_still_applies(plan: &ClusterPlan, rings: &Rings) -> bool {
     }
     let mut gain: RingVec<i64> = smallvec::smallvec![0; plan.ring.len()];
     let slot = |id: u32| plan.ring.iter().position(|&r| r == id).expect("a ring vertex");
-    let drops_too_low = |id: u32, gain: &[i64]| {
-        rings.degree(id) as i64 + gain[slot(id)] - 1 < if rings.is_boundary(id) { 2 } else { 3 }
-    };
+    let drops_too_low = |id: u32, gain: &[i64]| !rings.may_lose_neighbour(id, gain[slot(id)]);
     let (ears, weld) = plan.triangles.split_at(plan.flips.len());
     for &[prev, apex, next] in ears {
         if rings.has_edge(prev, next) || drops_too_low(apex, &gain) {

@@ -379,17 +379,11 @@ impl<'h> Refiner<'h> {
                 x != v
                     && !fresh.contains(&x)
                     && !self.rings.has_edge(v, x)
-                    && self.may_lose_neighbour(a)
-                    && self.may_lose_neighbour(b)
+                    && self.rings.may_lose_neighbour(a, 0)
+                    && self.rings.may_lose_neighbour(b, 0)
             }
             None => false,
         }
-    }
-
-    /// Whether `v` keeps enough neighbours after losing one: three inside, two on a
-    /// boundary (as simplification allowed).
-    fn may_lose_neighbour(&self, v: u32) -> bool {
-        self.rings.degree(v) > if self.rings.is_boundary(v) { 2 } else { 3 }
     }
 
     /// The current mesh, compacted, with input ids.

@@ -73,6 +73,15 @@ impl Rings {
         self.rings[v as usize].len()
     }
 
+    /// Whether `v`, its degree changed by `gain` by operations planned before, can lose one
+    /// more neighbour and keep a valid fan: at least three neighbours inside, two on a
+    /// boundary (a single triangle's corner). Simplification's flips and welds and
+    /// refinement's link flips all check this.
+    pub fn may_lose_neighbour(&self, v: u32, gain: i64) -> bool {
+        let least = if self.is_boundary(v) { 2 } else { 3 };
+        self.degree(v) as i64 + gain > least
+    }
+
     /// Whether `v` lies on a boundary (fixed by interior operations).
     pub fn is_boundary(&self, v: u32) -> bool {
         self.boundary[v as usize]
