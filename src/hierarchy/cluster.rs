@@ -87,12 +87,9 @@ impl ClusterPlan {
     /// the recorder holds them.
     pub fn flattening(&self, positions: &[DVec3]) -> RingVec<DVec2> {
         let ring_points: RingVec<DVec3> = self.ring.iter().map(|&r| positions[r as usize]).collect();
-        let centre = positions[self.vertex as usize];
-        let flattening = match self.boundary {
-            true => Flattening::of_open_ring(centre, &ring_points),
-            false => Flattening::of_closed_ring(centre, &ring_points),
-        };
-        flattening.map(|f| f.points).unwrap_or_else(|| smallvec::smallvec![DVec2::ZERO; self.ring.len()])
+        Flattening::of_star(positions[self.vertex as usize], &ring_points, self.boundary)
+            .map(|f| f.points)
+            .unwrap_or_else(|| smallvec::smallvec![DVec2::ZERO; self.ring.len()])
     }
 
     /// The planar image of vertex `id` in `flat` (the plan's flattening): the removed
@@ -183,10 +180,7 @@ pub fn plan_cluster(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules: &
     let pos = geometry.positions;
     let pv = pos[v as usize];
     let ring_points: RingVec<DVec3> = ring.iter().map(|&r| pos[r as usize]).collect();
-    let flat = match boundary {
-        true => Flattening::of_open_ring(pv, &ring_points)?.points,
-        false => Flattening::of_closed_ring(pv, &ring_points)?.points,
-    };
+    let flat = Flattening::of_star(pv, &ring_points, boundary)?.points;
     let faces = if boundary { d - 1 } else { d };
     let star_min_sine =
         (0..faces).map(|i| min_angle_sine(pv, ring_points[i], ring_points[(i + 1) % d])).fold(1.0, f64::min);
@@ -353,6 +347,7 @@ impl Star<'_> {
         let (current, gain) = (&ears.current, &ears.gain);
         let pv = self.pv();
         let mut choices: RingVec<Choice> = RingVec::new();
+        let mut located = [None; 2];
         let mut points: Option<StarPoints> = None;
         for k in 0..2 {
             let c = [current[k], current[k + 1], current[(k + 2) % 4], current[(k + 3) % 4]];
@@ -379,6 +374,7 @@ impl Star<'_> {
             }
             let weld = [[c[0], c[1], c[2]], [c[0], c[2], c[3]]];
             let (t, w) = locate(DVec2::ZERO, &weld.map(|t| t.map(|i| flat[i])));
+            located[k] = Some((t, w));
             let image = interpolate(weld[t].map(|i| p[i]), w);
             let mut made: RingVec<[usize; 3]> = ears.cut.clone();
             made.extend(weld);
@@ -398,25 +394,36 @@ impl Star<'_> {
         }
         let Choice { index: k, cost: error, .. } = choose(&choices, self.geometry.tolerance)?;
         let c = [current[k], current[k + 1], current[(k + 2) % 4], current[(k + 3) % 4]];
-        let mut triangles = ears.cut.clone();
-        triangles.push([c[0], c[1], c[2]]);
-        triangles.push([c[0], c[2], c[3]]);
-        let n = triangles.len();
-        let weld_images = [[c[0], c[1], c[2]], [c[0], c[2], c[3]]].map(|t| t.map(|i| flat[i]));
-        let (t, w) = locate(DVec2::ZERO, &weld_images);
         let along_line = self.line_bound(c[0], c[2]).map(|bound| ([ring[c[0]], ring[c[2]]], bound));
-        Some(ClusterPlan {
-            along_line,
-            boundary: false,
+        let location = located[k].expect("a chosen diagonal was located");
+        Some(self.plan(&ears, &[[c[0], c[1], c[2]], [c[0], c[2], c[3]]], location, error, along_line))
+    }
+
+    /// The plan of `ears` closed by the `weld` triangles (ring slots; the first one's first
+    /// and last corners are the diagonal, welded onto the first), with the removed vertex
+    /// at `location` (weld triangle, barycentric coordinates).
+    fn plan(
+        &self,
+        ears: &Ears,
+        weld: &[[usize; 3]],
+        location: (usize, [f64; 3]),
+        error: f64,
+        along_line: Option<([u32; 2], f64)>,
+    ) -> ClusterPlan {
+        let ring = &self.ring;
+        let [c0, _, c2] = weld[0];
+        ClusterPlan {
             vertex: self.v,
-            flips: ears.cut.iter().map(|e| ring[e[1]]).collect(),
-            weld_to: ring[c[0]],
-            diagonal: [ring[c[0]], ring[c[2]]],
-            triangles: triangles.iter().map(|t| t.map(|i| ring[i])).collect(),
-            location: (n - 2 + t, w),
-            error,
             ring: ring.clone(),
-        })
+            boundary: self.boundary,
+            flips: ears.cut.iter().map(|e| ring[e[1]]).collect(),
+            weld_to: ring[c0],
+            diagonal: [ring[c0], ring[c2]],
+            triangles: ears.cut.iter().chain(weld).map(|t| t.map(|i| ring[i])).collect(),
+            location: (ears.cut.len() + location.0, location.1),
+            error,
+            along_line,
+        }
     }
 
     /// The weld of a boundary vertex brought to degree 3 (ring b0, r, b1): one triangle
@@ -451,21 +458,7 @@ impl Star<'_> {
         let bound = self.line_bound(c[0], c[2])?;
         let removal = self.geometry.quadrics[self.v as usize].mean_error(image).max(mapped).max(bound * bound);
         let error = self.rules.removal_weight * removal + self.rules.swap_weight * ears.swap_error;
-        let mut triangles = ears.cut.clone();
-        triangles.push(c);
-        let n = triangles.len();
-        Some(ClusterPlan {
-            vertex: self.v,
-            ring: ring.clone(),
-            boundary: true,
-            flips: ears.cut.iter().map(|e| ring[e[1]]).collect(),
-            weld_to: ring[c[0]],
-            diagonal: [ring[c[0]], ring[c[2]]],
-            triangles: triangles.iter().map(|t| t.map(|i| ring[i])).collect(),
-            location: (n - 1, w),
-            error,
-            along_line: Some(([ring[c[0]], ring[c[2]]], bound)),
-        })
+        Some(self.plan(&ears, &[c], (0, w), error, Some(([ring[c[0]], ring[c[2]]], bound))))
     }
 }
 

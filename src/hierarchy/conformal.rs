@@ -19,17 +19,15 @@ impl Flattening {
     /// Flattens the closed ring `ring` around `centre`. `None` for a degenerate ring (a
     /// zero-length spoke or no angle).
     pub fn of_closed_ring(centre: DVec3, ring: &[DVec3]) -> Option<Self> {
-        Self::of_ring(centre, ring, true)
+        Self::of_star(centre, ring, false)
     }
 
-    /// Flattens the open ring `ring` of a boundary vertex at `centre` onto the upper
-    /// half-disk: a = π/θ_n, so the first ring vertex lands on the positive real axis,
-    /// the last on the negative one, and the vertex (the origin) on the segment between.
-    pub fn of_open_ring(centre: DVec3, ring: &[DVec3]) -> Option<Self> {
-        Self::of_ring(centre, ring, false)
-    }
-
-    fn of_ring(centre: DVec3, ring: &[DVec3], closed: bool) -> Option<Self> {
+    /// Flattens the ring of the vertex at `centre`: closed around it, or for a vertex on a
+    /// `boundary` open, onto the upper half-disk (a = π/θ_n, so the first ring vertex lands
+    /// on the positive real axis, the last on the negative one, and the vertex — the
+    /// origin — on the segment between). `None` for a degenerate ring.
+    pub fn of_star(centre: DVec3, ring: &[DVec3], boundary: bool) -> Option<Self> {
+        let closed = !boundary;
         let n = ring.len();
         if n < if closed { 3 } else { 2 } {
             return None;
