@@ -193,7 +193,7 @@ impl Demo {
             SimplifyOptions { target_vertices: Some(target), record_levels: true, ..SimplifyOptions::default() };
         let h = self.ctx.spin("simplify", name, || build(mesh, &options))?;
         let base = h.base_mesh().mesh;
-        let hausdorff = super::simplify::relative_hausdorff(mesh, &base)?;
+        let hausdorff = crate::hierarchy::compare::relative_hausdorff(mesh, &base)?;
         self.line(|| {
             format!(
                 "simplify: {name} {} tris => {} tris, {} levels (hausdorff {:.2}%) in {} ms",

@@ -9,12 +9,11 @@ use serde_json::json;
 
 use crate::detail::HierarchySection;
 use crate::error::{Error, Result};
-use crate::ffi::{HausdorffOptions, hausdorff_distance};
-use crate::hierarchy::compare::ShapeReport;
+use crate::hierarchy::compare::{ShapeReport, relative_hausdorff};
 use crate::hierarchy::{FeatureVertices, Hierarchy, KeepFeatures, SimplifyOptions, build};
 use crate::io::glb::{GlbPart, write_glb_parts};
 use crate::io::{self, WriteOptions};
-use crate::mesh::{Mesh, UnitFrame};
+use crate::mesh::Mesh;
 
 /// How far to simplify, and what to keep: shared by `simplify` and `detail`.
 #[derive(Debug, Args)]
@@ -274,14 +273,6 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// Symmetric Hausdorff distance (CGAL) as a fraction of `reference`'s bounding-box diagonal.
-/// Both are measured in `reference`'s unit frame, so the result does not depend on the
-/// model's units and stays finite for coordinates near the ends of the f64 range.
-pub fn relative_hausdorff(reference: &Mesh, other: &Mesh) -> Result<f64> {
-    let unit = UnitFrame::of(reference)?;
-    hausdorff_distance(&unit.apply(reference), &unit.apply(other), HausdorffOptions::default())
 }
 
 fn write_levels(hierarchy: &Hierarchy, dir: &Path) -> Result<()> {

@@ -69,17 +69,11 @@ pub fn compare(
     methods: &[&str],
     ours: &SimplifyOptions,
 ) -> Result<Vec<CompareRow>> {
-    let adjacency = Adjacency::of(mesh);
-    let classes = classify(&adjacency, &voting_tensors(mesh, &adjacency, &FaceGeometry::of(mesh)), &Default::default());
-    let features: Vec<DVec3> =
-        classes.iter().enumerate().filter(|(_, c)| c.is_sharp()).map(|(v, _)| mesh.positions[v]).collect();
+    let reference = Reference::of(mesh)?;
     let run = |method: &str, target: usize| -> Result<CompareRow> {
         let start = Instant::now();
         let result = decimate(mesh, method, target, ours)?;
-        let seconds = start.elapsed().as_secs_f64();
-        let mut row = measure(method, mesh, &result, seconds, &features)?;
-        row.target_vertices = target;
-        Ok(row)
+        reference.row(method, target, &result, start.elapsed().as_secs_f64())
     };
     let mut rows = methods.iter().map(|&m| run(m, target_vertices)).collect::<Result<Vec<_>>>()?;
     for _ in 0..3 {
@@ -118,34 +112,65 @@ fn decimate(mesh: &Mesh, method: &str, target: usize, ours: &SimplifyOptions) ->
     })
 }
 
-fn measure(method: &str, input: &Mesh, result: &Mesh, seconds: f64, features: &[DVec3]) -> Result<CompareRow> {
-    // Measured in the input's unit frame: the distances come out as fractions of its
-    // diagonal and stay finite whatever the model's units.
-    let unit = UnitFrame::of(input)?;
-    let (input_unit, result_unit) = (unit.apply(input), unit.apply(result));
-    let hausdorff = ffi::hausdorff_distance(&input_unit, &result_unit, HausdorffOptions::default())?;
-    let there = ffi::point_distances(&input_unit.positions, &result_unit)?;
-    let back = ffi::point_distances(&result_unit.positions, &input_unit)?;
-    let squares: f64 = there.iter().chain(&back).map(|d| d * d).sum();
-    let rms = (squares / (there.len() + back.len()).max(1) as f64).sqrt();
-    let mut present: Vec<[u64; 3]> = result.positions.iter().map(|p| p.to_array().map(f64::to_bits)).collect();
-    present.sort_unstable();
-    let features_kept =
-        features.iter().filter(|p| present.binary_search(&p.to_array().map(f64::to_bits)).is_ok()).count();
-    let shape = ShapeReport::of(result);
-    Ok(CompareRow {
-        method: method.to_string(),
-        vertices: result.vertex_count(),
-        faces: result.face_count(),
-        seconds,
-        hausdorff,
-        rms,
-        min_angle_deg: shape.min_angle_deg,
-        features_kept,
-        sliver_share: shape.sliver_share,
-        min_angle_p1_deg: shape.min_angle_p1_deg,
-        target_vertices: 0,
-    })
+/// Symmetric Hausdorff distance (CGAL) as a fraction of `reference`'s bounding-box diagonal.
+/// Both are measured in `reference`'s unit frame, so the result does not depend on the
+/// model's units and stays finite for coordinates near the ends of the f64 range.
+///
+/// # Errors
+/// [`crate::Error::InvalidInput`] for a reference whose extent overflows; CGAL's errors.
+pub fn relative_hausdorff(reference: &Mesh, other: &Mesh) -> Result<f64> {
+    let unit = UnitFrame::of(reference)?;
+    ffi::hausdorff_distance(&unit.apply(reference), &unit.apply(other), HausdorffOptions::default())
+}
+
+/// The input of a comparison, prepared once for measuring every result: its unit frame,
+/// its copy in that frame, and its feature vertices' positions.
+struct Reference {
+    unit: UnitFrame,
+    input_unit: Mesh,
+    features: Vec<DVec3>,
+}
+
+impl Reference {
+    fn of(input: &Mesh) -> Result<Self> {
+        let adjacency = Adjacency::of(input);
+        let geometry = FaceGeometry::of(input);
+        let classes = classify(&adjacency, &voting_tensors(input, &adjacency, &geometry), &Default::default());
+        let features =
+            classes.iter().enumerate().filter(|(_, c)| c.is_sharp()).map(|(v, _)| input.positions[v]).collect();
+        let unit = UnitFrame::of(input)?;
+        Ok(Reference { unit, input_unit: unit.apply(input), features })
+    }
+
+    /// `method`'s row for `result`, asked for `target` vertices, made in `seconds`.
+    /// Distances are measured in the input's unit frame: they come out as fractions of its
+    /// diagonal and stay finite whatever the model's units.
+    fn row(&self, method: &str, target: usize, result: &Mesh, seconds: f64) -> Result<CompareRow> {
+        let result_unit = self.unit.apply(result);
+        let hausdorff = ffi::hausdorff_distance(&self.input_unit, &result_unit, HausdorffOptions::default())?;
+        let there = ffi::point_distances(&self.input_unit.positions, &result_unit)?;
+        let back = ffi::point_distances(&result_unit.positions, &self.input_unit)?;
+        let squares: f64 = there.iter().chain(&back).map(|d| d * d).sum();
+        let rms = (squares / (there.len() + back.len()).max(1) as f64).sqrt();
+        let mut present: Vec<[u64; 3]> = result.positions.iter().map(|p| p.to_array().map(f64::to_bits)).collect();
+        present.sort_unstable();
+        let features_kept =
+            self.features.iter().filter(|p| present.binary_search(&p.to_array().map(f64::to_bits)).is_ok()).count();
+        let shape = ShapeReport::of(result);
+        Ok(CompareRow {
+            method: method.to_string(),
+            vertices: result.vertex_count(),
+            faces: result.face_count(),
+            seconds,
+            hausdorff,
+            rms,
+            min_angle_deg: shape.min_angle_deg,
+            features_kept,
+            sliver_share: shape.sliver_share,
+            min_angle_p1_deg: shape.min_angle_p1_deg,
+            target_vertices: target,
+        })
+    }
 }
 
 /// The triangle shapes of a mesh: its smallest angle, the 1st percentile of the triangles'
