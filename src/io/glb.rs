@@ -360,11 +360,12 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
                 if let Err(msg) = super::check_polygon(t, positions.len()) {
                     return Err(Error::parse(path, element.clone(), msg));
                 }
-                if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                let t = [t[0], t[1], t[2]];
+                if crate::mesh::repeats_a_vertex(t) {
                     dropped += 1;
                     continue;
                 }
-                out.triangles.push([base + t[0], base + t[1], base + t[2]]);
+                out.triangles.push(t.map(|v| base + v));
             }
             normals = match (normals, reader.read_normals()) {
                 (Some(mut all), Some(n)) => {

@@ -73,7 +73,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
 /// Keeps a facet, or counts it in `dropped` when two of its corners welded to one point
 /// (CAD exports make such facets; they have no area).
 fn push_facet(corners: [u32; 3], triangles: &mut Vec<[u32; 3]>, dropped: &mut usize) {
-    if corners[0] == corners[1] || corners[1] == corners[2] || corners[0] == corners[2] {
+    if crate::mesh::repeats_a_vertex(corners) {
         *dropped += 1;
     } else {
         triangles.push(corners);

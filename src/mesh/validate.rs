@@ -128,7 +128,7 @@ impl EdgeTable {
     pub fn build(triangles: &[[u32; 3]]) -> Self {
         let mut uses = Vec::with_capacity(triangles.len() * 3);
         for (f, t) in triangles.iter().enumerate() {
-            if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+            if repeats_a_vertex(*t) {
                 continue;
             }
             for k in 0..3 {
@@ -232,7 +232,7 @@ pub(crate) fn count_non_manifold_vertices(mesh: &Mesh, edges: &EdgeTable) -> usi
     let mut fan_root = vec![u32::MAX; mesh.positions.len()];
     let mut non_manifold = vec![false; mesh.positions.len()];
     for (f, t) in mesh.triangles.iter().enumerate() {
-        if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+        if repeats_a_vertex(*t) {
             continue;
         }
         for (k, &v) in t.iter().enumerate() {
@@ -262,10 +262,15 @@ fn count_degenerate_faces(mesh: &Mesh) -> usize {
     (0..mesh.triangles.len()).filter(|&f| is_degenerate_face(mesh, f)).count()
 }
 
+/// Whether the triangle `t` names one vertex twice (it has no area and no edges).
+pub fn repeats_a_vertex(t: [u32; 3]) -> bool {
+    t[0] == t[1] || t[1] == t[2] || t[0] == t[2]
+}
+
 /// Whether face `f` repeats a vertex or has (relatively) zero area.
 pub fn is_degenerate_face(mesh: &Mesh, f: usize) -> bool {
     let t = mesh.triangles[f];
-    if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+    if repeats_a_vertex(t) {
         return true;
     }
     let [a, b, c] = mesh.triangle_points(f);
