@@ -71,11 +71,6 @@ impl FeatureLines {
         self.on_line.get(v as usize).copied().unwrap_or(false)
     }
 
-    /// Whether a–b is a feature edge.
-    pub fn is_feature_edge(&self, a: u32, b: u32) -> bool {
-        self.edges.contains_key(&key(a, b))
-    }
-
     /// The two line neighbours of the line vertex `v` (in ring order) and the larger bound
     /// of its two feature edges; `None` if `v` is not on a line.
     pub fn neighbours(&self, v: u32, rings: &Rings) -> Option<([u32; 2], f64)> {
@@ -104,10 +99,5 @@ impl FeatureLines {
         self.edges.remove(&key(v, ends[1]));
         self.edges.insert(key(ends[0], ends[1]), bound);
         self.on_line[v as usize] = false;
-    }
-
-    /// Every feature edge of the current level.
-    pub fn edges(&self) -> impl Iterator<Item = [u32; 2]> + '_ {
-        self.edges.keys().copied()
     }
 }

@@ -26,7 +26,6 @@ use serde::{Deserialize, Serialize};
 
 pub use cluster::{ClusterPlan, ClusterRules, nearest_edge, widest_link_edge};
 pub use conformal::{Flattening, barycentric, clamp_barycentric, interpolate, locate};
-pub use lines::FeatureLines;
 pub use param::ParamPoint;
 pub use refine::{LevelMesh, LevelReport, Refiner, connectivity_match};
 pub use rings::{RingVec, Rings};
@@ -167,8 +166,6 @@ pub struct Hierarchy {
     pub kept: Vec<bool>,
     /// Number of feature vertices in the base domain.
     pub feature_vertices: usize,
-    /// The base domain's feature edges (those the lines were simplified to).
-    pub feature_edges: Vec<[u32; 2]>,
     /// Every level's mesh, finest (the input) first, when recorded.
     pub levels: Vec<LevelMesh>,
     /// Algorithm 3's angle threshold, radians (used where a recorded face is gone).

@@ -93,8 +93,6 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
     let base_triangles = exported_triangles(&recorded.store)?;
     check_agreement(&base_triangles, &planner.rings.faces(&planner.live))?;
     let feature_vertices = planner.live.iter().filter(|&&v| feature[v as usize]).count();
-    let mut feature_edges: Vec<[u32; 2]> = planner.lines.edges().collect();
-    feature_edges.sort_unstable();
     lap(&mut clock, &mut stages.export);
     Ok(Hierarchy {
         positions: mesh.positions.clone(),
@@ -106,7 +104,6 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
         params: std::mem::take(&mut planner.params).into_points(),
         kept,
         feature_vertices,
-        feature_edges,
         levels: recorded.levels,
         fix_threshold: options.fix_threshold_degrees.to_radians(),
         seconds: started.elapsed().as_secs_f64(),
@@ -145,10 +142,10 @@ impl Planner<'_> {
             swap_weight: options.swap_weight,
             min_angle: MIN_ANGLE_DEGREES.to_radians(),
         };
-        // The unit frame's diagonal: fractions of the input's diagonal are absolute here.
-        let diagonal = 1.0_f64;
-        let tolerance = (1e-9 * diagonal).powi(2);
-        let max_error = options.max_error.map(|f| (f * diagonal).powi(2));
+        // Planning is in the unit frame (diagonal 1): fractions of the input's diagonal are
+        // distances there.
+        let tolerance = 1e-9_f64.powi(2);
+        let max_error = options.max_error.map(|f| f * f);
         let mut steps = 0;
         let mut retries = 0;
         // Vertices whose plans the guard dropped on the last level (or the last tries).
