@@ -469,3 +469,31 @@ fn a_terrain_that_cannot_fit_in_memory_is_refused_before_allocating() {
     let streamed = limited(&["terrain", "--size", "4097", "--stream", "-o", "streamed.raw16"]);
     assert!(streamed.status.success(), "{}", String::from_utf8_lossy(&streamed.stderr));
 }
+
+#[test]
+fn feature_vertices_chooses_between_lines_and_the_literal_rule_and_needs_features() {
+    // #19: --feature-vertices changes what simplify keeps, and is refused (naming the
+    // flag it needs) where no vertex is a feature; compare takes it too.
+    let tmp = temp_dir();
+    let fandisk = shared_meshes().join("fandisk.off");
+    let input = fandisk.to_str().unwrap();
+    let kept = |extra: &[&str]| {
+        let mut args = vec!["simplify", input, "--target-vertices", "1000", "-o", "base.ply", "--json"];
+        args.extend(extra);
+        let out = asperity(&args, tmp.path());
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        json["feature_vertices_kept"].as_u64().unwrap()
+    };
+    let (along, literal) = (kept(&[]), kept(&["--feature-vertices", "keep"]));
+    assert_eq!(along, kept(&["--feature-vertices", "along-lines"]), "along-lines is the default");
+    assert!(along < literal, "simplified along their lines, fewer feature vertices stay: {along} vs {literal}");
+    for command in [
+        vec!["simplify", input, "--keep-features", "none", "--feature-vertices", "keep", "-o", "x.ply"],
+        vec!["compare", input, "--keep-features", "none", "--feature-vertices", "keep"],
+    ] {
+        let out = asperity(&command, tmp.path());
+        assert_one_line_error(&out, 2, &["--feature-vertices", "--keep-features strong or all"]);
+    }
+    assert!(!tmp.path().join("x.ply").exists());
+}
