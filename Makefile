@@ -18,6 +18,7 @@ demo: build
 
 test: deps
 	@./scripts/install-gltf-validator.sh
+	@./scripts/fetch-test-meshes.sh
 	$(CARGO) test
 	@./scripts/cpp-example.sh
 	@$(MAKE) --no-print-directory clippy

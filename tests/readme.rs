@@ -48,7 +48,7 @@ fn readme_console_examples_print_what_the_commands_print() {
     let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
     let examples = examples(&readme);
     assert!(examples.len() >= 5, "{} console examples", examples.len());
-    crate::common::shared_meshes();
+    let meshes = crate::common::shared_meshes();
     let tmp = crate::common::temp_dir();
     for example in examples {
         let mut args = example.args.clone();
@@ -57,10 +57,19 @@ fn readme_console_examples_print_what_the_commands_print() {
                 args[i] = tmp.path().join(&args[i]).display().to_string();
             }
         }
+        // The README names the meshes where they sit beside a checkout; a fresh clone
+        // elsewhere has them where scripts/fetch-test-meshes.sh put them.
+        for arg in &mut args {
+            if let Some(name) = arg.strip_prefix("../shared/data/meshes/") {
+                *arg = meshes.join(name).display().to_string();
+            }
+        }
         let out = Command::new(env!("CARGO_BIN_EXE_asperity")).args(&args).current_dir(root).output().unwrap();
         let printed = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
         assert!(out.status.success(), "asperity {}: {printed}", example.args.join(" "));
-        let printed: Vec<String> = printed.lines().map(without_timings).collect();
+        let fetched_prefix = format!("{}/", meshes.display());
+        let printed: Vec<String> =
+            printed.lines().map(|l| without_timings(&l.replace(&fetched_prefix, "../shared/data/meshes/"))).collect();
         let mut at = 0;
         for shown in example.shown.iter().filter(|l| l.trim() != "...") {
             let shown = without_timings(shown);

@@ -5,13 +5,15 @@ use std::path::PathBuf;
 
 /// `../shared/data/meshes` next to the checkout, or `None` (tests then skip with a message).
 pub fn shared_meshes() -> PathBuf {
-    let dir = shared_meshes_dir();
-    assert!(
-        dir.is_dir(),
-        "the shared test meshes are missing: they belong in {} (see ../shared/data/meshes/README.md)",
-        dir.display()
-    );
-    dir
+    let fetched = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/test-meshes/data/meshes");
+    let dir = [shared_meshes_dir(), fetched.clone()].into_iter().find(|d| d.is_dir());
+    dir.unwrap_or_else(|| {
+        panic!(
+            "the shared test meshes are missing: they belong in {} (see its README.md) or, fetched by scripts/fetch-test-meshes.sh (make test runs it), in {}",
+            shared_meshes_dir().display(),
+            fetched.display()
+        )
+    })
 }
 
 /// Where the shared meshes belong.
