@@ -189,6 +189,46 @@ fn noise_writes_png16_and_raw_f32_deterministically() {
     assert_one_line_error(&run(&["noise", "--size", "8", "-o", "x.jpg"], "1"), 2, &["x.jpg", ".png or .f32"]);
     assert_one_line_error(&run(&["noise", "--kind", "gabor", "--a", "0", "-o", "x.png"], "1"), 2, &["gabor"]);
     assert!(!tmp.path().join("x.png").exists());
+    // A flag of another kind would be ignored: it is refused, naming the kinds it belongs to.
+    for (args, words) in [
+        (&["--kind", "perlin", "--k", "2"][..], &["--k", "gabor", "perlin"][..]),
+        (&["--kind", "gabor", "--octaves", "3"], &["--octaves", "fractal", "gabor"]),
+        (&["--kind", "fbm", "--offset", "0.5"], &["--offset", "multifractal", "fbm"]),
+        (&["--kind", "perlin", "--gain", "0.4"], &["--gain", "perlin"]),
+        (&["--kind", "marble", "--isotropic"], &["--isotropic", "gabor", "marble"]),
+    ] {
+        let mut all = vec!["noise", "--size", "8", "-o", "x.png"];
+        all.extend_from_slice(args);
+        assert_one_line_error(&run(&all, "1"), 2, words);
+        assert!(!tmp.path().join("x.png").exists());
+    }
+}
+
+#[test]
+fn noise_gabor_k_scales_and_wood_defaults_show_rings() {
+    let tmp = temp_dir();
+    let values = |args: &[&str], name: &str| -> Vec<f32> {
+        let out = asperity(&[&["noise", "--size", "128", "-o", name][..], args].concat(), tmp.path());
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        std::fs::read(tmp.path().join(name))
+            .unwrap()
+            .chunks(4)
+            .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+            .collect()
+    };
+    let one = values(&["--kind", "gabor", "--k", "1"], "k1.f32");
+    let five = values(&["--kind", "gabor", "--k", "5"], "k5.f32");
+    for (a, b) in one.iter().zip(&five) {
+        assert!((b - 5.0 * a).abs() <= 1e-4 * (1.0 + b.abs()), "--k 5 gave {b}, not 5 × {a}");
+    }
+    // Wood (eq. 4.13) is the contour bands of one noise: at its defaults neighbouring
+    // pixels mostly differ little (rings a few pixels wide), where white static would
+    // differ by a third of the range on average.
+    let wood = values(&["--kind", "wood"], "wood.f32");
+    let mut steps: Vec<f32> = wood.chunks(128).flat_map(|row| row.windows(2).map(|w| (w[1] - w[0]).abs())).collect();
+    steps.sort_by(f32::total_cmp);
+    let median = steps[steps.len() / 2];
+    assert!(median < 0.05, "median step between neighbouring wood pixels {median}: static, not rings");
 }
 
 #[test]
@@ -272,6 +312,43 @@ fn terrain_streams_tiles_and_refuses_bad_sizes() {
         &["non-parallel"],
     );
     assert!(!tmp.path().join("x.ply").exists() && !tmp.path().join("x.stl").exists());
+    // A flag another mode uses would be ignored here: refused, naming where it belongs.
+    for (args, words) in [
+        (&["--levels", "4", "-o", "x.ply"][..], &["--levels", "--method dual"][..]),
+        (&["--x", "1,0,0", "-o", "x.ply"], &["--x", "--method dual"]),
+        (&["--deterministic", "-o", "x.ply"], &["--deterministic", "dual"]),
+        (&["--method", "dual", "--size", "65", "-o", "x.ply"], &["--size", "classic and smooth"]),
+        (&["--method", "dual", "--width", "5", "-o", "x.ply"], &["--width", "classic and smooth"]),
+        (&["--method", "dual", "--grid", "hex", "-o", "x.ply"], &["--grid"]),
+        (&["--method", "dual", "--stream", "-o", "x.ply"], &["--stream"]),
+        (&["--method", "smooth", "--hurst", "0.5", "-o", "x.ply"], &["--hurst", "smooth"]),
+        (&["--method", "smooth", "--applet", "-o", "x.ply"], &["--applet", "classic"]),
+        (&["--size", "65", "--band", "8", "-o", "x.ply"], &["--band", "--stream"]),
+        (&["--size", "65", "--tile-size", "33", "-o", "x.ply"], &["--tile-size", "--tile"]),
+        (&["--size", "65", "--range", "-1,1", "-o", "x.ply"], &["--range", "16-bit"]),
+        (&["--size", "65", "--range", "-1,1", "-o", "x.f32"], &["--range", "16-bit"]),
+        (&["--size", "65", "--peak-height", "2", "-o", "x.png"], &["--peak-height", "coloured"]),
+        (&["--size", "65", "--colors", "0,0,1;0,1,0;1,1,0;1,0,0;1,1,1", "-o", "x.raw16"], &["--colors", "coloured"]),
+    ] {
+        let mut all = vec!["terrain"];
+        all.extend_from_slice(args);
+        assert_one_line_error(&run(&all), 2, words);
+    }
+    for name in ["x.ply", "x.f32", "x.png", "x.raw16"] {
+        assert!(!tmp.path().join(name).exists(), "{name} written by a refused command");
+    }
+    // Where they apply, the same flags are taken.
+    for args in [
+        &["--size", "65", "--range", "-1,1", "-o", "r.png"][..],
+        &["--size", "65", "--peak-height", "2", "-o", "p.png", "--preview", "p-preview.png"],
+        &["--size", "65", "--stream", "--band", "8", "-o", "b.f32"],
+        &["--method", "dual", "--levels", "3", "--colors", "0,0,1;0,1,0;1,1,0;1,0,0;1,1,1", "-o", "d3.ply"],
+    ] {
+        let mut all = vec!["terrain"];
+        all.extend_from_slice(args);
+        let out = run(&all);
+        assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    }
 }
 
 #[test]
@@ -496,4 +573,35 @@ fn feature_vertices_chooses_between_lines_and_the_literal_rule_and_needs_feature
         assert_one_line_error(&out, 2, &["--feature-vertices", "--keep-features strong or all"]);
     }
     assert!(!tmp.path().join("x.ply").exists());
+}
+
+#[test]
+fn flags_that_would_be_ignored_are_refused() {
+    // Every flag does something or is refused, naming where it applies (#24 item 11).
+    let tmp = temp_dir();
+    let input = shared_meshes().join("eight.off");
+    let input = input.to_str().unwrap();
+    for (args, words) in [
+        (
+            &["render", input, "-o", "x.png", "--mode", "points", "--crease", "30"][..],
+            &["--crease", "faces", "points"][..],
+        ),
+        (&["render", input, "-o", "x.png", "--mode", "wireframe", "--edges"], &["--edges", "faces", "wireframe"]),
+        (&["convert", input, "x.obj", "--ascii"], &["x.obj", "--ascii", ".ply and .stl"]),
+        (&["convert", input, "x.glb", "--ascii"], &["x.glb", "--ascii"]),
+        (&["analyze", input, "-o", "x.off", "--ascii"], &["x.off", "--ascii"]),
+    ] {
+        assert_one_line_error(&asperity(args, tmp.path()), 2, words);
+    }
+    for name in ["x.png", "x.obj", "x.glb", "x.off"] {
+        assert!(!tmp.path().join(name).exists(), "{name} written by a refused command");
+    }
+    for args in [
+        &["render", input, "-o", "f.png", "--size", "64,48", "--crease", "30", "--edges"][..],
+        &["convert", input, "a.ply", "--ascii"],
+        &["convert", input, "a.stl", "--ascii"],
+    ] {
+        let out = asperity(args, tmp.path());
+        assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    }
 }

@@ -397,6 +397,8 @@ fn recipe_mistakes_name_the_line_and_write_nothing() {
         ("[[step]]\nop = \"melt\"\n", "unknown variant"),
         ("[[step]]\nop = \"feature\"\n", "needs select.features"),
         ("[[step]]\nop = \"noise\"\nnoise = { frequency = 0.0 }\n", "frequency"),
+        ("[[step]]\nop = \"noise\"\nnoise = { kind = \"perlin\", k = 2.0 }\n", "k applies only to kind = \"gabor\""),
+        ("[[step]]\nop = \"noise\"\nnoise = { kind = \"fbm\", offset = 0.3 }\n", "offset applies only"),
         ("[[step]]\nop = \"noise\"\nselect = { around = { vertices = [99999] } }\n", ""),
     ] {
         match Recipe::parse(text) {
@@ -450,4 +452,55 @@ fn subdividing_at_a_coarse_level_keeps_the_refined_surface_valid() {
     // Away from the subdivided regions refinement goes on past the step's level.
     let at_step = out.steps[0].level_vertices - made;
     assert!(kept > at_step, "{kept} input vertices at the end, {at_step} at the step's level");
+}
+
+/// Median of |Δr| / |edge| over a displaced unit sphere's edges near the equator (touching
+/// or crossing z = 0) over the same median for edges with both ends at |z| > 0.1.
+fn equator_steepness(mesh: &Mesh, moved: &[DVec3]) -> f64 {
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let (mut near, mut away) = (Vec::new(), Vec::new());
+    for t in &mesh.triangles {
+        for i in 0..3 {
+            let (a, b) = (t[i] as usize, t[(i + 1) % 3] as usize);
+            let (pa, pb) = (mesh.positions[a], mesh.positions[b]);
+            let slope = (moved[a].length() - moved[b].length()).abs() / pa.distance(pb);
+            if pa.z * pb.z <= 0.0 || pa.z.abs() < 1e-12 || pb.z.abs() < 1e-12 {
+                near.push(slope);
+            } else if pa.z.abs() > 0.1 && pb.z.abs() > 0.1 {
+                away.push(slope);
+            }
+        }
+    }
+    median(near) / median(away)
+}
+
+#[test]
+fn surface_gabor_noise_has_no_seam_at_the_equator() {
+    // The tangent frame must be continuous where the surface is: a frame that turns
+    // abruptly across z = 0 makes the equator's edges steeper than the rest (#26 A2).
+    let mesh = icosphere(1.0, 5);
+    let frame = BoxFrame::of(&mesh);
+    let view = level_view(&mesh, 0);
+    let all = vec![true; mesh.vertex_count()];
+    for isotropic in [false, true] {
+        let params = NoiseParams {
+            kind: asperity::noise::NoiseKind::Gabor,
+            amplitude: 0.02,
+            isotropic,
+            follow_diffusion: false,
+            attenuate: false,
+            ..Default::default()
+        };
+        let moves =
+            noise_displacements(OperatorKind::Noise, &params, &view, &frame, &all, &all.map_false(), 11).unwrap();
+        let mut moved = mesh.positions.clone();
+        for (v, p) in moves {
+            moved[v] = p;
+        }
+        let ratio = equator_steepness(&mesh, &moved);
+        assert!((ratio - 1.0).abs() <= 0.15, "isotropic {isotropic}: equator edges {ratio:.2}× as steep as the rest");
+    }
 }

@@ -5,7 +5,7 @@ use std::f64::consts::PI;
 
 use asperity::noise::{
     Fractal, FractalKind, Frame, Gabor, GaborParams, NoiseField, NoiseKind, NoiseSpec, Perlin, ScaledPerlin,
-    hash::Stream,
+    hash::Stream, plane_point,
 };
 use glam::DVec3;
 use rustfft::{FftPlanner, num_complex::Complex};
@@ -32,9 +32,7 @@ fn reference_permutation_reproduces_perlins_implementation() {
     for ([x, y, z], expected) in REFERENCE {
         let got = perlin.sample3(DVec3::new(x, y, z));
         assert!((got - expected).abs() <= 1e-12, "noise({x}, {y}, {z}) = {got}, reference {expected}");
-        if z == 0.0 {
-            assert_eq!(perlin.sample2(x, y), got, "2D is the z = 0 slice");
-        }
+        assert_eq!(perlin.sample2(x, y), perlin.sample3(plane_point(x, y)), "2D is the oblique plane's slice");
     }
 }
 
@@ -243,6 +241,77 @@ fn gabor_is_centred_with_the_analytic_variance() {
         assert!(mean.abs() < 0.05, "mean {mean}");
         assert!((var - 1.0).abs() < 0.1, "variance {var} (isotropic {isotropic}), analytic 1");
     }
+}
+
+#[test]
+fn gabor_k_is_the_kernel_magnitude_and_scales_the_noise() {
+    // Eq. 3.20: K multiplies every kernel, so the noise (2D and on surfaces) scales with it
+    // and nothing normalises it away.
+    for k in [0.25, 5.0] {
+        let scaled = gabor_image(GaborParams { k, ..GaborParams::default() }, 3, 64);
+        for (a, b) in gabor_image(GaborParams::default(), 3, 64).iter().zip(&scaled) {
+            assert!((b - k * a).abs() <= 1e-9 * (1.0 + b.abs()), "K = {k}: {b} is not {k} × {a}");
+        }
+        let frame = Frame { tangent: DVec3::X, bitangent: DVec3::Y };
+        let (one, many) = (
+            Gabor::new(GaborParams::default(), 4).unwrap(),
+            Gabor::new(GaborParams { k, ..GaborParams::default() }, 4).unwrap(),
+        );
+        for p in random_points(200, 50.0, 9) {
+            let (a, b) = (one.sample3(p, frame), many.sample3(p, frame));
+            assert!((b - k * a).abs() <= 1e-9 * (1.0 + b.abs()), "K = {k} at {p}: {b} is not {k} × {a}");
+        }
+    }
+}
+
+/// An image's spectral power within 5° of the axes over its power within 5° of the
+/// diagonals (sectors of equal size; the lowest frequencies, a few bins, left out). A Hann
+/// window first, so the image's edges (it is not periodic) add no power on the axes.
+fn axis_over_diagonal_power(image: &[f64], n: usize) -> f64 {
+    let hann = |i: usize| 0.5 - 0.5 * (2.0 * PI * i as f64 / n as f64).cos();
+    let windowed: Vec<f64> = image.iter().enumerate().map(|(k, v)| v * hann(k % n) * hann(k / n)).collect();
+    let power = power_spectrum(&windowed, n);
+    let (mut axes, mut diagonals) = (0.0, 0.0);
+    for r in 0..n {
+        for c in 0..n {
+            let (u, v) = (frequency(c, n) * n as f64, frequency(r, n) * n as f64);
+            if u.hypot(v) < 4.0 {
+                continue;
+            }
+            // Angle from the nearest axis, 0..45°.
+            let angle = v.abs().atan2(u.abs()).to_degrees();
+            let from_axis = angle.min(90.0 - angle);
+            if from_axis < 5.0 {
+                axes += power[r * n + c];
+            } else if from_axis > 40.0 {
+                diagonals += power[r * n + c];
+            }
+        }
+    }
+    axes / diagonals
+}
+
+#[test]
+fn perlin_images_have_no_axis_aligned_streaks() {
+    // The z = 0 plane is a lattice plane: a lattice point at every integer (x, y), a zero
+    // of the noise there, and gradients lying in the plane make straight streaks along the
+    // axes. 2D noise samples an oblique plane that holds no lattice point.
+    let n = 256;
+    let step = 1.0 / 8.0;
+    let at = |k: usize| ((k % n) as f64 * step, (k / n) as f64 * step);
+    let (mut lattice_slice, mut image) = (Vec::new(), Vec::new());
+    for seed in 0..4 {
+        let perlin = Perlin::new(seed);
+        lattice_slice.extend((0..n * n).map(|k| perlin.sample3(DVec3::new(at(k).0, at(k).1, 0.0))));
+        image.extend((0..n * n).map(|k| perlin.sample2(at(k).0, at(k).1)));
+    }
+    let ratio = |values: &[f64]| values.chunks(n * n).map(|one| axis_over_diagonal_power(one, n)).sum::<f64>() / 4.0;
+    let (control, ours) = (ratio(&lattice_slice), ratio(&image));
+    assert!(control > 1.15, "the measure must see the lattice slice's streaks (axes/diagonals {control:.2})");
+    assert!((ours - 1.0).abs() < 0.07, "axes/diagonals power {ours:.2} (the z = 0 slice: {control:.2})");
+    let perlin = Perlin::new(1);
+    let at_integers = (0..100).filter(|&i| perlin.sample2(f64::from(i % 10), f64::from(i / 10)) == 0.0).count();
+    assert_eq!(at_integers, 0, "2D noise vanishes at integer points: it samples a lattice plane");
 }
 
 #[test]

@@ -49,7 +49,7 @@ fn stats(values: &[f64]) -> serde_json::Value {
 
 pub fn run(args: AnalyzeArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
-    io::Format::from_path(&args.output)?;
+    super::refuse_ascii_for(&args.output, args.ascii)?;
     super::guard_overwrite(&args.input, &args.output, args.force)?;
     let input = super::input::read_input(&args.input, args.repair, ctx)?;
     let mut mesh = input.read.mesh.clone();

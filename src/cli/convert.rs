@@ -26,7 +26,7 @@ pub struct ConvertArgs {
 
 pub fn run(args: ConvertArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
-    io::Format::from_path(&args.output)?;
+    super::refuse_ascii_for(&args.output, args.ascii)?;
     super::guard_overwrite(&args.input, &args.output, args.force)?;
     let input = super::input::read_input(&args.input, args.repair, ctx)?;
     let outcome = &input.read;

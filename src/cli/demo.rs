@@ -20,7 +20,7 @@ use crate::hierarchy::{Refiner, SimplifyOptions, build, connectivity_match};
 use crate::io::image::{value_range, write_png16};
 use crate::io::{self, WriteOptions};
 use crate::mesh::{Mesh, primitives};
-use crate::noise::{NoiseField, NoiseKind, NoiseSpec};
+use crate::noise::{Fractal, NoiseField, NoiseKind, NoiseSpec};
 use crate::render::{ColorSource, Mode, Picture, RenderOptions, UpAxis, render};
 
 #[derive(Debug, Args)]
@@ -327,7 +327,8 @@ impl Demo {
         ];
         let mut tiles = Vec::new();
         for (name, kind, scale) in kinds {
-            let field = NoiseField::new(&NoiseSpec { kind, seed: 7, ..NoiseSpec::default() })?;
+            let fractal = Fractal { octaves: kind.default_octaves(), ..Fractal::default() };
+            let field = NoiseField::new(&NoiseSpec { kind, fractal, seed: 7, ..NoiseSpec::default() })?;
             let values = field.grid2(0.0, 0.0, scale, 256, 256);
             let range =
                 value_range(&values).ok_or_else(|| Error::Internal(format!("{name} noise has no finite value")))?;

@@ -207,6 +207,19 @@ pub(crate) fn default_out() -> PathBuf {
 }
 
 /// Checks that `output` ends in one of `extensions` (lower case, without the dot).
+/// `--ascii` chooses between text and binary PLY or STL; OBJ and OFF are always text and
+/// glTF always binary, so there it would be ignored: refused.
+pub(crate) fn refuse_ascii_for(output: &std::path::Path, ascii: bool) -> Result<()> {
+    let format = crate::io::Format::from_path(output)?;
+    if ascii && !matches!(format, crate::io::Format::Ply | crate::io::Format::Stl) {
+        return Err(Error::InvalidInput(format!(
+            "{}: --ascii applies only to .ply and .stl outputs (OBJ and OFF are always text, .glb always binary)",
+            output.display()
+        )));
+    }
+    Ok(())
+}
+
 pub(crate) fn require_extension(output: &std::path::Path, extensions: &[&str]) -> Result<()> {
     let ext = output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     if ext.as_deref().is_some_and(|e| extensions.contains(&e)) {

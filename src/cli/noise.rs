@@ -14,40 +14,42 @@ pub struct NoiseArgs {
     /// Which noise.
     #[arg(long, value_enum, default_value_t = NoiseKind::Perlin)]
     kind: NoiseKind,
-    /// Octaves of the fractal kinds.
-    #[arg(long, default_value_t = 6)]
-    octaves: u32,
-    /// Frequency ratio between octaves.
-    #[arg(long, default_value_t = 2.0)]
-    lacunarity: f64,
-    /// Amplitude ratio between octaves.
-    #[arg(long, default_value_t = 0.5)]
-    gain: f64,
-    /// Offset of the multifractal.
-    #[arg(long, default_value_t = 1.0)]
-    offset: f64,
-    /// Gabor kernel magnitude K.
-    #[arg(long, default_value_t = 1.0)]
-    k: f64,
-    /// Gabor bandwidth a.
-    #[arg(long, default_value_t = 0.05)]
-    a: f64,
-    /// Gabor frequency F0 (cycles per unit).
-    #[arg(long, default_value_t = 0.0625)]
-    f0: f64,
-    /// Gabor orientation ω0 (radians).
-    #[arg(long, default_value_t = std::f64::consts::FRAC_PI_4)]
-    omega: f64,
-    /// Gabor impulses per kernel.
-    #[arg(long, default_value_t = 64.0)]
-    impulses: f64,
+    /// Octaves of the fractal kinds [default: 6; wood 1, eq. 4.13's single noise, whose
+    /// contour bands are the rings].
+    #[arg(long)]
+    octaves: Option<u32>,
+    /// Frequency ratio between octaves (fractal kinds) [default: 2].
+    #[arg(long)]
+    lacunarity: Option<f64>,
+    /// Amplitude ratio between octaves (fractal kinds) [default: 0.5].
+    #[arg(long)]
+    gain: Option<f64>,
+    /// Offset d of the multifractal (eq. 4.12) [default: 1].
+    #[arg(long, allow_hyphen_values = true)]
+    offset: Option<f64>,
+    /// Gabor kernel magnitude K: the noise's standard deviation [default: 1].
+    #[arg(long)]
+    k: Option<f64>,
+    /// Gabor bandwidth a [default: 0.05].
+    #[arg(long)]
+    a: Option<f64>,
+    /// Gabor frequency F0, cycles per unit [default: 0.0625].
+    #[arg(long)]
+    f0: Option<f64>,
+    /// Gabor orientation ω0, radians [default: π/4].
+    #[arg(long, allow_hyphen_values = true)]
+    omega: Option<f64>,
+    /// Gabor impulses per kernel [default: 64].
+    #[arg(long)]
+    impulses: Option<f64>,
     /// Gabor: a random orientation per impulse.
     #[arg(long)]
     isotropic: bool,
     /// Image width and height in pixels.
     #[arg(long, default_value_t = 512)]
     size: usize,
-    /// World units per pixel (default 1/32 for the Perlin kinds, 1 for Gabor).
+    /// World units per pixel [default: 1/32 for the Perlin kinds, 1/128 for wood, 1 for
+    /// Gabor].
     #[arg(long)]
     scale: Option<f64>,
     /// Seed.
@@ -68,26 +70,33 @@ pub fn run(args: NoiseArgs, ctx: super::Context) -> Result<()> {
     if args.size == 0 || args.size > 65_536 {
         return Err(Error::InvalidInput(format!("--size {} must be between 1 and 65536", args.size)));
     }
+    refuse_other_kinds_flags(&args)?;
+    let fractal = Fractal::default();
+    let gabor = GaborParams::default();
     let spec = NoiseSpec {
         kind: args.kind,
         fractal: Fractal {
-            octaves: args.octaves,
-            lacunarity: args.lacunarity,
-            gain: args.gain,
-            offset: args.offset,
-            ..Fractal::default()
+            octaves: args.octaves.unwrap_or(args.kind.default_octaves()),
+            lacunarity: args.lacunarity.unwrap_or(fractal.lacunarity),
+            gain: args.gain.unwrap_or(fractal.gain),
+            offset: args.offset.unwrap_or(fractal.offset),
+            ..fractal
         },
         gabor: GaborParams {
-            k: args.k,
-            a: args.a,
-            f0: args.f0,
-            omega0: args.omega,
-            impulses_per_kernel: args.impulses,
+            k: args.k.unwrap_or(gabor.k),
+            a: args.a.unwrap_or(gabor.a),
+            f0: args.f0.unwrap_or(gabor.f0),
+            omega0: args.omega.unwrap_or(gabor.omega0),
+            impulses_per_kernel: args.impulses.unwrap_or(gabor.impulses_per_kernel),
             isotropic: args.isotropic,
         },
         seed: args.seed,
     };
-    let scale = args.scale.unwrap_or(if args.kind == NoiseKind::Gabor { 1.0 } else { 1.0 / 32.0 });
+    let scale = args.scale.unwrap_or(match args.kind {
+        NoiseKind::Gabor => 1.0,
+        NoiseKind::Wood => 1.0 / 128.0,
+        _ => 1.0 / 32.0,
+    });
     if !(scale.is_finite() && scale > 0.0) {
         return Err(Error::InvalidInput(format!("--scale {scale} must be positive")));
     }
@@ -119,4 +128,42 @@ pub fn run(args: NoiseArgs, ctx: super::Context) -> Result<()> {
         },
     );
     Ok(())
+}
+
+/// Every flag of a kind other than `--kind`'s is a usage error naming the kinds it belongs
+/// to: a flag that would be ignored is refused.
+fn refuse_other_kinds_flags(args: &NoiseArgs) -> Result<()> {
+    let fractal = matches!(
+        args.kind,
+        NoiseKind::Fbm | NoiseKind::Turbulence | NoiseKind::Marble | NoiseKind::Multifractal | NoiseKind::Wood
+    );
+    let flags: [(&str, bool, bool, &str); 10] = [
+        (
+            "--octaves",
+            args.octaves.is_some(),
+            fractal,
+            "the fractal kinds (fbm, turbulence, marble, multifractal, wood)",
+        ),
+        (
+            "--lacunarity",
+            args.lacunarity.is_some(),
+            fractal,
+            "the fractal kinds (fbm, turbulence, marble, multifractal, wood)",
+        ),
+        ("--gain", args.gain.is_some(), fractal, "the fractal kinds (fbm, turbulence, marble, multifractal, wood)"),
+        ("--offset", args.offset.is_some(), args.kind == NoiseKind::Multifractal, "--kind multifractal"),
+        ("--k", args.k.is_some(), args.kind == NoiseKind::Gabor, "--kind gabor"),
+        ("--a", args.a.is_some(), args.kind == NoiseKind::Gabor, "--kind gabor"),
+        ("--f0", args.f0.is_some(), args.kind == NoiseKind::Gabor, "--kind gabor"),
+        ("--omega", args.omega.is_some(), args.kind == NoiseKind::Gabor, "--kind gabor"),
+        ("--impulses", args.impulses.is_some(), args.kind == NoiseKind::Gabor, "--kind gabor"),
+        ("--isotropic", args.isotropic, args.kind == NoiseKind::Gabor, "--kind gabor"),
+    ];
+    match flags.iter().find(|&&(_, given, applies, _)| given && !applies) {
+        Some((flag, _, _, kinds)) => Err(Error::InvalidInput(format!(
+            "{flag} applies only to {kinds}, not to --kind {}",
+            format!("{:?}", args.kind).to_lowercase()
+        ))),
+        None => Ok(()),
+    }
 }

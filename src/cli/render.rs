@@ -7,7 +7,7 @@ use clap::Args;
 use serde_json::json;
 
 use super::Context;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::render::{ColorSource, Mode, RenderOptions, UpAxis, render};
 
 /// Camera and picture settings shared by `render` and the commands with `--preview`.
@@ -37,18 +37,34 @@ pub struct ViewArgs {
     /// Samples per pixel along each axis (1 to 4).
     #[arg(long, default_value_t = 2)]
     pub samples: usize,
-    /// Faces further apart than this angle do not share normals (degrees; 180 smooths all).
-    #[arg(long, default_value_t = 40.0)]
-    pub crease: f64,
-    /// Draw the edges over shaded faces.
+    /// Faces further apart than this angle do not share normals (degrees; 180 smooths all;
+    /// faces mode) [default: 40].
+    #[arg(long)]
+    pub crease: Option<f64>,
+    /// Draw the edges over shaded faces (faces mode).
     #[arg(long)]
     pub edges: bool,
 }
 
 impl ViewArgs {
     /// The rasteriser's options.
-    pub fn options(&self) -> RenderOptions {
-        RenderOptions {
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for `--crease` or `--edges` outside faces mode, where
+    /// nothing is shaded and the faces' edges are all the picture has or nothing.
+    pub fn options(&self) -> Result<RenderOptions> {
+        if self.mode != Mode::Faces {
+            let mode = format!("{:?}", self.mode).to_lowercase();
+            if self.crease.is_some() {
+                return Err(Error::InvalidInput(format!(
+                    "--crease applies only to --mode faces (shading), not {mode}"
+                )));
+            }
+            if self.edges {
+                return Err(Error::InvalidInput(format!("--edges applies only to --mode faces, not {mode}")));
+            }
+        }
+        Ok(RenderOptions {
             width: self.size.0,
             height: self.size.1,
             mode: self.mode,
@@ -58,9 +74,9 @@ impl ViewArgs {
             colors: self.colors.clone(),
             background: self.background.0,
             samples: self.samples,
-            crease_deg: self.crease,
+            crease_deg: self.crease.unwrap_or(40.0),
             edges: self.edges,
-        }
+        })
     }
 }
 
@@ -80,9 +96,9 @@ pub struct RenderArgs {
 pub fn run(args: RenderArgs, ctx: Context) -> Result<()> {
     let start = Instant::now();
     super::require_extension(&args.output, &["png"])?;
+    let options = args.view.options()?;
     let input = super::input::read_input(&args.input, args.repair, ctx)?;
     let mesh = &input.read.mesh;
-    let options = args.view.options();
     let picture = ctx.spin("render", &args.input.display().to_string(), || render(mesh, &options))?;
     picture.write_png(&args.output)?;
     ctx.report(

@@ -34,24 +34,24 @@ pub struct TerrainArgs {
     /// Generator.
     #[arg(long, value_enum, default_value_t = MethodArg::Classic)]
     method: MethodArg,
-    /// Points per side, 2^n + 1.
-    #[arg(long, default_value_t = 257)]
-    size: u64,
+    /// Points per side, 2^n + 1 (classic, smooth) [default: 257].
+    #[arg(long)]
+    size: Option<u64>,
     /// Roughness H: the displacement scale falls by 2^-H per level (default 0.8; 1.5 for dual).
     #[arg(long)]
     hurst: Option<f64>,
     /// Displacement scale at the first level (dual: the factor applied to (|x| + |y|)/2).
     #[arg(long, default_value_t = 1.0)]
     sigma: f64,
-    /// Dual: first side of the quadrilateral X,Y,Z.
-    #[arg(long, value_parser = super::parse::vector, allow_hyphen_values = true, default_value = "1,0,0")]
-    x: [f64; 3],
-    /// Dual: second side of the quadrilateral X,Y,Z.
-    #[arg(long, value_parser = super::parse::vector, allow_hyphen_values = true, default_value = "0,1,0")]
-    y: [f64; 3],
-    /// Dual: number of divisions n ((2^n + 1)² points).
-    #[arg(long, default_value_t = 9)]
-    levels: u32,
+    /// Dual: first side of the quadrilateral X,Y,Z [default: 1,0,0].
+    #[arg(long, value_parser = super::parse::vector, allow_hyphen_values = true)]
+    x: Option<[f64; 3]>,
+    /// Dual: second side of the quadrilateral X,Y,Z [default: 0,1,0].
+    #[arg(long, value_parser = super::parse::vector, allow_hyphen_values = true)]
+    y: Option<[f64; 3]>,
+    /// Dual: number of divisions n ((2^n + 1)² points) [default: 9].
+    #[arg(long)]
+    levels: Option<u32>,
     /// Dual: displace by σ itself instead of a random sample.
     #[arg(long)]
     deterministic: bool,
@@ -67,15 +67,15 @@ pub struct TerrainArgs {
     /// Seed.
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Displacement distribution.
-    #[arg(long, value_enum, default_value_t = Distribution::Normal)]
-    distribution: Distribution,
-    /// Mean of the distribution.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    mean: f64,
-    /// Variance of the distribution.
-    #[arg(long, default_value_t = 1.0)]
-    variance: f64,
+    /// Displacement distribution (classic, smooth's corners) [default: normal].
+    #[arg(long, value_enum)]
+    distribution: Option<Distribution>,
+    /// Mean of the distribution (classic, smooth's corners) [default: 0].
+    #[arg(long, allow_hyphen_values = true)]
+    mean: Option<f64>,
+    /// Variance of the distribution (classic, smooth's corners) [default: 1].
+    #[arg(long)]
+    variance: Option<f64>,
     /// Corner heights A,B,C,D (x0y0, xNy0, x0yN, xNyN), set exactly as in seed 001's
     /// applet [default: each a random draw around 0].
     #[arg(long, value_parser = super::parse::four, allow_hyphen_values = true)]
@@ -83,12 +83,12 @@ pub struct TerrainArgs {
     /// Seed 001's applet variant: constant scale, random sign.
     #[arg(long)]
     applet: bool,
-    /// World width (x).
-    #[arg(long, default_value_t = 10.0)]
-    width: f64,
-    /// World depth (y).
-    #[arg(long, default_value_t = 10.0)]
-    depth: f64,
+    /// World width (x) (classic, smooth) [default: 10].
+    #[arg(long)]
+    width: Option<f64>,
+    /// World depth (y) (classic, smooth) [default: 10].
+    #[arg(long)]
+    depth: Option<f64>,
     /// Raise everything below this height to it.
     #[arg(long, allow_hyphen_values = true)]
     sea_level: Option<f64>,
@@ -98,15 +98,15 @@ pub struct TerrainArgs {
     /// Height above the sea that gets the peak colour (default: half the height scale).
     #[arg(long)]
     peak_height: Option<f64>,
-    /// Grid type.
-    #[arg(long, value_enum, default_value_t = Grid::Square)]
-    grid: Grid,
+    /// Grid type (classic, smooth) [default: square].
+    #[arg(long, value_enum)]
+    grid: Option<Grid>,
     /// Write rows as they are generated, in bounded memory (.ply, .obj, .png, .raw16, .f32).
     #[arg(long)]
     stream: bool,
-    /// Rows per streamed band.
-    #[arg(long, default_value_t = 64)]
-    band: usize,
+    /// Rows per streamed band (with --stream) [default: 64].
+    #[arg(long)]
+    band: Option<usize>,
     /// Generate only tile I,J (needs --tile-size).
     #[arg(long, value_parser = super::parse::index_pair, requires = "tile_size")]
     tile: Option<(u64, u64)>,
@@ -144,26 +144,29 @@ pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
         MethodArg::Smooth => Method::Smooth,
         MethodArg::Dual => return run_dual(&args, start, ctx),
     };
+    refuse_other_modes_flags(&args)?;
     let hurst = args.hurst.unwrap_or(0.8);
-    if args.grid == Grid::Hex && args.tile.is_some() {
+    let (size, grid) = (args.size.unwrap_or(257), args.grid.unwrap_or_default());
+    let band = args.band.unwrap_or(64);
+    if grid == Grid::Hex && args.tile.is_some() {
         return Err(Error::InvalidInput(
             "a hexagonal tile is one terrain: --tile applies to square and triangle grids".into(),
         ));
     }
     let params = TerrainParams {
         method,
-        grid: args.grid,
-        size: args.size,
+        grid,
+        size,
         hurst,
         sigma: args.sigma,
         seed: args.seed,
-        distribution: args.distribution,
-        mean: args.mean,
-        variance: args.variance,
+        distribution: args.distribution.unwrap_or_default(),
+        mean: args.mean.unwrap_or(0.0),
+        variance: args.variance.unwrap_or(1.0),
         corners: args.corners,
         applet: args.applet,
-        width: args.width,
-        depth: args.depth,
+        width: args.width.unwrap_or(10.0),
+        depth: args.depth.unwrap_or(10.0),
         sea_level: args.sea_level,
         palette: args.colors.unwrap_or_default(),
         peak_height: args.peak_height,
@@ -174,7 +177,7 @@ pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
     }
     let rect = match (args.tile, args.tile_size) {
         (Some((i, j)), Some(size)) => tile_rect(&params, i, j, size)?,
-        _ => Rect { x0: 0, y0: 0, x1: args.size - 1, y1: args.size - 1 },
+        _ => Rect { x0: 0, y0: 0, x1: size - 1, y1: size - 1 },
     };
     let ext = match &args.format {
         Some(format) => format.to_ascii_lowercase(),
@@ -184,7 +187,7 @@ pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
     let range = args.range.unwrap_or((-scale, scale));
     let points = rect.width() as u64 * rect.height() as u64;
     let whole_mesh = matches!(ext.as_str(), "obj" | "ply") && !args.stream;
-    let rows_at_once = if args.stream { args.band.max(1).min(rect.height()) } else { rect.height() } as u64;
+    let rows_at_once = if args.stream { band.max(1).min(rect.height()) } else { rect.height() } as u64;
     let bytes_per_point = if whole_mesh { MESH_BYTES_PER_POINT } else { HEIGHTS_BYTES_PER_POINT };
     let smoothing = if method == Method::Smooth { 2 } else { 1 };
     crate::memory::ensure_available(
@@ -206,7 +209,7 @@ pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
         if format == StreamFormat::Ply && points > i32::MAX as u64 {
             return Err(Error::InvalidInput(format!("{points} vertices exceed PLY's int indices: use --tile")));
         }
-        let band = if args.stream { args.band } else { rect.height() };
+        let band = if args.stream { band } else { rect.height() };
         let mut failure = None;
         // I/O failures go back to `write_atomically`, which names the output file; other
         // errors keep their type.
@@ -256,18 +259,16 @@ pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
 
 /// Janeczek's dual method: a quad surface written as a mesh with normals and a height ramp.
 fn run_dual(args: &TerrainArgs, start: Instant, ctx: super::Context) -> Result<()> {
-    if args.stream || args.tile.is_some() {
-        return Err(Error::InvalidInput("--method dual makes a quad surface in memory: no --stream or --tile".into()));
-    }
+    refuse_other_modes_flags(args)?;
     let format = io::Format::from_path(&args.output)?;
     if !matches!(format, io::Format::Ply | io::Format::Obj) {
         return Err(Error::InvalidInput(format!("{}: --method dual writes .ply or .obj", args.output.display())));
     }
     let params = DualParams {
-        x: args.x.into(),
-        y: args.y.into(),
+        x: args.x.unwrap_or([1.0, 0.0, 0.0]).into(),
+        y: args.y.unwrap_or([0.0, 1.0, 0.0]).into(),
         hurst: args.hurst.unwrap_or(1.5),
-        levels: args.levels,
+        levels: args.levels.unwrap_or(9),
         scale: args.sigma,
         seed: args.seed,
         deterministic: args.deterministic,
@@ -354,4 +355,72 @@ fn write_preview(params: &TerrainParams, rect: Rect, path: &std::path::Path) -> 
         exaggeration: None,
     };
     hillshade(&relief, |h| params.color(h)).write_png(path)
+}
+
+/// Every flag another mode would use is refused where it would be ignored, with the mode
+/// it belongs to in the message: dual's quadrilateral flags with the heightfield methods,
+/// the grid's flags with dual, `--band` without `--stream`, `--range` without a 16-bit
+/// output, colours without a coloured output.
+fn refuse_other_modes_flags(args: &TerrainArgs) -> Result<()> {
+    let dual = args.method == MethodArg::Dual;
+    let method = args.method.to_possible_value().map_or_else(String::new, |v| v.get_name().to_string());
+    let ext = match &args.format {
+        Some(format) => format.to_ascii_lowercase(),
+        None => args.output.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase(),
+    };
+    let mesh_output = matches!(ext.as_str(), "ply" | "obj");
+    let coloured = mesh_output || args.preview.is_some();
+    let heightfield = "--method classic and smooth";
+    let rules: [(&str, bool, bool, &str); 24] = [
+        ("--x", args.x.is_some(), dual, "--method dual"),
+        ("--y", args.y.is_some(), dual, "--method dual"),
+        ("--levels", args.levels.is_some(), dual, "--method dual"),
+        ("--deterministic", args.deterministic, dual, "--method dual"),
+        ("--cross-product", args.cross_product, dual, "--method dual"),
+        ("--no-mean-correction", args.no_mean_correction, dual, "--method dual"),
+        ("--steps", args.steps.is_some(), dual, "--method dual"),
+        ("--size", args.size.is_some(), !dual, heightfield),
+        ("--distribution", args.distribution.is_some(), !dual, heightfield),
+        ("--mean", args.mean.is_some(), !dual, heightfield),
+        ("--variance", args.variance.is_some(), !dual, heightfield),
+        ("--corners", args.corners.is_some(), !dual, heightfield),
+        ("--width", args.width.is_some(), !dual, heightfield),
+        ("--depth", args.depth.is_some(), !dual, heightfield),
+        ("--sea-level", args.sea_level.is_some(), !dual, heightfield),
+        ("--grid", args.grid.is_some(), !dual, heightfield),
+        ("--stream", args.stream, !dual, heightfield),
+        ("--tile", args.tile.is_some(), !dual, heightfield),
+        ("--applet", args.applet, args.method == MethodArg::Classic, "--method classic (seed 001's applet)"),
+        (
+            "--hurst",
+            args.hurst.is_some(),
+            args.method != MethodArg::Smooth,
+            "--method classic and dual (smooth's points are uniform within their parents' range)",
+        ),
+        ("--band", args.band.is_some(), args.stream, "--stream"),
+        ("--tile-size", args.tile_size.is_some(), args.tile.is_some(), "--tile"),
+        (
+            "--range",
+            args.range.is_some(),
+            !dual && matches!(ext.as_str(), "png" | "raw16"),
+            "16-bit outputs (.png, .raw16) of --method classic and smooth",
+        ),
+        (
+            "--peak-height",
+            args.peak_height.is_some(),
+            !dual && coloured,
+            "coloured outputs (a .ply or .obj mesh, or --preview) of --method classic and smooth",
+        ),
+    ];
+    match rules.iter().find(|&&(_, given, applies, _)| given && !applies) {
+        Some((flag, _, _, belongs)) => Err(Error::InvalidInput(format!(
+            "{flag} applies only to {belongs}: with --method {method} and this output it would be ignored"
+        ))),
+        None => match (args.colors.is_some(), coloured) {
+            (true, false) => Err(Error::InvalidInput(
+                "--colors applies only to coloured outputs (a .ply or .obj mesh, or --preview)".into(),
+            )),
+            _ => Ok(()),
+        },
+    }
 }

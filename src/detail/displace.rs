@@ -88,17 +88,31 @@ fn fractal_kind(kind: NoiseKind) -> FractalKind {
     }
 }
 
-/// The tangent frame at a vertex: the diffusion direction projected on the tangent plane
-/// (or any tangent when it vanishes or `follow` is off) and normal × that.
+/// The tangent frame at a vertex: the diffusion direction projected on the tangent plane,
+/// or, where it vanishes or `follow` is off, [`REFERENCE_DIRECTION`] projected on it (as
+/// Lagae et al. 2009 orient surface noise, §5: a 3D direction projected on the tangent
+/// plane), and normal × that. Both vary continuously with the normal, so the noise has no
+/// seam where the surface has none; the projection vanishes only where the normal is
+/// parallel to the reference direction (any continuous tangent field on a sphere has such
+/// points), and an oblique reference keeps them off axis-aligned surfaces.
 pub fn tangent_frame(normal: DVec3, diffusion: Option<DVec3>, follow: bool) -> Frame {
     let n = if normal.length_squared() > 0.0 { normal } else { DVec3::Z };
-    let projected = diffusion.filter(|_| follow).map(|d| (d - n * n.dot(d)).normalize_or_zero());
-    let tangent = match projected {
+    let project = |d: DVec3| (d - n * n.dot(d)).normalize_or_zero();
+    let tangent = match diffusion.filter(|_| follow).map(project) {
         Some(t) if t != DVec3::ZERO => t,
-        _ => n.any_orthonormal_vector(),
+        _ => match project(REFERENCE_DIRECTION) {
+            t if t != DVec3::ZERO => t,
+            _ => n.any_orthonormal_vector(),
+        },
     };
     Frame { tangent, bitangent: n.cross(tangent).normalize_or_zero() }
 }
+
+/// The 3D direction whose projection orients surface noise where no diffusion direction
+/// does: oblique to every axis, so no face of an axis-aligned part (CAD, terrain) has its
+/// normal along it.
+pub const REFERENCE_DIRECTION: DVec3 =
+    DVec3::new(0.267_261_241_912_424_4, 0.534_522_483_824_848_8, 0.801_783_725_737_273_2);
 
 /// Unit displacement directions of every vertex of the level.
 ///

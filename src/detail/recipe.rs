@@ -405,6 +405,34 @@ impl Default for NoiseParams {
     }
 }
 
+impl NoiseParams {
+    /// A parameter of another kind than `kind`'s would be ignored: it is refused (a value
+    /// differing from the default counts as given).
+    fn check_kind_parameters(&self) -> std::result::Result<(), String> {
+        let d = NoiseParams::default();
+        let ring_gabor = self.rings.iter().any(|r| r.k.is_some() || r.a.is_some() || r.f0.is_some());
+        let gabor_only = [
+            ("k", self.k != d.k),
+            ("a", self.a != d.a),
+            ("f0", self.f0 != d.f0),
+            ("omega", self.omega != d.omega),
+            ("impulses", self.impulses != d.impulses),
+            ("isotropic", self.isotropic),
+            ("rings' k, a and f0", ring_gabor),
+        ];
+        let kind = format!("{:?}", self.kind).to_lowercase();
+        if self.kind != NoiseKind::Gabor {
+            if let Some((name, _)) = gabor_only.iter().find(|(_, given)| *given) {
+                return Err(format!("noise {name} applies only to kind = \"gabor\", not to \"{kind}\""));
+            }
+        }
+        if self.kind != NoiseKind::Multifractal && self.offset != d.offset {
+            return Err(format!("noise offset applies only to kind = \"multifractal\", not to \"{kind}\""));
+        }
+        Ok(())
+    }
+}
+
 /// The `geometric` table (taper and twist).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -519,6 +547,7 @@ impl Step {
         if n.frequency <= 0.0 || n.octaves == 0 || n.octaves > 16 {
             return Err("noise needs frequency > 0 and 1 to 16 octaves".into());
         }
+        n.check_kind_parameters()?;
         if n.rings.iter().any(|r| !(r.influence.is_finite() && r.influence >= 0.0)) {
             return Err("ring influence must be a non-negative number".into());
         }

@@ -5,7 +5,10 @@
 //! positions, weights uniform in [−1, 1], and in isotropic mode a uniform random
 //! orientation — are a pure function of (seed, cell). A point sums the impulses of its
 //! 3×3 (or 3×3×3) neighbouring cells. Output is divided by the analytic standard
-//! deviation σ, σ² = λ E\[w²\] ∫g² (Campbell's theorem), so it has unit variance.
+//! deviation σ₁ of the noise with K = 1, σ₁² = λ E\[w²\] ∫(g/K)² (Campbell's theorem), so
+//! its standard deviation is K: K is the kernel's magnitude (eq. 3.20) and scales the
+//! noise linearly, while a, F0, ω0 and the impulse density shape it without changing its
+//! contrast.
 
 use std::f64::consts::{PI, TAU};
 
@@ -98,10 +101,10 @@ impl Gabor {
         let lambda_2d = params.impulses_per_kernel / (PI * radius * radius);
         let lambda_3d = params.impulses_per_kernel / (4.0 / 3.0 * PI * radius.powi(3));
         let cosine_energy = 1.0 + (-2.0 * PI * params.f0 * params.f0 / (a * a)).exp();
-        let k2 = params.k * params.k;
-        // σ² = λ · E[w²] · ∫g², with E[w²] = 1/3 for w uniform in [−1, 1].
-        let var_2d = lambda_2d / 3.0 * k2 / (4.0 * a * a) * cosine_energy;
-        let var_3d = lambda_3d / 3.0 * k2 / 2.0 * (2.0 * a * a).powf(-1.5) * cosine_energy;
+        // σ₁² = λ · E[w²] · ∫(g/K)², with E[w²] = 1/3 for w uniform in [−1, 1]: K stays
+        // in the output.
+        let var_2d = lambda_2d / 3.0 / (4.0 * a * a) * cosine_energy;
+        let var_3d = lambda_3d / 3.0 / 2.0 * (2.0 * a * a).powf(-1.5) * cosine_energy;
         Ok(Gabor {
             params,
             seed: derive_seed(seed, "gabor"),
@@ -159,7 +162,7 @@ impl Gabor {
         (psi.cos(), psi.sin())
     }
 
-    /// 2D noise at (x, y), unit variance.
+    /// 2D noise at (x, y), standard deviation K.
     pub fn sample2(&self, x: f64, y: f64) -> f64 {
         let (cx, cy) = (self.cell_of(x), self.cell_of(y));
         let mut impulses = Vec::with_capacity(64);
@@ -279,16 +282,20 @@ impl Gabor {
         }
     }
 
-    /// 3D noise at a surface point with its tangent frame, unit variance: impulses live in
-    /// 3D cells, the Gaussian uses the 3D distance and the cosine runs along
-    /// cos ω·tangent + sin ω·bitangent, so the stripes follow the frame (e.g. a mesh's
-    /// feature directions).
+    /// 3D noise at a surface point with its tangent frame, standard deviation K (2D
+    /// isotropic: about K): impulses live in 3D cells, the Gaussian uses the 3D distance
+    /// and the cosine runs along cos ω·tangent + sin ω·bitangent, so the stripes follow the
+    /// frame (e.g. a mesh's feature directions). Isotropic noise is Lagae et al.'s
+    /// setup-free surface noise (2009, §5): each impulse's frequency is a random 3D
+    /// direction projected on the tangent plane at the point, so it depends on the normal
+    /// (tangent × bitangent) only and turning the frame about it changes nothing.
     pub fn sample3(&self, p: DVec3, frame: Frame) -> f64 {
         let c = [self.cell_of(p.x), self.cell_of(p.y), self.cell_of(p.z)];
         let r2_max = self.radius * self.radius;
         let params = &self.params;
         let two_pi_f0 = TAU * params.f0;
         let fixed_dir = frame.tangent * params.omega0.cos() + frame.bitangent * params.omega0.sin();
+        let normal = frame.tangent.cross(frame.bitangent);
         let mut sum = 0.0;
         for dz in -1..=1 {
             for dy in -1..=1 {
@@ -304,8 +311,13 @@ impl Gabor {
                         );
                         let weight = rng.uniform(-1.0, 1.0) * params.k;
                         let dir = if params.isotropic {
-                            let omega = rng.uniform(0.0, TAU);
-                            frame.tangent * omega.cos() + frame.bitangent * omega.sin()
+                            // Lagae et al. 2009 §5: a random 3D direction projected on the
+                            // tangent plane, which needs no frame, only the normal.
+                            let z = rng.uniform(-1.0, 1.0);
+                            let phi = rng.uniform(0.0, TAU);
+                            let rho = (1.0 - z * z).max(0.0).sqrt();
+                            let d = DVec3::new(rho * phi.cos(), rho * phi.sin(), z);
+                            d - normal * normal.dot(d)
                         } else {
                             fixed_dir
                         };

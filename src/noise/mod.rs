@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 
 pub use fractal::{Basis, Fractal, FractalKind, ScaledPerlin};
 pub use gabor::{Frame, Gabor, GaborParams};
-pub use perlin::Perlin;
+pub use perlin::{Perlin, plane_point};
 
 use crate::error::Result;
 
@@ -36,6 +36,18 @@ pub enum NoiseKind {
     Wood,
     /// Gabor noise (eq. 3.20–3.21).
     Gabor,
+}
+
+impl NoiseKind {
+    /// The octaves a kind shows its pattern with: wood is eq. 4.13's single noise f, whose
+    /// contour bands are its rings (more octaves break them into static); the other
+    /// fractal kinds take [`Fractal::default`]'s six.
+    pub fn default_octaves(self) -> u32 {
+        match self {
+            NoiseKind::Wood => 1,
+            _ => Fractal::default().octaves,
+        }
+    }
 }
 
 /// A fully specified noise: kind, parameters, seed.

@@ -177,16 +177,22 @@ fn noise3_lanes<H: CornerHash, const N: usize>(h: &H, p: [DVec3; N]) -> [f64; N]
     })
 }
 
-/// The z = 0 slice of [`noise3`]: the fade weight of z is 0, so only four corners count.
+/// The plane 2D noise is sampled on: spanned by two unit vectors orthogonal to the
+/// lattice diagonal (1, 1, 1) and offset along it so that no lattice point lies on it.
+/// The z = 0 plane is a lattice plane: every lattice point on it is a zero of the noise
+/// and half its gradients lie in it, which shows as straight axis-aligned streaks; on an
+/// oblique plane the lattice's cells are cut in varied shapes. The in-plane basis is
+/// turned so the lattice axes project at 15°, 75° and 135° to the image's x axis, none
+/// along the image's axes: ((3+√3)/6, −1/√3, (√3−3)/6) and ((3−√3)/6, 1/√3, −(3+√3)/6).
+const PLANE_U: DVec3 = DVec3::new(0.788_675_134_594_812_9, -0.577_350_269_189_625_7, -0.211_324_865_405_187_1);
+const PLANE_V: DVec3 = DVec3::new(0.211_324_865_405_187_1, 0.577_350_269_189_625_7, -0.788_675_134_594_812_9);
+/// The plane's offset: every point on it has x + y + z = 0.5, so no lattice point.
+const PLANE_OFFSET: DVec3 = DVec3::new(0.5 / 3.0, 0.5 / 3.0, 0.5 / 3.0);
+
+/// The 3D point at which 2D noise samples (x, y).
 #[inline(always)]
-fn noise2<H: CornerHash>(h: &H, x: f64, y: f64) -> f64 {
-    let (xi, yi) = (floor_i64(x), floor_i64(y));
-    let (x, y) = (x - xi as f64, y - yi as f64);
-    let (u, v) = (fade(x), fade(y));
-    let (hx, hy, hz) = (h.axis(0, xi), h.axis(1, yi), h.axis(2, 0));
-    let c =
-        |dx: usize, dy: usize| grad(h.corner(h.combine_xy(hx[dx], hy[dy]), hz[0]), x - dx as f64, y - dy as f64, 0.0);
-    lerp(v, lerp(u, c(0, 0), c(1, 0)), lerp(u, c(0, 1), c(1, 1)))
+pub fn plane_point(x: f64, y: f64) -> DVec3 {
+    PLANE_OFFSET + PLANE_U * x + PLANE_V * y
 }
 
 impl Perlin {
@@ -221,12 +227,10 @@ impl Perlin {
         }
     }
 
-    /// 2D noise at (x, y): the 3D noise on the plane z = 0.
+    /// 2D noise at (x, y): the 3D noise on an oblique plane ([`plane_point`]), so the
+    /// image has the 3D noise's statistics in every direction.
     #[inline(always)]
     pub fn sample2(&self, x: f64, y: f64) -> f64 {
-        match &self.lattice {
-            Lattice::Reference(perm) => noise2(&Permutation(perm), x, y),
-            Lattice::Hashed(seed) => noise2(&Hashed(*seed), x, y),
-        }
+        self.sample3(plane_point(x, y))
     }
 }
