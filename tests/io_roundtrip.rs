@@ -57,7 +57,7 @@ fn obj_round_trip_keeps_geometry_colours_and_normals() {
     for (name, mesh) in code_meshes() {
         let mut mesh = with_attributes(mesh);
         mesh.scalars.clear(); // OBJ has no scalar properties
-        assert_eq!(canonical(&round_trip(&mesh, "m.obj", false)), canonical(&mesh), "{name}");
+        assert_eq!(round_trip(&mesh, "m.obj", false), mesh, "{name}: vertex order and count kept");
     }
 }
 
@@ -81,13 +81,27 @@ fn shared_meshes_survive_every_format() {
         for (ext, ascii) in [("ply", false), ("ply", true), ("off", false)] {
             assert_eq!(round_trip(&original, &format!("m.{ext}"), ascii), original, "{} as {ext}", file.display());
         }
-        assert_eq!(
-            canonical(&round_trip(&original, "m.obj", false)),
-            canonical(&original),
-            "{} as obj",
-            file.display()
-        );
+        assert_eq!(round_trip(&original, "m.obj", false), original, "{} as obj", file.display());
         assert_eq!(canonical(&round_trip(&original, "m.stl", true)), canonical(&original), "{} as stl", file.display());
+    }
+}
+
+#[test]
+fn obj_reader_agrees_with_tobj_on_real_meshes() {
+    // tobj (the reference OBJ reader) renumbers by first use, so compare in that form.
+    let dir = temp_dir();
+    for file in shared_mesh_files() {
+        let original = io::read(&file).unwrap().mesh;
+        let path = dir.path().join("m.obj");
+        io::write(&original, &path, WriteOptions::default()).unwrap();
+        let options = tobj::LoadOptions { single_index: true, triangulate: true, ..Default::default() };
+        let (models, _) = tobj::load_obj(&path, &options).unwrap();
+        let m = &models[0].mesh;
+        let positions = m.positions.chunks(3).map(|c| DVec3::new(c[0], c[1], c[2])).collect();
+        let triangles = m.indices.chunks(3).map(|t| [t[0], t[1], t[2]]).collect();
+        let reference = Mesh::new(positions, triangles);
+        let ours = io::read(&path).unwrap().mesh;
+        assert_eq!(canonical(&ours), canonical(&reference), "{}", file.display());
     }
 }
 
@@ -110,12 +124,43 @@ fn polygons_are_triangulated_and_counted() {
 }
 
 #[test]
-fn obj_groups_are_merged_with_shared_vertices() {
-    let (_dir, outcome) =
-        read_text("groups.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\ng first\nf 1 2 3\ng second\nf 1 3 4\n");
-    assert_eq!(outcome.mesh.vertex_count(), 4);
-    assert_eq!(outcome.mesh.validate().boundary_loops, 1);
-    assert!(outcome.notes.iter().any(|n| n.contains("merged")), "{:?}", outcome.notes);
+fn obj_keeps_every_vertex_in_file_order_across_groups() {
+    // Groups share the file's vertex numbering: nothing is renumbered, welded or dropped,
+    // unreferenced vertices included, so per-vertex data keeps lining up (#24 item 8).
+    let text = "v 0 0 0\nv 1 0 0\nv 9 9 9\nv 1 1 0\nv 0 1 0\ng first\nf 1 2 4\ng second\nf -5 -2 -1\n";
+    let (_dir, outcome) = read_text("groups.obj", text);
+    let mesh = &outcome.mesh;
+    assert_eq!(mesh.vertex_count(), 5, "the unreferenced `v 9 9 9` is kept");
+    assert_eq!(mesh.positions[2], DVec3::splat(9.0));
+    assert_eq!(mesh.positions[4], DVec3::new(0.0, 1.0, 0.0), "file order");
+    assert_eq!(mesh.triangles, vec![[0, 1, 3], [0, 3, 4]]);
+    // A vertex-only file is its vertices (commands that need faces refuse it).
+    let (_dir, outcome) = read_text("points.obj", "v 0 0 0\nv 1 0 0\n");
+    assert_eq!((outcome.mesh.vertex_count(), outcome.mesh.face_count()), (2, 0));
+    // Faces may refer to vertices further down; statements without triangles are noted.
+    let (_dir, outcome) = read_text("forward.obj", "f 1 2 3\nl 1 2\nv 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    assert_eq!(outcome.mesh.triangles, vec![[0, 1, 2]]);
+    assert!(outcome.notes.iter().any(|n| n.contains("`l`")), "{:?}", outcome.notes);
+}
+
+#[test]
+fn obj_errors_name_the_line_and_quote_the_token() {
+    let dir = temp_dir();
+    for (text, line, phrase) in [
+        ("v 0 0 0\nv 1 0 0\nf 1 2\n", 3, "a face needs at least 3 vertices, this one has 2"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", 4, "vertex index 0 is invalid"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n", 4, "face corner `-4`"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1 2/1 3/1\n", 4, "texture coordinate index 1 is out of range"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//2 2//1 3//1\n", 5, "face corner `1//2`: normal index 2"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3/a\n", 4, "`a` is not an integer"),
+        ("v 0 0 0 1 1\n", 1, "this one has 5 values"),
+        ("v 0 0 0\nv 1 \\\n 0 0\nv 0 1 0\nf 1 2 x\n", 5, "face corner `x`"),
+    ] {
+        let path = dir.path().join("bad.obj");
+        std::fs::write(&path, text).unwrap();
+        let message = asperity::io::read(&path).unwrap_err().to_string();
+        assert!(message.contains(&format!("line {line}: ")) && message.contains(phrase), "{text:?}: {message}");
+    }
 }
 
 #[test]

@@ -21,7 +21,7 @@ pub use atomic::{abandon_pending_outputs, write_atomically};
 /// A mesh file format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Format {
-    /// Wavefront OBJ (read through `tobj`).
+    /// Wavefront OBJ (our own reader: file vertex order kept).
     Obj,
     /// Stanford PLY, ASCII or binary (either endianness).
     Ply,

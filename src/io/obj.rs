@@ -1,175 +1,258 @@
-//! Wavefront OBJ through `tobj`. `tobj` splits a file into one model per `o`/`g` group,
-//! each indexing only the vertices it uses, in order of first use; groups are merged back
-//! by welding bit-identical positions shared across groups. Errors from `tobj` carry no
-//! line, so a small locator finds the offending line for the message.
+//! Wavefront OBJ, read by our own small reader: `tobj` numbers vertices in order of first
+//! use per `o`/`g` group and drops unreferenced `v` lines and faces with fewer than three
+//! corners without a word, so a user's per-vertex data would no longer line up (#24). Here
+//! every `v` line is a vertex, in file order; faces (`f`, any corner form `i`, `i/t`,
+//! `i//n`, `i/t/n`, negative indices relative to the vertices so far) are triangulated;
+//! errors name the line and quote the token. Statements without geometry for a triangle
+//! mesh (`o`, `g`, `s`, materials, lines, points, free-form) are skipped with a note.
 
-use std::collections::HashMap;
+use std::borrow::Cow;
+use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::Path;
 
 use glam::DVec3;
 
-use super::text::{decode, numbered_lines};
-use super::{ReadOutcome, check_polygon, repeated_vertex_note, weld_key, without_repeated_corners};
+use super::text::{coordinate, decode, numbered_lines, shorten};
+use super::{ReadOutcome, repeated_vertex_note, without_repeated_corners};
 use crate::error::{Error, Location, Result};
 use crate::mesh::{Mesh, triangulate_polygon};
 
+/// Statements that describe no triangle-mesh geometry and are skipped without a note.
+const SILENT: [&str; 7] = ["o", "g", "s", "usemtl", "mtllib", "vp", "shadow_obj"];
+
 /// Parses an OBJ file (materials are not read).
 pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
-    let text = super::text::lone_cr_as_lf(decode(bytes, path)?);
-    let text = text.as_ref();
-    let options =
-        tobj::LoadOptions { single_index: false, triangulate: false, ignore_points: true, ignore_lines: true };
-    let mut reader = std::io::Cursor::new(text.as_bytes());
-    let (models, _materials) = tobj::load_obj_buf(&mut reader, &options, |_| Err(tobj::LoadError::OpenFileFailed))
-        .map_err(|e| Error::parse(path, locate(text, &e), format!("{e}")))?;
-
-    let mut notes = Vec::new();
-    if models.len() > 1 {
-        notes.push(format!("OBJ: {} objects/groups merged, shared vertices welded", models.len()));
-    }
-    let mut positions: Vec<DVec3> = Vec::new();
-    let mut colors: Vec<[u8; 3]> = Vec::new();
-    let mut normals: Vec<Option<DVec3>> = Vec::new();
-    let mut normals_consistent = true;
-    let mut triangles = Vec::new();
-    let mut triangulated = 0;
-    let mut dropped = 0;
-    let mut earlier: HashMap<[u64; 3], u32> = HashMap::new();
-    let mut face_ordinal = 0;
-    let all_have_colors = models.iter().all(|m| !m.mesh.vertex_color.is_empty());
-
-    for model in &models {
-        let m = &model.mesh;
-        let base = positions.len();
-        let mut local_to_global = Vec::with_capacity(m.positions.len() / 3);
-        for (i, c) in m.positions.chunks_exact(3).enumerate() {
-            let p = DVec3::new(c[0], c[1], c[2]);
-            if !p.is_finite() {
-                let at = first_nonfinite_vertex_line(text).map_or(Location::File, Location::Line);
-                return Err(Error::parse(path, at, format!("vertex {}: a coordinate is not finite", base + i)));
-            }
-            let global = match earlier.get(&weld_key(p)) {
-                Some(&g) => g,
-                _ => {
-                    positions.push(p);
-                    if all_have_colors {
-                        let k = 3 * i;
-                        colors.push([0, 1, 2].map(|j| (m.vertex_color[k + j] * 255.0).round().clamp(0.0, 255.0) as u8));
-                    }
-                    normals.push(None);
-                    (positions.len() - 1) as u32
-                }
-            };
-            local_to_global.push(global);
-        }
-        // Later groups may weld onto this group's vertices (never within a group).
-        for &global in &local_to_global {
-            earlier.entry(weld_key(positions[global as usize])).or_insert(global);
-        }
-        let arities: Vec<u32> =
-            if m.face_arities.is_empty() { vec![3; m.indices.len() / 3] } else { m.face_arities.clone() };
-        let mut start = 0;
-        let mut polygon = Vec::new();
-        for arity in arities {
-            let end = start + arity as usize;
-            polygon.clear();
-            polygon.extend(m.indices[start..end].iter().map(|&i| local_to_global[i as usize]));
-            check_polygon(&polygon, positions.len()).map_err(|msg| {
-                let line = nth_keyword_line(text, "f", face_ordinal).unwrap_or(0);
-                Error::parse(path, Location::Line(line), format!("face {face_ordinal}: {msg}"))
-            })?;
-            let keep = without_repeated_corners(&mut polygon);
-            dropped += usize::from(!keep);
-            if !m.normal_indices.is_empty() && m.normal_indices.len() == m.indices.len() {
-                for k in start..end {
-                    let n = 3 * m.normal_indices[k] as usize;
-                    let normal = DVec3::new(m.normals[n], m.normals[n + 1], m.normals[n + 2]);
-                    let slot = &mut normals[local_to_global[m.indices[k] as usize] as usize];
-                    match slot {
-                        Some(existing) if *existing != normal => normals_consistent = false,
-                        _ => *slot = Some(normal),
-                    }
-                }
-            }
-            if keep {
-                triangulated += usize::from(arity > 3);
-                triangulate_polygon(&positions, &polygon, &mut triangles);
-            }
-            face_ordinal += 1;
-            start = end;
+    let text = decode(bytes, path)?;
+    // Positive indices may refer forward, to any element of the file.
+    let mut totals = [0usize; 3];
+    for (_, line) in logical_lines(text) {
+        if let Some(k) = ["v", "vt", "vn"].iter().position(|&h| line.split_whitespace().next() == Some(h)) {
+            totals[k] += 1;
         }
     }
-    let mut mesh = Mesh::new(positions, triangles);
-    if all_have_colors && !models.is_empty() {
-        mesh.colors = Some(colors);
+    let mut reader = Reader { totals, normals_consistent: true, ..Reader::default() };
+    for (line, content) in logical_lines(text) {
+        let content = content.split('#').next().unwrap_or("");
+        reader.statement(content).map_err(|msg| Error::parse(path, Location::Line(line), msg))?;
     }
-    if normals.iter().any(Option::is_some) {
-        if normals_consistent && normals.iter().all(Option::is_some) {
-            mesh.normals = Some(normals.into_iter().map(|n| n.unwrap_or(DVec3::ZERO)).collect());
-        } else {
-            notes.push("OBJ normals are per corner, not per vertex: ignored".to_string());
-        }
-    }
-    notes.extend(repeated_vertex_note(dropped));
-    Ok(ReadOutcome { mesh, triangulated_polygons: triangulated, notes })
+    Ok(reader.finish())
 }
 
-/// Line of the `n`-th statement with `keyword`.
-fn nth_keyword_line(text: &str, keyword: &str, n: usize) -> Option<usize> {
-    numbered_lines(text).filter(|(_, l)| l.split_whitespace().next() == Some(keyword)).nth(n).map(|(line, _)| line)
-}
-
-fn first_nonfinite_vertex_line(text: &str) -> Option<usize> {
-    numbered_lines(text).find_map(|(n, l)| {
-        let mut t = l.split_whitespace();
-        (t.next() == Some("v") && t.take(3).any(|x| x.parse::<f64>().is_ok_and(|v| !v.is_finite()))).then_some(n)
+/// Lines with `\`-continuations joined, numbered by their first physical line.
+fn logical_lines(text: &str) -> impl Iterator<Item = (usize, Cow<'_, str>)> {
+    let mut lines = numbered_lines(text);
+    std::iter::from_fn(move || {
+        let (number, first) = lines.next()?;
+        if !first.trim_end().ends_with('\\') {
+            return Some((number, Cow::Borrowed(first)));
+        }
+        let mut joined = String::from(first.trim_end().trim_end_matches('\\'));
+        for (_, next) in lines.by_ref() {
+            let more = next.trim_end().ends_with('\\');
+            joined.push(' ');
+            joined.push_str(next.trim_end().trim_end_matches('\\'));
+            if !more {
+                break;
+            }
+        }
+        Some((number, Cow::Owned(joined)))
     })
 }
 
-/// Finds the line `tobj` most likely failed on, from the error's kind.
-fn locate(text: &str, error: &tobj::LoadError) -> Location {
-    use tobj::LoadError as E;
-    let (keyword, min_values) = match error {
-        E::PositionParseError => ("v", 3),
-        E::NormalParseError => ("vn", 3),
-        E::TexcoordParseError => ("vt", 1),
-        E::FaceParseError
-        | E::InvalidPolygon
-        | E::FaceVertexOutOfBounds
-        | E::FaceNormalOutOfBounds
-        | E::FaceTexCoordOutOfBounds => ("f", 3),
-        _ => return Location::File,
-    };
-    let mut vertices_seen: i64 = 0;
-    for (n, line) in numbered_lines(text) {
-        let mut tokens = line.split_whitespace();
-        let head = tokens.next();
-        if head == Some("v") {
-            vertices_seen += 1;
-        }
-        if head != Some(keyword) {
-            continue;
-        }
+/// What the reader has gathered so far.
+#[derive(Default)]
+struct Reader {
+    /// How many `v`, `vt` and `vn` lines the file has.
+    totals: [usize; 3],
+    positions: Vec<DVec3>,
+    colors: Vec<[u8; 3]>,
+    uncoloured: usize,
+    weights: usize,
+    normals: Vec<DVec3>,
+    texcoords: usize,
+    corner_normals: BTreeMap<u32, DVec3>,
+    normals_consistent: bool,
+    normals_seen: bool,
+    corners_without_normal: bool,
+    /// Faces' corners, one after another (triangulated at the end: corners may refer to
+    /// vertices further down the file).
+    corners: Vec<u32>,
+    face_ends: Vec<usize>,
+    /// Each normal index read, with the vertex it was given for (checked at the end, when
+    /// every normal is known).
+    corner_normal_indices: Vec<(u32, u32)>,
+    skipped: BTreeMap<String, usize>,
+}
+
+impl Reader {
+    fn statement(&mut self, content: &str) -> std::result::Result<(), String> {
+        let mut tokens = content.split_whitespace();
+        let Some(head) = tokens.next() else { return Ok(()) };
         let values: Vec<&str> = tokens.collect();
-        let bad = if keyword == "f" {
-            values.len() < min_values
-                || values.iter().any(|v| {
-                    let first = v.split('/').next().unwrap_or("");
-                    match first.parse::<i64>() {
-                        Ok(i) if i > 0 => i > vertices_seen,
-                        Ok(i) if i < 0 => -i > vertices_seen,
-                        _ => true,
-                    }
-                })
-        } else {
-            values.len() < min_values || values.iter().take(min_values).any(|v| v.parse::<f64>().is_err())
-        };
-        if bad {
-            return Location::Line(n);
+        match head {
+            "v" => self.vertex(&values),
+            "vn" => {
+                let n = three(&values, "vn")?;
+                self.normals.push(n);
+                Ok(())
+            }
+            "vt" => {
+                if values.is_empty() || values.len() > 3 {
+                    return Err(format!("a `vt` line has 1 to 3 coordinates, this one has {}", values.len()));
+                }
+                for v in &values {
+                    coordinate(v)?;
+                }
+                self.texcoords += 1;
+                Ok(())
+            }
+            "f" => self.face(&values),
+            _ if SILENT.contains(&head) => Ok(()),
+            _ => {
+                *self.skipped.entry(shorten(head)).or_default() += 1;
+                Ok(())
+            }
         }
     }
-    Location::File
+
+    /// `v x y z`, with an optional weight `w` or colour `r g b` (0 to 1).
+    fn vertex(&mut self, values: &[&str]) -> std::result::Result<(), String> {
+        let p = three(values, "v")?;
+        match values.len() {
+            3 => self.uncoloured += 1,
+            4 => {
+                coordinate(values[3])?;
+                self.weights += 1;
+                self.uncoloured += 1;
+            }
+            6 => {
+                let mut rgb = [0u8; 3];
+                for (slot, v) in rgb.iter_mut().zip(&values[3..6]) {
+                    *slot = (coordinate(v)? * 255.0).round().clamp(0.0, 255.0) as u8;
+                }
+                self.colors.push(rgb);
+            }
+            n => {
+                return Err(format!("a `v` line has x y z, then a weight or an r g b colour; this one has {n} values"));
+            }
+        }
+        self.positions.push(p);
+        Ok(())
+    }
+
+    /// `f` with at least three corners, each `v`, `v/t`, `v//n` or `v/t/n`.
+    fn face(&mut self, corners: &[&str]) -> std::result::Result<(), String> {
+        if corners.len() < 3 {
+            return Err(format!("a face needs at least 3 vertices, this one has {}", corners.len()));
+        }
+        let [vertices, texcoords, normals] = self.totals;
+        for corner in corners {
+            let quoted = shorten(corner);
+            let at = |m: String| format!("face corner `{quoted}`: {m}");
+            let mut parts = corner.split('/');
+            let v = index(parts.next().unwrap_or(""), self.positions.len(), vertices, "vertex").map_err(at)?;
+            if let Some(t) = parts.next().filter(|t| !t.is_empty()) {
+                index(t, self.texcoords, texcoords, "texture coordinate").map_err(at)?;
+            }
+            match parts.next().filter(|n| !n.is_empty()) {
+                Some(n) => {
+                    let n = index(n, self.normals.len(), normals, "normal").map_err(at)?;
+                    self.corner_normal_indices.push((v, n));
+                }
+                None => self.corners_without_normal = true,
+            }
+            if parts.next().is_some() {
+                return Err(format!("face corner `{quoted}` has more than three parts (v/t/n)"));
+            }
+            self.corners.push(v);
+        }
+        self.face_ends.push(self.corners.len());
+        Ok(())
+    }
+
+    fn finish(mut self) -> ReadOutcome {
+        let mut notes = Vec::new();
+        let n = self.positions.len();
+        let (mut triangles, mut triangulated, mut dropped) = (Vec::new(), 0, 0);
+        let mut start = 0;
+        let mut polygon = Vec::new();
+        for &end in &self.face_ends {
+            polygon.clear();
+            polygon.extend_from_slice(&self.corners[start..end]);
+            start = end;
+            if without_repeated_corners(&mut polygon) {
+                triangulated += usize::from(polygon.len() > 3);
+                triangulate_polygon(&self.positions, &polygon, &mut triangles);
+            } else {
+                dropped += 1;
+            }
+        }
+        for &(v, k) in &self.corner_normal_indices {
+            let normal = self.normals[k as usize];
+            self.normals_seen = true;
+            if *self.corner_normals.entry(v).or_insert(normal) != normal {
+                self.normals_consistent = false;
+            }
+        }
+        let mut mesh = Mesh::new(self.positions, triangles);
+        if self.uncoloured == 0 && n > 0 {
+            mesh.colors = Some(self.colors);
+        } else if !self.colors.is_empty() {
+            notes.push(format!("OBJ colours on only {} of {n} vertices: ignored", self.colors.len()));
+        }
+        if self.weights > 0 {
+            notes.push(format!("OBJ vertex weights (v x y z w) on {} vertices: ignored", self.weights));
+        }
+        if self.texcoords > 0 {
+            notes.push(format!("{} OBJ texture coordinates: not carried (meshes hold no UVs)", self.texcoords));
+        }
+        if self.normals_seen {
+            let every_vertex = self.corner_normals.len() == n && !self.corners_without_normal;
+            if self.normals_consistent && every_vertex {
+                mesh.normals = Some(self.corner_normals.into_values().collect());
+            } else {
+                notes.push("OBJ normals are per corner or partial, not per vertex: ignored".to_string());
+            }
+        }
+        for (statement, count) in &self.skipped {
+            notes.push(format!("{count} OBJ `{statement}` statement(s) skipped (no triangle geometry)"));
+        }
+        notes.extend(repeated_vertex_note(dropped));
+        ReadOutcome { mesh, triangulated_polygons: triangulated, notes }
+    }
+}
+
+/// Three finite coordinates from the start of `values`.
+fn three(values: &[&str], what: &str) -> std::result::Result<DVec3, String> {
+    if values.len() < 3 {
+        return Err(format!("a `{what}` line needs 3 coordinates, this one has {}", values.len()));
+    }
+    Ok(DVec3::new(coordinate(values[0])?, coordinate(values[1])?, coordinate(values[2])?))
+}
+
+/// A 1-based OBJ index (negative: relative to the `so_far` elements before the statement;
+/// positive: any of the file's `total`) as a 0-based one.
+fn index(token: &str, so_far: usize, total: usize, what: &str) -> std::result::Result<u32, String> {
+    let plural = match what {
+        "vertex" => "vertices".to_string(),
+        other => format!("{other}s"),
+    };
+    let i: i64 = token.parse().map_err(|_| format!("{what} index `{}` is not an integer", shorten(token)))?;
+    let resolved = match i {
+        0 => return Err(format!("{what} index 0 is invalid (OBJ counts from 1)")),
+        i if i > 0 => (i as u64 - 1) as usize,
+        i => match so_far.checked_sub(i.unsigned_abs() as usize) {
+            Some(r) => r,
+            None => return Err(format!("{what} index {i} reaches before the first {what} ({so_far} {plural} so far)")),
+        },
+    };
+    let limit = if i > 0 { total } else { so_far };
+    if resolved >= limit || resolved > u32::MAX as usize {
+        let place = if i > 0 { "" } else { " so far" };
+        return Err(format!("{what} index {i} is out of range (there are {limit} {plural}{place})"));
+    }
+    Ok(resolved as u32)
 }
 
 /// The header comment of OBJ files written by asperity.

@@ -12,18 +12,6 @@ pub fn decode<'a>(bytes: &'a [u8], path: &Path) -> Result<&'a str> {
     Ok(text.strip_prefix('\u{feff}').unwrap_or(text))
 }
 
-/// The text with every lone `\r` (classic Mac line ending) made a `\n`, for parsers that
-/// split on `\n` only; line numbers are unchanged.
-pub fn lone_cr_as_lf(text: &str) -> std::borrow::Cow<'_, str> {
-    let bytes = text.as_bytes();
-    let lone = |i: usize| bytes[i] == b'\r' && bytes.get(i + 1) != Some(&b'\n');
-    if !(0..bytes.len()).any(lone) {
-        return std::borrow::Cow::Borrowed(text);
-    }
-    let fixed: Vec<u8> = (0..bytes.len()).map(|i| if lone(i) { b'\n' } else { bytes[i] }).collect();
-    std::borrow::Cow::Owned(String::from_utf8(fixed).expect("replacing an ASCII byte keeps UTF-8"))
-}
-
 /// Numbered lines, any line ending.
 pub fn numbered_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
     let mut rest = text;

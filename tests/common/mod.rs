@@ -42,8 +42,8 @@ pub fn shared_mesh_files() -> Vec<PathBuf> {
 use asperity::Mesh;
 
 /// The mesh renumbered so vertices appear in order of first use by the triangles
-/// (unreferenced vertices dropped): formats that store corners (STL) or reindex by use
-/// (OBJ through tobj) compare equal to the original in this form.
+/// (unreferenced vertices dropped): formats that store corners (STL) and readers that
+/// reindex by use (tobj, the reference OBJ reader) compare equal to the original in this form.
 pub fn canonical(mesh: &Mesh) -> Mesh {
     let mut new_index = vec![u32::MAX; mesh.vertex_count()];
     let mut positions = Vec::new();
