@@ -21,13 +21,13 @@ pub struct AnalyzeArgs {
     #[arg(long, value_enum, default_value_t = NormalWeighting::Angle)]
     normals: NormalWeighting,
     /// Corner when the normalised λ3 exceeds this.
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
     corner: f64,
     /// Face vertex when λ2 is below this.
-    #[arg(long, default_value_t = 0.02)]
+    #[arg(long, default_value_t = 0.02, allow_negative_numbers = true)]
     face: f64,
     /// Strong edge when λ2 exceeds this.
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
     strong: f64,
     /// Write text PLY.
     #[arg(long)]

@@ -15,13 +15,13 @@ pub struct CloudArgs {
     #[arg(long, default_value_t = 513)]
     size: u64,
     /// Roughness H of the plasma.
-    #[arg(long, default_value_t = 0.7)]
+    #[arg(long, default_value_t = 0.7, allow_negative_numbers = true)]
     hurst: f64,
     /// Seed.
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// Plasma values below this (0 to 1) are clear sky.
-    #[arg(long, default_value_t = 0.45)]
+    #[arg(long, default_value_t = 0.45, allow_negative_numbers = true)]
     threshold: f64,
     /// Sky colour R,G,B.
     #[arg(long, value_parser = super::parse::rgb, default_value = "70,130,210")]

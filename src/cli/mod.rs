@@ -68,6 +68,22 @@ enum Command {
     Reference,
 }
 
+/// Clap's message for a usage error, whole (its usage line and "did you mean" tips), with
+/// its first paragraph — what is wrong, with the missing arguments or the possible values
+/// — joined into one self-contained first line.
+fn usage_error_message(rendered: &str) -> String {
+    let (what, rest) = rendered.split_once("\n\n").unwrap_or((rendered, ""));
+    let what: Vec<&str> = what.lines().map(str::trim).filter(|l| !l.is_empty()).collect();
+    let what = what.join(" ");
+    let mut message = format!("asperity: {}\n", what.trim_start_matches("error: "));
+    if !rest.trim().is_empty() {
+        message.push('\n');
+        message.push_str(rest.trim_end());
+        message.push('\n');
+    }
+    message
+}
+
 /// Parses the arguments, runs the subcommand and returns the process exit code.
 /// Panics are caught and reported as internal errors: no panic text reaches the user.
 pub fn run() -> i32 {
@@ -79,9 +95,7 @@ pub fn run() -> i32 {
                 let _ = e.print();
                 return 0;
             }
-            let rendered = e.render().to_string();
-            let first = rendered.lines().next().unwrap_or("invalid arguments");
-            eprintln!("asperity: {} (see --help)", first.trim_start_matches("error: "));
+            eprint!("{}", usage_error_message(&e.render().to_string()));
             return 2;
         }
     };

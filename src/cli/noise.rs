@@ -19,28 +19,28 @@ pub struct NoiseArgs {
     #[arg(long)]
     octaves: Option<u32>,
     /// Frequency ratio between octaves (fractal kinds) [default: 2].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     lacunarity: Option<f64>,
     /// Amplitude ratio between octaves (fractal kinds) [default: 0.5].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     gain: Option<f64>,
     /// Offset d of the multifractal (eq. 4.12) [default: 1].
     #[arg(long, allow_hyphen_values = true)]
     offset: Option<f64>,
     /// Gabor kernel magnitude K: the noise's standard deviation [default: 1].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     k: Option<f64>,
     /// Gabor bandwidth a [default: 0.05].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     a: Option<f64>,
     /// Gabor frequency F0, cycles per unit [default: 0.0625].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     f0: Option<f64>,
     /// Gabor orientation ω0, radians [default: π/4].
     #[arg(long, allow_hyphen_values = true)]
     omega: Option<f64>,
     /// Gabor impulses per kernel [default: 64].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     impulses: Option<f64>,
     /// Gabor: a random orientation per impulse.
     #[arg(long)]
@@ -50,7 +50,7 @@ pub struct NoiseArgs {
     size: usize,
     /// World units per pixel [default: 1/32 for the Perlin kinds, 1/128 for wood, 1 for
     /// Gabor].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     scale: Option<f64>,
     /// Seed.
     #[arg(long, default_value_t = 0)]

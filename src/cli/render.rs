@@ -39,7 +39,7 @@ pub struct ViewArgs {
     pub samples: usize,
     /// Faces further apart than this angle do not share normals (degrees; 180 smooths all;
     /// faces mode) [default: 40].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub crease: Option<f64>,
     /// Draw the edges over shaded faces (faces mode).
     #[arg(long)]

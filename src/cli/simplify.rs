@@ -25,7 +25,7 @@ pub struct HierarchyArgs {
     #[arg(long)]
     levels: Option<usize>,
     /// Never remove a vertex whose error exceeds this fraction of the bounding-box diagonal.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     max_error: Option<f64>,
     /// Feature vertices kept in the base domain (thesis §4.4.1.1) [default: strong].
     #[arg(long, value_enum)]
@@ -36,10 +36,10 @@ pub struct HierarchyArgs {
     #[arg(long, value_enum)]
     feature_vertices: Option<FeatureVerticesArg>,
     /// Weight of the removal error in E(v) (eq. 4.1).
-    #[arg(long, default_value_t = 0.75)]
+    #[arg(long, default_value_t = 0.75, allow_negative_numbers = true)]
     removal_weight: f64,
     /// Weight of the swap error in E(v) (eq. 4.1).
-    #[arg(long, default_value_t = 0.25)]
+    #[arg(long, default_value_t = 0.25, allow_negative_numbers = true)]
     swap_weight: f64,
     /// Skip the test of each level's new faces for self-intersections (CGAL): a quarter
     /// less build time on large meshes, but a level may then cut through a thin part.

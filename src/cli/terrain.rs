@@ -38,10 +38,10 @@ pub struct TerrainArgs {
     #[arg(long)]
     size: Option<u64>,
     /// Roughness H: the displacement scale falls by 2^-H per level (default 0.8; 1.5 for dual).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     hurst: Option<f64>,
     /// Displacement scale at the first level (dual: the factor applied to (|x| + |y|)/2).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     sigma: f64,
     /// Dual: first side of the quadrilateral X,Y,Z [default: 1,0,0].
     #[arg(long, value_parser = super::parse::vector, allow_hyphen_values = true)]
@@ -74,7 +74,7 @@ pub struct TerrainArgs {
     #[arg(long, allow_hyphen_values = true)]
     mean: Option<f64>,
     /// Variance of the distribution (classic, smooth's corners) [default: 1].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     variance: Option<f64>,
     /// Corner heights A,B,C,D (x0y0, xNy0, x0yN, xNyN), set exactly as in seed 001's
     /// applet [default: each a random draw around 0].
@@ -84,10 +84,10 @@ pub struct TerrainArgs {
     #[arg(long)]
     applet: bool,
     /// World width (x) (classic, smooth) [default: 10].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     width: Option<f64>,
     /// World depth (y) (classic, smooth) [default: 10].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     depth: Option<f64>,
     /// Raise everything below this height to it.
     #[arg(long, allow_hyphen_values = true)]
@@ -96,7 +96,7 @@ pub struct TerrainArgs {
     #[arg(long, value_parser = super::parse::palette)]
     colors: Option<crate::terrain::Palette>,
     /// Height above the sea that gets the peak colour (default: half the height scale).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     peak_height: Option<f64>,
     /// Grid type (classic, smooth) [default: square].
     #[arg(long, value_enum)]
