@@ -264,3 +264,55 @@ mod loop_subdivision {
         assert!(err.to_string().contains("has 3 faces"), "{err}");
     }
 }
+
+/// A closed icosphere with degenerate faces made where a vertex `m` is inserted on the
+/// edge (a, b) of face (a, b, c) and its neighbour (b, a, d): at `at` (a point of the edge).
+/// The face (a, b, c) is kept and the neighbour split in two around `m`, with the zero-area
+/// cap (b, a, m) closing the surface — or, with `needle`, `m` sits on `a` and both faces
+/// are split, making two needles (a, m, c) and (m, a, d).
+fn sphere_with_degenerate_faces(needle: bool) -> (Mesh, Mesh) {
+    let mesh = icosphere(1.0, 2);
+    let mut broken = mesh.clone();
+    let [a, b, c] = mesh.triangles[0];
+    let g = mesh.triangles.iter().position(|t| (0..3).any(|k| t[k] == b && t[(k + 1) % 3] == a)).unwrap();
+    let d = mesh.triangles[g].into_iter().find(|&v| v != a && v != b).unwrap();
+    let m = broken.positions.len() as u32;
+    if needle {
+        broken.positions.push(mesh.positions[a as usize]);
+        broken.triangles[0] = [a, m, c];
+        broken.triangles.push([m, b, c]);
+        broken.triangles[g] = [b, m, d];
+        broken.triangles.push([m, a, d]);
+    } else {
+        broken.positions.push(mesh.positions[a as usize].lerp(mesh.positions[b as usize], 0.4));
+        broken.triangles[g] = [b, m, d];
+        broken.triangles.push([m, a, d]);
+        broken.triangles.push([b, a, m]);
+    }
+    (mesh, broken)
+}
+
+#[test]
+fn degenerate_faces_go_without_opening_holes() {
+    // #24 item 7: deleting a zero-area face leaves a hole where its neighbours met it.
+    for needle in [true, false] {
+        let (mesh, broken) = sphere_with_degenerate_faces(needle);
+        let before = broken.validate();
+        assert!(before.degenerate_faces > 0 && before.boundary_loops == 0 && before.is_manifold(), "{before:?}");
+        let (out, report) = repair(&broken).unwrap();
+        let after = out.validate();
+        assert_eq!(after.degenerate_faces, 0, "needle {needle}: {after:?}");
+        assert_eq!((after.boundary_loops, after.genus), (0, Some(0)), "needle {needle}: the surface stays closed");
+        assert!(after.is_manifold(), "{after:?}");
+        if needle {
+            assert_eq!((report.collapsed_edges, report.degenerate_faces), (1, 2), "{report}");
+            assert_eq!(out.face_count(), mesh.face_count(), "the two needles go, the rest is the sphere");
+        } else {
+            assert_eq!((report.flipped_edges, report.degenerate_faces), (1, 1), "{report}");
+            // The cap and the face beyond its long edge become two faces meeting at its
+            // corner m: the sphere with both faces on the edge split at m.
+            assert_eq!(out.face_count(), mesh.face_count() + 2);
+        }
+        assert!(report.to_string().contains("so the surface stays closed"), "{report}");
+    }
+}

@@ -23,8 +23,8 @@ pub use ids::{FaceId, VertexId};
 pub use loop_subdivision::loop_subdivide;
 pub use plane_side::{certain_orientation, certainly_apart};
 pub use repair::{
-    RepairReport, drop_unreferenced_vertices, orient_faces, remove_degenerate_faces, remove_duplicate_faces, repair,
-    split_non_manifold_fans,
+    DegenerateRemoval, RepairReport, drop_unreferenced_vertices, orient_faces, remove_degenerate_faces,
+    remove_duplicate_faces, repair, split_non_manifold_fans,
 };
 pub use triangulate::{triangulate_polygon, triangulate_polygons};
 pub use unit::UnitFrame;

@@ -15,15 +15,23 @@ use serde::Serialize;
 
 use super::Mesh;
 use super::validate::{
-    DisjointSets, EdgeTable, HalfEdgeUse, count_non_manifold_vertices, is_degenerate_face, used_vertices,
+    DisjointSets, EdgeTable, HalfEdgeUse, count_non_manifold_vertices, is_degenerate_face, is_degenerate_triangle,
+    used_vertices,
 };
 use crate::error::Result;
 
 /// What [`repair`] changed; all zero when the mesh needed nothing.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
 pub struct RepairReport {
-    /// Faces removed for repeating a vertex or having (relatively) zero area.
+    /// Degenerate faces (repeating a vertex or of (relatively) zero area) removed, by any of
+    /// the means below or, where none applies, by deleting the face.
     pub degenerate_faces: usize,
+    /// Needles removed by collapsing their shortest edge (its two nearly coincident ends
+    /// merged), which also removes the face on the edge's other side.
+    pub collapsed_edges: usize,
+    /// Caps (a corner on the opposite edge) removed by flipping their longest edge, which
+    /// splits the face beyond it in two.
+    pub flipped_edges: usize,
     /// Faces removed for using the same three vertices as an earlier face.
     pub duplicate_faces: usize,
     /// Vertices added by splitting non-manifold vertices and edges into manifold fans.
@@ -62,6 +70,18 @@ impl fmt::Display for RepairReport {
         .filter(|(n, _, _)| *n > 0)
         .map(|(n, what, done)| format!("{n} {} {done}", plural(what, n)))
         .collect();
+        let mut parts = parts;
+        if self.collapsed_edges + self.flipped_edges > 0 {
+            if let Some(first) = parts.first_mut().filter(|_| self.degenerate_faces > 0) {
+                first.push_str(&format!(
+                    " ({} short {} collapsed, {} {} flipped, so the surface stays closed)",
+                    self.collapsed_edges,
+                    plural("edge", self.collapsed_edges),
+                    self.flipped_edges,
+                    plural("edge", self.flipped_edges)
+                ));
+            }
+        }
         if parts.is_empty() { f.write_str("nothing to repair") } else { f.write_str(&parts.join(", ")) }
     }
 }
@@ -83,8 +103,11 @@ fn plural(word: &str, n: usize) -> String {
 pub fn repair(mesh: &Mesh) -> Result<(Mesh, RepairReport)> {
     mesh.check()?;
     let mut out = mesh.clone();
+    let degenerate = remove_degenerate_faces(&mut out);
     let mut report = RepairReport {
-        degenerate_faces: remove_degenerate_faces(&mut out),
+        degenerate_faces: degenerate.removed,
+        collapsed_edges: degenerate.collapsed,
+        flipped_edges: degenerate.flipped,
         duplicate_faces: remove_duplicate_faces(&mut out),
         ..Default::default()
     };
@@ -94,10 +117,182 @@ pub fn repair(mesh: &Mesh) -> Result<(Mesh, RepairReport)> {
     Ok((out, report))
 }
 
-/// Removes faces that repeat a vertex or have zero area relative to their longest edge.
-pub fn remove_degenerate_faces(mesh: &mut Mesh) -> usize {
-    let keep: Vec<bool> = (0..mesh.face_count()).map(|f| !is_degenerate_face(mesh, f)).collect();
-    retain_faces(mesh, &keep)
+/// What [`remove_degenerate_faces`] did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct DegenerateRemoval {
+    /// Degenerate faces gone, by whatever means.
+    pub removed: usize,
+    /// Short edges collapsed (needles).
+    pub collapsed: usize,
+    /// Long edges flipped (caps).
+    pub flipped: usize,
+}
+
+/// A needle's shortest edge is at most this fraction of its longest; otherwise a zero-area
+/// face is a cap (its third corner lies on its longest edge).
+const NEEDLE_RATIO: f64 = 1e-3;
+
+/// Removes faces that repeat a vertex or have zero area relative to their longest edge,
+/// keeping the surface closed where it was (deleting a zero-area face leaves a hole where
+/// its neighbours met it): as Botsch & Kobbelt's remeshing and Attene's MeshFix treat
+/// degenerate triangles, a needle (two nearly coincident corners) is removed by collapsing
+/// its shortest edge onto its lower-numbered end, which also removes the needle across
+/// that edge, and a cap (a corner on the opposite edge) by flipping that longest edge,
+/// which splits the face beyond it in two along the cap's corner. A face repeating a
+/// vertex is deleted: its two copies of an edge join its neighbours, which then meet. A
+/// degenerate face neither rule can remove (a cap on a boundary, a flip that would
+/// duplicate an edge) is deleted. Positions never move.
+pub fn remove_degenerate_faces(mesh: &mut Mesh) -> DegenerateRemoval {
+    let mut state = Degenerates::new(mesh);
+    let mut queue: std::collections::VecDeque<usize> =
+        (0..mesh.face_count()).filter(|&f| is_degenerate_face(mesh, f)).collect();
+    let mut budget = 4 * queue.len() + 16;
+    while let Some(f) = queue.pop_front() {
+        if !state.alive[f] || !state.is_degenerate(f) {
+            continue;
+        }
+        let made = if budget == 0 { None } else { state.remove(f) };
+        budget = budget.saturating_sub(1);
+        match made {
+            Some(new_faces) => queue.extend(new_faces.into_iter().filter(|&g| state.is_degenerate(g))),
+            None => state.delete(f),
+        }
+    }
+    let Degenerates { triangles, alive, report, .. } = state;
+    mesh.triangles = triangles.into_iter().zip(alive).filter_map(|(t, a)| a.then_some(t)).collect();
+    report
+}
+
+/// The faces while degenerate ones are removed: directed edges to faces, vertices to faces.
+struct Degenerates<'a> {
+    positions: &'a [glam::DVec3],
+    triangles: Vec<[u32; 3]>,
+    alive: Vec<bool>,
+    edges: rustc_hash::FxHashMap<(u32, u32), usize>,
+    faces_of: Vec<Vec<usize>>,
+    report: DegenerateRemoval,
+}
+
+impl<'a> Degenerates<'a> {
+    fn new(mesh: &'a Mesh) -> Self {
+        let mut edges = rustc_hash::FxHashMap::default();
+        let mut faces_of = vec![Vec::new(); mesh.vertex_count()];
+        for (f, t) in mesh.triangles.iter().enumerate() {
+            for i in 0..3 {
+                edges.insert((t[i], t[(i + 1) % 3]), f);
+                faces_of[t[i] as usize].push(f);
+            }
+        }
+        let alive = vec![true; mesh.face_count()];
+        Degenerates {
+            positions: &mesh.positions,
+            triangles: mesh.triangles.clone(),
+            alive,
+            edges,
+            faces_of,
+            report: DegenerateRemoval::default(),
+        }
+    }
+
+    fn is_degenerate(&self, f: usize) -> bool {
+        self.alive[f] && is_degenerate_triangle(self.positions, self.triangles[f])
+    }
+
+    /// Removes degenerate face `f` by a collapse or a flip; returns the faces that changed
+    /// (to check again), or `None` when neither applies.
+    fn remove(&mut self, f: usize) -> Option<Vec<usize>> {
+        let t = self.triangles[f];
+        if super::validate::repeats_a_vertex(t) {
+            return None;
+        }
+        let p = t.map(|v| self.positions[v as usize]);
+        let length = |i: usize| p[i].distance_squared(p[(i + 1) % 3]);
+        let shortest = (0..3).min_by(|&a, &b| length(a).total_cmp(&length(b))).expect("three edges");
+        let longest = (0..3).max_by(|&a, &b| length(a).total_cmp(&length(b))).expect("three edges");
+        if length(shortest) <= NEEDLE_RATIO * NEEDLE_RATIO * length(longest) {
+            let (a, b) = (t[shortest], t[(shortest + 1) % 3]);
+            return Some(self.collapse(a.min(b), a.max(b)));
+        }
+        self.flip(f, longest)
+    }
+
+    /// Merges vertex `gone` into `kept`: every face of `gone` takes `kept`, faces with both
+    /// are deleted.
+    fn collapse(&mut self, kept: u32, gone: u32) -> Vec<usize> {
+        let faces = std::mem::take(&mut self.faces_of[gone as usize]);
+        let mut changed = Vec::new();
+        for f in faces {
+            if !self.alive[f] {
+                continue;
+            }
+            if self.triangles[f].contains(&kept) {
+                self.delete(f);
+                continue;
+            }
+            self.unlink(f);
+            for v in &mut self.triangles[f] {
+                if *v == gone {
+                    *v = kept;
+                }
+            }
+            self.link(f);
+            self.faces_of[kept as usize].push(f);
+            changed.push(f);
+        }
+        self.report.collapsed += 1;
+        changed
+    }
+
+    /// Flips edge `i` of cap `f` with the face across it: (a, b, c) and (b, a, d) become
+    /// (c, a, d) and (d, b, c).
+    fn flip(&mut self, f: usize, i: usize) -> Option<Vec<usize>> {
+        let t = self.triangles[f];
+        let (a, b, c) = (t[i], t[(i + 1) % 3], t[(i + 2) % 3]);
+        let g = *self.edges.get(&(b, a))?;
+        if g == f || !self.alive[g] {
+            return None;
+        }
+        let u = self.triangles[g];
+        let k = (0..3).find(|&k| u[k] == b && u[(k + 1) % 3] == a)?;
+        let d = u[(k + 2) % 3];
+        if d == c || self.edges.contains_key(&(c, d)) || self.edges.contains_key(&(d, c)) {
+            return None;
+        }
+        self.unlink(f);
+        self.unlink(g);
+        self.triangles[f] = [c, a, d];
+        self.triangles[g] = [d, b, c];
+        self.link(f);
+        self.link(g);
+        self.faces_of[d as usize].push(f);
+        self.faces_of[c as usize].push(g);
+        self.report.flipped += 1;
+        self.report.removed += 1;
+        Some(vec![f, g])
+    }
+
+    fn delete(&mut self, f: usize) {
+        self.unlink(f);
+        self.alive[f] = false;
+        self.report.removed += 1;
+    }
+
+    fn unlink(&mut self, f: usize) {
+        let t = self.triangles[f];
+        for i in 0..3 {
+            let key = (t[i], t[(i + 1) % 3]);
+            if self.edges.get(&key) == Some(&f) {
+                self.edges.remove(&key);
+            }
+        }
+    }
+
+    fn link(&mut self, f: usize) {
+        let t = self.triangles[f];
+        for i in 0..3 {
+            self.edges.insert((t[i], t[(i + 1) % 3]), f);
+        }
+    }
 }
 
 /// Removes every face whose vertex set equals an earlier face's, whatever its orientation.

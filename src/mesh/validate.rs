@@ -269,11 +269,16 @@ pub fn repeats_a_vertex(t: [u32; 3]) -> bool {
 
 /// Whether face `f` repeats a vertex or has (relatively) zero area.
 pub fn is_degenerate_face(mesh: &Mesh, f: usize) -> bool {
-    let t = mesh.triangles[f];
+    is_degenerate_triangle(&mesh.positions, mesh.triangles[f])
+}
+
+/// Whether the triangle `t` on `positions` repeats a vertex or has zero area relative to
+/// its longest edge (see [`is_degenerate_face`]).
+pub fn is_degenerate_triangle(positions: &[glam::DVec3], t: [u32; 3]) -> bool {
     if repeats_a_vertex(t) {
         return true;
     }
-    let [a, b, c] = mesh.triangle_points(f);
+    let [a, b, c] = t.map(|v| positions[v as usize]);
     // Relative to the triangle's own size, so the test does not depend on the model's
     // units: the edges are divided by their largest coordinate before any product.
     let (ab, ac, bc) = (b - a, c - a, c - b);
