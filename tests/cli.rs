@@ -375,6 +375,61 @@ fn terrain_streams_tiles_and_refuses_bad_sizes() {
     for name in ["x.ply", "x.f32", "x.png", "x.raw16"] {
         assert!(!tmp.path().join(name).exists(), "{name} written by a refused command");
     }
+    // Seed 001's own controls: iterations k is size 2^k + 1, roughness r is H = log2 r,
+    // max height is the highest point exactly; each refused with its equivalent.
+    let f32s = |name: &str| -> Vec<f32> {
+        std::fs::read(tmp.path().join(name))
+            .unwrap()
+            .chunks(4)
+            .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+            .collect()
+    };
+    for (a, b) in [
+        (&["--size", "65", "-o", "s.f32"][..], &["--iterations", "6", "-o", "i.f32"][..]),
+        (&["--size", "65", "--hurst", "1", "-o", "s.f32"], &["--size", "65", "--roughness", "2", "-o", "i.f32"]),
+    ] {
+        assert!(run(&[&["terrain"][..], a].concat()).status.success());
+        assert!(run(&[&["terrain"][..], b].concat()).status.success());
+        assert_eq!(f32s("s.f32"), f32s("i.f32"), "{a:?} vs {b:?}");
+    }
+    for method in ["classic", "smooth"] {
+        let out = run(&[
+            "terrain",
+            "--method",
+            method,
+            "--size",
+            "65",
+            "--max-height",
+            "3",
+            "--sea-level",
+            "-1",
+            "-o",
+            "m.f32",
+        ]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let heights = f32s("m.f32");
+        let top = heights.iter().copied().fold(f32::MIN, f32::max);
+        assert!((top - 3.0).abs() < 1e-6, "{method}: highest point {top}, asked 3");
+        assert!(heights.iter().all(|&h| h >= -1.0), "{method}: the sea clamp still holds");
+    }
+    for (args, words) in [
+        (&["--size", "65", "--iterations", "6", "-o", "x.f32"][..], &["--iterations", "--size"][..]),
+        (&["--hurst", "1", "--roughness", "2", "-o", "x.f32"], &["--roughness", "--hurst"]),
+        (&["--max-height", "3", "--sigma", "2", "-o", "x.f32"], &["--max-height", "--sigma"]),
+        (&["--max-height", "3", "--corners", "0,0,0,0", "-o", "x.f32"], &["--max-height", "--corners"]),
+    ] {
+        assert_usage_error(&run(&[&["terrain"][..], args].concat()), words, &["Usage:"]);
+    }
+    for (args, words) in [
+        (&["--max-height", "3", "--stream", "-o", "x.f32"][..], &["--max-height", "whole grid"][..]),
+        (&["--method", "smooth", "--roughness", "2", "-o", "x.f32"], &["--roughness", "smooth"]),
+        (&["--roughness", "0", "-o", "x.f32"], &["--roughness", "positive"]),
+        (&["--max-height", "-1", "-o", "x.f32"], &["max height", "positive"]),
+        (&["--iterations", "40", "-o", "x.f32"], &["--iterations", "31"]),
+    ] {
+        assert_one_line_error(&run(&[&["terrain"][..], args].concat()), 2, words);
+    }
+    assert!(!tmp.path().join("x.f32").exists());
     // Where they apply, the same flags are taken.
     for args in [
         &["--size", "65", "--range", "-1,1", "-o", "r.png"][..],

@@ -37,9 +37,16 @@ pub struct TerrainArgs {
     /// Points per side, 2^n + 1 (classic, smooth) [default: 257].
     #[arg(long)]
     size: Option<u64>,
+    /// Seed 001's iterations k: a (2^k + 1)² grid, the same as --size 2^k+1.
+    #[arg(long, conflicts_with = "size")]
+    iterations: Option<u32>,
     /// Roughness H: the displacement scale falls by 2^-H per level (default 0.8; 1.5 for dual).
     #[arg(long, allow_negative_numbers = true)]
     hurst: Option<f64>,
+    /// Seed 001's roughness: the factor by which the perturbations shrink per iteration,
+    /// 2^H (2 is --hurst 1).
+    #[arg(long, conflicts_with = "hurst", allow_negative_numbers = true)]
+    roughness: Option<f64>,
     /// Displacement scale at the first level (dual: the factor applied to (|x| + |y|)/2).
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     sigma: f64,
@@ -89,6 +96,12 @@ pub struct TerrainArgs {
     /// World depth (y) (classic, smooth) [default: 10].
     #[arg(long, allow_negative_numbers = true)]
     depth: Option<f64>,
+    /// Seed 001's max height: the highest peak's height; every height is scaled so the
+    /// whole grid's highest point is exactly this (classic, smooth; measured on the whole
+    /// grid, so not with --tile or --stream; exclusive with --sigma and --corners, which
+    /// set heights too).
+    #[arg(long, conflicts_with_all = ["sigma", "corners"], allow_negative_numbers = true)]
+    max_height: Option<f64>,
     /// Raise everything below this height to it.
     #[arg(long, allow_hyphen_values = true)]
     sea_level: Option<f64>,
@@ -145,8 +158,13 @@ pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
         MethodArg::Dual => return run_dual(&args, start, ctx),
     };
     refuse_other_modes_flags(&args)?;
-    let hurst = args.hurst.unwrap_or(0.8);
-    let (size, grid) = (args.size.unwrap_or(257), args.grid.unwrap_or_default());
+    let hurst = hurst_of(&args, 0.8)?;
+    let size = match args.iterations {
+        Some(k @ 1..=31) => (1u64 << k) + 1,
+        Some(k) => return Err(Error::InvalidInput(format!("--iterations {k} must be between 1 and 31"))),
+        None => args.size.unwrap_or(257),
+    };
+    let grid = args.grid.unwrap_or_default();
     let band = args.band.unwrap_or(64);
     if grid == Grid::Hex && args.tile.is_some() {
         return Err(Error::InvalidInput(
@@ -168,6 +186,7 @@ pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
         width: args.width.unwrap_or(10.0),
         depth: args.depth.unwrap_or(10.0),
         sea_level: args.sea_level,
+        height_factor: 1.0,
         palette: args.colors.unwrap_or_default(),
         peak_height: args.peak_height,
     };
@@ -183,8 +202,6 @@ pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
         Some(format) => format.to_ascii_lowercase(),
         None => args.output.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase(),
     };
-    let scale = params.height_scale();
-    let range = args.range.unwrap_or((-scale, scale));
     let points = rect.width() as u64 * rect.height() as u64;
     let whole_mesh = matches!(ext.as_str(), "obj" | "ply") && !args.stream;
     let rows_at_once = if args.stream { band.max(1).min(rect.height()) } else { rect.height() } as u64;
@@ -195,6 +212,12 @@ pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
         &format!("a {}x{} terrain built whole", rect.width(), rect.height()),
         "write a heightmap with --stream, or cut it into --tile pieces",
     )?;
+    let params = match args.max_height {
+        Some(top) => params.with_max_height(top)?,
+        None => params,
+    };
+    let scale = params.height_scale();
+    let range = args.range.unwrap_or((-scale, scale));
     if whole_mesh {
         let terrain = ctx.spin("terrain", "generating the mesh", || mesh(&params, rect))?;
         let format = if ext == "obj" { io::Format::Obj } else { io::Format::Ply };
@@ -267,7 +290,7 @@ fn run_dual(args: &TerrainArgs, start: Instant, ctx: super::Context) -> Result<(
     let params = DualParams {
         x: args.x.unwrap_or([1.0, 0.0, 0.0]).into(),
         y: args.y.unwrap_or([0.0, 1.0, 0.0]).into(),
-        hurst: args.hurst.unwrap_or(1.5),
+        hurst: hurst_of(args, 1.5)?,
         levels: args.levels.unwrap_or(9),
         scale: args.sigma,
         seed: args.seed,
@@ -357,6 +380,17 @@ fn write_preview(params: &TerrainParams, rect: Rect, path: &std::path::Path) -> 
     hillshade(&relief, |h| params.color(h)).write_png(path)
 }
 
+/// H from `--hurst`, or from `--roughness` (2^H), or `default`.
+fn hurst_of(args: &TerrainArgs, default: f64) -> Result<f64> {
+    match (args.hurst, args.roughness) {
+        (_, Some(r)) if !(r.is_finite() && r > 0.0) => {
+            Err(Error::InvalidInput(format!("--roughness {r} must be positive (it is 2^H)")))
+        }
+        (_, Some(r)) => Ok(r.log2()),
+        (h, None) => Ok(h.unwrap_or(default)),
+    }
+}
+
 /// Every flag another mode would use is refused where it would be ignored, with the mode
 /// it belongs to in the message: dual's quadrilateral flags with the heightfield methods,
 /// the grid's flags with dual, `--band` without `--stream`, `--range` without a 16-bit
@@ -371,7 +405,20 @@ fn refuse_other_modes_flags(args: &TerrainArgs) -> Result<()> {
     let mesh_output = matches!(ext.as_str(), "ply" | "obj");
     let coloured = mesh_output || args.preview.is_some();
     let heightfield = "--method classic and smooth";
-    let rules: [(&str, bool, bool, &str); 24] = [
+    let rules: [(&str, bool, bool, &str); 27] = [
+        ("--iterations", args.iterations.is_some(), !dual, heightfield),
+        (
+            "--max-height",
+            args.max_height.is_some(),
+            !dual && !args.stream && args.tile.is_none(),
+            "whole grids of --method classic and smooth (the highest peak is measured on the whole grid: not with --stream or --tile)",
+        ),
+        (
+            "--roughness",
+            args.roughness.is_some(),
+            args.method != MethodArg::Smooth,
+            "--method classic and dual (smooth's points are uniform within their parents' range)",
+        ),
         ("--x", args.x.is_some(), dual, "--method dual"),
         ("--y", args.y.is_some(), dual, "--method dual"),
         ("--levels", args.levels.is_some(), dual, "--method dual"),

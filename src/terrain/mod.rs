@@ -80,6 +80,9 @@ pub struct TerrainParams {
     pub depth: f64,
     /// Heights below this are raised to it (the sea plane), when set.
     pub sea_level: Option<f64>,
+    /// Every height is multiplied by this before the sea clamp (1 leaves them as
+    /// generated); [`TerrainParams::with_max_height`] sets it from seed 001's max height.
+    pub height_factor: f64,
     /// Colours of the height ramp.
     pub palette: Palette,
     /// Height (above the sea, or above 0) that gets the peak colour; by default half of
@@ -132,6 +135,7 @@ impl Default for TerrainParams {
             width: 10.0,
             depth: 10.0,
             sea_level: None,
+            height_factor: 1.0,
             palette: Palette::default(),
             peak_height: None,
         }
@@ -155,6 +159,7 @@ impl TerrainParams {
         let numbers = [self.hurst, self.sigma, self.mean, self.variance, self.width, self.depth];
         if numbers.iter().chain(self.corners.iter().flatten()).any(|v| !v.is_finite())
             || self.sea_level.is_some_and(|s| !s.is_finite())
+            || !self.height_factor.is_finite()
         {
             return Err(Error::InvalidInput("terrain parameters must be finite numbers".into()));
         }
@@ -185,7 +190,33 @@ impl TerrainParams {
         let levels = (self.size.max(2) - 1).trailing_zeros();
         let sum: f64 =
             (0..=levels).map(|l| if self.applet { 1.0 } else { (-2.0 * self.hurst * f64::from(l)).exp2() }).sum();
-        4.0 * self.sigma * (self.variance.max(1e-12) * sum).sqrt()
+        4.0 * self.sigma * (self.variance.max(1e-12) * sum).sqrt() * self.height_factor.abs()
+    }
+
+    /// Seed 001's "max height" (the highest peak's height): the same terrain with every
+    /// height scaled so that its highest point is `top` exactly. It measures the whole
+    /// grid once (so tiles of the result still agree), before any sea clamp.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] when `top` is not positive or no point of the terrain lies
+    /// above 0 (nothing to scale to a peak).
+    pub fn with_max_height(self, top: f64) -> Result<Self> {
+        if !(top.is_finite() && top > 0.0) {
+            return Err(Error::InvalidInput(format!("max height {top} must be positive")));
+        }
+        let raw = TerrainParams { height_factor: 1.0, sea_level: None, ..self };
+        let last = self.size.saturating_sub(1);
+        let peak = heights(&raw, Rect { x0: 0, y0: 0, x1: last, y1: last })?
+            .heights
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max);
+        if peak.is_nan() || peak <= 0.0 {
+            return Err(Error::InvalidInput(format!(
+                "no point of this terrain lies above 0 (highest {peak}): there is no peak to scale to max height {top}"
+            )));
+        }
+        Ok(TerrainParams { height_factor: top / peak, ..self })
     }
 
     /// World position of grid point (x, y) with height h (z up).
@@ -263,16 +294,20 @@ pub fn heights(params: &TerrainParams, rect: Rect) -> Result<Heightfield> {
         let raw = Heightfield { rect: grown, heights: raw_heights(&generator, grown) };
         let once = gaussian_3x3(&raw, params.size, rect.grown(1, last));
         let mut twice = gaussian_3x3(&once, params.size, rect);
-        if let Some(sea) = params.sea_level {
-            twice.heights.par_iter_mut().for_each(|h| *h = h.max(sea));
-        }
+        clamp_heights(params, &mut twice.heights);
         return Ok(twice);
     }
     let mut values = raw_heights(&generator, rect);
-    if let Some(sea) = params.sea_level {
-        values.par_iter_mut().for_each(|h| *h = h.max(sea));
-    }
+    clamp_heights(params, &mut values);
     Ok(Heightfield { rect, heights: values })
+}
+
+/// Heights times the height factor, then the sea raises what is below it.
+fn clamp_heights(params: &TerrainParams, heights: &mut [f64]) {
+    let (factor, sea) = (params.height_factor, params.sea_level.unwrap_or(f64::NEG_INFINITY));
+    if factor != 1.0 || params.sea_level.is_some() {
+        heights.par_iter_mut().for_each(|h| *h = (*h * factor).max(sea));
+    }
 }
 
 /// One pass of the 3×3 Gaussian filter ([1 2 1]ᵀ[1 2 1] / 16) over `rect`, from `field`
