@@ -430,6 +430,25 @@ fn terrain_streams_tiles_and_refuses_bad_sizes() {
         assert_one_line_error(&run(&[&["terrain"][..], args].concat()), 2, words);
     }
     assert!(!tmp.path().join("x.f32").exists());
+    // A streamed terrain's preview comes from the streamed rows: the same picture as the
+    // whole grid's where it fits in 1024 pixels, every k-th point beyond (#24 item 4).
+    assert!(run(&["terrain", "--size", "129", "-o", "w.f32", "--preview", "whole.png"]).status.success());
+    assert!(
+        run(&["terrain", "--size", "129", "--stream", "-o", "s.f32", "--preview", "streamed.png"]).status.success()
+    );
+    assert_eq!(
+        std::fs::read(tmp.path().join("whole.png")).unwrap(),
+        std::fs::read(tmp.path().join("streamed.png")).unwrap()
+    );
+    assert!(
+        run(&["terrain", "--size", "2049", "--stream", "-o", "big.raw16", "--preview", "big.png"]).status.success()
+    );
+    let info = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(tmp.path().join("big.png")).unwrap()))
+        .read_info()
+        .unwrap()
+        .info()
+        .clone();
+    assert_eq!((info.width, info.height), (683, 683), "2049 points at every 3rd");
     // Where they apply, the same flags are taken.
     for args in [
         &["--size", "65", "--range", "-1,1", "-o", "r.png"][..],

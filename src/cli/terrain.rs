@@ -12,7 +12,7 @@ use crate::io::{self, WriteOptions, write_atomically};
 use crate::mesh::Adjacency;
 use crate::render::hillshade::{Relief, hillshade};
 use crate::terrain::Grid;
-use crate::terrain::stream::{StreamFormat, write_terrain};
+use crate::terrain::stream::{StreamFormat, write_terrain_observed};
 use crate::terrain::{
     Distribution, DualParams, Method, QuadSurface, Rect, TerrainParams, dual_midpoint_displacement, heights, mesh,
     ramp_color, tile_rect,
@@ -132,8 +132,9 @@ pub struct TerrainArgs {
     /// Output: .ply / .obj mesh, .png 16-bit heightmap, .raw16, .f32.
     #[arg(short, long)]
     output: PathBuf,
-    /// Also write a picture: a hillshaded colour map (classic, smooth) or a rendering of
-    /// the surface (dual), as .png.
+    /// Also write a picture: a hillshaded colour map (classic, smooth; one pixel per point,
+    /// or with --stream every k-th point of the streamed rows, at most 1024 a side) or a
+    /// rendering of the surface (dual), as .png.
     #[arg(long)]
     preview: Option<PathBuf>,
     /// Output format when the file name has no telling extension (e.g. -o /dev/null):
@@ -218,6 +219,7 @@ pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
     };
     let scale = params.height_scale();
     let range = args.range.unwrap_or((-scale, scale));
+    let mut streamed_preview: Option<PreviewSampler> = None;
     if whole_mesh {
         let terrain = ctx.spin("terrain", "generating the mesh", || mesh(&params, rect))?;
         let format = if ext == "obj" { io::Format::Obj } else { io::Format::Ply };
@@ -234,12 +236,21 @@ pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
         }
         let band = if args.stream { band } else { rect.height() };
         let mut failure = None;
+        // A streamed terrain's preview is made from the streamed rows, at most
+        // STREAMED_PREVIEW_SIDE pixels a side: one more band-sized pass would not be bounded.
+        streamed_preview = (args.stream && args.preview.is_some()).then(|| PreviewSampler::new(rect));
         // I/O failures go back to `write_atomically`, which names the output file; other
         // errors keep their type.
         let message = format!("{}x{} points", rect.width(), rect.height());
+        let sampler = &mut streamed_preview;
         ctx.spin("terrain", &message, || {
             write_atomically(&args.output, |w| {
-                write_terrain(&params, rect, format, range, band, w).map_err(|e| match e {
+                let mut observe = |field: &crate::terrain::Heightfield, y0: u64, y1: u64| {
+                    if let Some(sampler) = sampler.as_mut() {
+                        sampler.take(field, y0, y1);
+                    }
+                };
+                write_terrain_observed(&params, rect, format, range, band, w, &mut observe).map_err(|e| match e {
                     Error::Io { source, .. } => source,
                     other => {
                         let message = other.to_string();
@@ -252,8 +263,10 @@ pub fn run(args: TerrainArgs, ctx: super::Context) -> Result<()> {
         .map_err(|e| failure.take().unwrap_or(e))?;
     }
     let seconds = start.elapsed().as_secs_f64();
-    if let Some(preview) = &args.preview {
-        write_preview(&params, rect, preview)?;
+    match (&args.preview, streamed_preview) {
+        (Some(preview), Some(sampler)) => sampler.picture(&params).write_png(preview)?,
+        (Some(preview), None) => write_preview(&params, rect, preview)?,
+        _ => {}
     }
     let method = args.method.to_possible_value().map_or_else(String::new, |v| v.get_name().to_string());
     ctx.report(
@@ -357,6 +370,49 @@ fn dual_mesh(surface: &QuadSurface, params: &DualParams, args: &TerrainArgs) -> 
     let palette = args.colors.unwrap_or_default();
     m.colors = Some(heights.iter().map(|h| ramp_color(&palette, (h - lo) / (hi - lo).max(1e-12), false)).collect());
     m
+}
+
+/// The largest side of a streamed terrain's preview, pixels: every k-th point of every
+/// k-th streamed row, k the smallest stride that fits.
+const STREAMED_PREVIEW_SIDE: usize = 1024;
+
+/// A streamed terrain's preview, gathered from the rows as they stream past: the heights
+/// at every `stride`-th point of every `stride`-th row.
+struct PreviewSampler {
+    rect: Rect,
+    stride: u64,
+    columns: usize,
+    heights: Vec<f64>,
+}
+
+impl PreviewSampler {
+    fn new(rect: Rect) -> Self {
+        let side = rect.width().max(rect.height());
+        let stride = side.div_ceil(STREAMED_PREVIEW_SIDE).max(1) as u64;
+        let columns = (rect.width() as u64).div_ceil(stride) as usize;
+        let rows = (rect.height() as u64).div_ceil(stride) as usize;
+        PreviewSampler { rect, stride, columns, heights: Vec::with_capacity(columns * rows) }
+    }
+
+    /// Takes the sampled points of rows y0..=y1 of `field`.
+    fn take(&mut self, field: &crate::terrain::Heightfield, y0: u64, y1: u64) {
+        for y in (y0..=y1).filter(|y| (y - self.rect.y0) % self.stride == 0) {
+            self.heights.extend((0..self.columns as u64).map(|i| field.at(self.rect.x0 + i * self.stride, y)));
+        }
+    }
+
+    /// The hillshaded picture, one pixel per sampled point.
+    fn picture(&self, params: &TerrainParams) -> crate::render::Picture {
+        let last = (params.size - 1).max(1) as f64;
+        let k = self.stride as f64;
+        let relief = Relief {
+            heights: &self.heights,
+            columns: self.columns,
+            spacing: (params.width / last * k, params.depth / last * k),
+            exaggeration: None,
+        };
+        hillshade(&relief, |h| params.color(h))
+    }
 }
 
 /// The largest grid a preview pictures (one pixel per point).

@@ -62,6 +62,24 @@ pub fn write_terrain(
     band: usize,
     w: &mut dyn Write,
 ) -> Result<()> {
+    write_terrain_observed(params, rect, format, range, band, w, &mut |_, _, _| {})
+}
+
+/// [`write_terrain`], showing each band of finished heights to `observe(field, y0, y1)`
+/// once, as it is written (rows y0..=y1 of `field`): a preview or a statistic is then made
+/// from the streamed rows, in the stream's bounded memory.
+///
+/// # Errors
+/// As [`write_terrain`].
+pub fn write_terrain_observed(
+    params: &TerrainParams,
+    rect: Rect,
+    format: StreamFormat,
+    range: (f64, f64),
+    band: usize,
+    w: &mut dyn Write,
+    observe: &mut dyn FnMut(&super::Heightfield, u64, u64),
+) -> Result<()> {
     let (cols, rows) = (rect.width(), rect.height());
     let band = band.max(1);
     let io = |e: std::io::Error| Error::io("terrain output", e);
@@ -85,7 +103,7 @@ pub fn write_terrain(
                 ascii: false,
             };
             write_header(w, &layout).map_err(io)?;
-            for_each_band(params, rect, band, true, |field, y0, y1| {
+            for_each_band(params, rect, band, true, observe, |field, y0, y1| {
                 for y in y0..=y1 {
                     for x in rect.x0..=rect.x1 {
                         let h = field.at(x, y);
@@ -110,7 +128,7 @@ pub fn write_terrain(
                 return Err(Error::InvalidInput(format!("{cols}x{rows} vertices exceed 32-bit indices: use tiles")));
             }
             obj::write_header(w).map_err(io)?;
-            for_each_band(params, rect, band, false, |field, y0, y1| {
+            for_each_band(params, rect, band, false, observe, |field, y0, y1| {
                 for y in y0..=y1 {
                     for x in rect.x0..=rect.x1 {
                         let h = field.at(x, y);
@@ -120,7 +138,7 @@ pub fn write_terrain(
                 Ok(())
             })
             .map_err(io)?;
-            for_each_band(params, rect, band, true, |field, y0, y1| {
+            for_each_band(params, rect, band, true, &mut |_, _, _| {}, |field, y0, y1| {
                 for y in y0..=y1 {
                     for x in rect.x0..=rect.x1 {
                         obj::write_normal(w, normal_at(params, field, x, y))?;
@@ -135,7 +153,7 @@ pub fn write_terrain(
         }
         StreamFormat::Raw16 | StreamFormat::F32 => {
             let mut row_bytes = Vec::with_capacity(cols * 4);
-            for_each_band(params, rect, band, false, |field, y0, y1| {
+            for_each_band(params, rect, band, false, observe, |field, y0, y1| {
                 for y in y0..=y1 {
                     row_bytes.clear();
                     for x in rect.x0..=rect.x1 {
@@ -162,7 +180,7 @@ pub fn write_terrain(
             let mut writer = encoder.write_header().map_err(|e| io(std::io::Error::other(e)))?;
             let mut stream = writer.stream_writer().map_err(|e| io(std::io::Error::other(e)))?;
             let mut row_bytes = Vec::with_capacity(cols * 2);
-            for_each_band(params, rect, band, false, |field, y0, y1| {
+            for_each_band(params, rect, band, false, observe, |field, y0, y1| {
                 for y in y0..=y1 {
                     row_bytes.clear();
                     for x in rect.x0..=rect.x1 {
@@ -186,6 +204,7 @@ fn for_each_band(
     rect: Rect,
     band: usize,
     margin: bool,
+    observe: &mut dyn FnMut(&super::Heightfield, u64, u64),
     mut emit: impl FnMut(&super::Heightfield, u64, u64) -> std::io::Result<()>,
 ) -> std::io::Result<()> {
     let last = params.size - 1;
@@ -195,6 +214,7 @@ fn for_each_band(
         let y1 = (y0 + band as u64 - 1).min(rect.y1);
         let region = Rect { y0, y1, ..rect }.grown(m, last);
         let field = heights(params, region).map_err(std::io::Error::other)?;
+        observe(&field, y0, y1);
         emit(&field, y0, y1)?;
         y0 = y1 + 1;
     }
