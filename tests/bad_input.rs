@@ -48,6 +48,7 @@ fn location(at: &str) -> Location {
         None if at == "file" => Location::File,
         Some(("line", n)) => Location::Line(n.parse().unwrap()),
         Some(("byte", n)) => Location::Byte(n.parse().unwrap()),
+        Some(("mesh", n)) => Location::Element("mesh", n.parse().unwrap()),
         _ => panic!("bad `at` in expected.toml: {at}"),
     }
 }

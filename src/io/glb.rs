@@ -310,6 +310,37 @@ fn check_glb_header(bytes: &[u8], path: &Path) -> Result<()> {
 
 /// Reads every triangle primitive of the default scene (or of all meshes without scenes),
 /// node transforms applied, into one mesh with normals and colours when all parts have them.
+/// Why an accessor's data cannot be read, if it cannot: no buffer view (sparse or
+/// all-zero accessors are not read), data in an external file, no binary chunk, or a view
+/// that runs past the binary chunk.
+fn check_accessor_data(accessor: &gltf::Accessor, blob: Option<&[u8]>) -> std::result::Result<(), String> {
+    let a = accessor.index();
+    let Some(view) = accessor.view() else {
+        return Err(format!("accessor {a} has no buffer view (sparse or all-zero accessors are not read)"));
+    };
+    match view.buffer().source() {
+        gltf::buffer::Source::Uri(uri) => Err(format!(
+            "accessor {a}'s data is in the external file `{}` (only data inside the .glb is read)",
+            super::text::shorten(uri)
+        )),
+        gltf::buffer::Source::Bin => {
+            let Some(blob) = blob else {
+                return Err(format!("accessor {a} refers to the binary chunk, and the file has none"));
+            };
+            let stride = view.stride().unwrap_or(accessor.size());
+            let needed = accessor.count().checked_sub(1).map_or(0, |last| last * stride + accessor.size());
+            let end = view.offset() + accessor.offset() + needed;
+            if end > view.offset() + view.length() || end > blob.len() {
+                return Err(format!(
+                    "accessor {a} needs bytes up to {end}, beyond its buffer view or the binary chunk ({} bytes)",
+                    blob.len()
+                ));
+            }
+            Ok(())
+        }
+    }
+}
+
 pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
     use crate::error::Location;
     check_glb_header(bytes, path)?;
@@ -342,9 +373,20 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
                 gltf::buffer::Source::Uri(_) => None,
             });
             let element = Location::Element("mesh", mesh.index());
+            let at_primitive = |msg: String| {
+                Error::parse(path, element.clone(), format!("primitive {}: {msg}", primitive.index()))
+            };
+            for (what, accessor) in [
+                ("POSITION", primitive.get(&gltf::Semantic::Positions)),
+                ("the indices", primitive.indices()),
+            ] {
+                if let Some(accessor) = accessor {
+                    check_accessor_data(&accessor, blob).map_err(|m| at_primitive(format!("{what}: {m}")))?;
+                }
+            }
             let positions: Vec<DVec3> = reader
                 .read_positions()
-                .ok_or_else(|| Error::parse(path, element.clone(), "a primitive without readable POSITION"))?
+                .ok_or_else(|| at_primitive("no POSITION attribute (a triangle primitive needs one)".into()))?
                 .map(|p| world.transform_point3(glam::Vec3::from(p).as_dvec3()))
                 .collect();
             let base = out.positions.len() as u32;
@@ -354,11 +396,11 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
                 None => (0..count).collect(),
             };
             if indices.len() % 3 != 0 {
-                return Err(Error::parse(path, element.clone(), "triangle indices are not a multiple of 3"));
+                return Err(at_primitive(format!("{} triangle indices are not a multiple of 3", indices.len())));
             }
-            for t in indices.chunks_exact(3) {
+            for (k, t) in indices.chunks_exact(3).enumerate() {
                 if let Err(msg) = super::check_polygon(t, positions.len()) {
-                    return Err(Error::parse(path, element.clone(), msg));
+                    return Err(at_primitive(format!("triangle {k}: {msg}")));
                 }
                 let t = [t[0], t[1], t[2]];
                 if crate::mesh::repeats_a_vertex(t) {
