@@ -3,6 +3,7 @@
 mod analysis;
 mod bad_input;
 mod cli;
+mod cli_flags;
 mod common;
 mod detail;
 mod determinism;

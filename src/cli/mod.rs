@@ -191,6 +191,26 @@ pub fn reference() -> String {
     out
 }
 
+/// Every subcommand's long flags (without `--help` and the global `--json` and `--quiet`),
+/// for the test that runs each one and checks it changes the output or is refused.
+pub fn subcommand_flags() -> Vec<(String, Vec<String>)> {
+    use clap::CommandFactory;
+    let mut cli = Cli::command();
+    cli.build();
+    cli.get_subcommands()
+        .filter(|s| !s.is_hide_set() && s.get_name() != "help")
+        .map(|s| {
+            let flags = s
+                .get_arguments()
+                .filter_map(|a| a.get_long())
+                .filter(|l| !["help", "json", "quiet"].contains(l))
+                .map(|l| format!("--{l}"))
+                .collect();
+            (s.get_name().to_string(), flags)
+        })
+        .collect()
+}
+
 fn one_line(msg: &str) -> String {
     msg.split_whitespace().collect::<Vec<_>>().join(" ")
 }

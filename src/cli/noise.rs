@@ -55,7 +55,8 @@ pub struct NoiseArgs {
     /// Seed.
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// PNG grey range LO,HI (default: the image's own minimum and maximum).
+    /// PNG grey range LO,HI [default: the image's own minimum and maximum; Gabor −3,3,
+    /// three standard deviations at K = 1, so K shows as contrast].
     #[arg(long, value_parser = super::parse::range, allow_hyphen_values = true)]
     range: Option<(f64, f64)>,
     /// Output: .png (16-bit grey) or .f32 (raw little-endian, row-major).
@@ -104,7 +105,10 @@ pub fn run(args: NoiseArgs, ctx: super::Context) -> Result<()> {
     let values = field.grid2(0.0, 0.0, scale, args.size, args.size);
     let (lo, hi) = value_range(&values).ok_or_else(|| Error::Internal("noise produced no finite value".into()))?;
     if ext.as_deref() == Some("png") {
-        let range = args.range.unwrap_or(if hi > lo { (lo, hi) } else { (lo - 1.0, lo + 1.0) });
+        let own = if hi > lo { (lo, hi) } else { (lo - 1.0, lo + 1.0) };
+        // Gabor's magnitude K would cancel in the image's own range.
+        let gabor = (args.kind == NoiseKind::Gabor).then_some((-3.0, 3.0));
+        let range = args.range.or(gabor).unwrap_or(own);
         write_png16(&args.output, &values, args.size, range)?;
     } else {
         write_f32(&args.output, &values)?;

@@ -89,7 +89,7 @@ fn fractal_kind(kind: NoiseKind) -> FractalKind {
 }
 
 /// The tangent frame at a vertex: the diffusion direction projected on the tangent plane,
-/// or, where it vanishes or `follow` is off, [`REFERENCE_DIRECTION`] projected on it (as
+/// or, where it vanishes or `follow` is off, `REFERENCE_DIRECTION` ((1, 2, 3)/√14) projected on it (as
 /// Lagae et al. 2009 orient surface noise, §5: a 3D direction projected on the tangent
 /// plane), and normal × that. Both vary continuously with the normal, so the noise has no
 /// seam where the surface has none; the projection vanishes only where the normal is

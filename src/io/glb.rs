@@ -373,13 +373,11 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
                 gltf::buffer::Source::Uri(_) => None,
             });
             let element = Location::Element("mesh", mesh.index());
-            let at_primitive = |msg: String| {
-                Error::parse(path, element.clone(), format!("primitive {}: {msg}", primitive.index()))
-            };
-            for (what, accessor) in [
-                ("POSITION", primitive.get(&gltf::Semantic::Positions)),
-                ("the indices", primitive.indices()),
-            ] {
+            let at_primitive =
+                |msg: String| Error::parse(path, element.clone(), format!("primitive {}: {msg}", primitive.index()));
+            for (what, accessor) in
+                [("POSITION", primitive.get(&gltf::Semantic::Positions)), ("the indices", primitive.indices())]
+            {
                 if let Some(accessor) = accessor {
                     check_accessor_data(&accessor, blob).map_err(|m| at_primitive(format!("{what}: {m}")))?;
                 }

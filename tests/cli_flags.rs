@@ -1,0 +1,295 @@
+//! Every flag of every subcommand does something or is refused (#24 item 11): each flag
+//! is run against a base command, and either what the command writes (its files, and for
+//! the commands that report on stdout, their JSON report without timings) differs, or the
+//! command refuses it with exit 2. A flag missing from the table fails the test, so a new
+//! flag needs a case.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use rayon::prelude::*;
+
+use crate::common::{shared_meshes, temp_dir};
+
+/// One flag's case: the base command and the same with the flag; `may_fix` when the base
+/// may be refused and the flag is what makes it work (`--repair`, `--force`).
+struct Case {
+    sub: &'static str,
+    flag: &'static str,
+    base: Vec<String>,
+    with: Vec<String>,
+    may_fix: bool,
+}
+
+/// Flags whose effect is not in the output, with the test that checks what they do.
+const EXEMPT: [(&str, &str, &str); 3] = [
+    ("demo", "--out", "slow; `demo_writes_its_meshes` checks the folder it names"),
+    (
+        "terrain",
+        "--stream",
+        "the same bytes by design, in bounded memory: `streaming_equals_whole_grids` and the memory test",
+    ),
+    ("terrain", "--band", "the same bytes by design: `streaming_equals_whole_grids` runs several bands"),
+];
+
+fn owned(args: &[&str]) -> Vec<String> {
+    args.iter().map(|s| s.to_string()).collect()
+}
+
+/// The cases of every subcommand. `M` is the meshes folder, `B` a broken mesh (repairable).
+fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
+    let eight = meshes.join("eight.off").display().to_string();
+    let fandisk = meshes.join("fandisk.off").display().to_string();
+    let broken = broken.display().to_string();
+    let mut cases = Vec::new();
+    let mut add = |sub: &'static str, flag: &'static str, base: &[&str], extra: &[&str]| {
+        let base = owned(base);
+        let mut with = base.clone();
+        with.extend(owned(extra));
+        cases.push(Case { sub, flag, base, with, may_fix: false });
+    };
+    // analyze
+    let a = ["analyze", &eight, "-o", "a.ply"];
+    add("analyze", "--normals", &a, &["--normals", "uniform"]);
+    add("analyze", "--corner", &a, &["--corner", "0.001"]);
+    add("analyze", "--face", &a, &["--face", "0.3"]);
+    add("analyze", "--strong", &a, &["--strong", "0.001"]);
+    add("analyze", "--ascii", &a, &["--ascii"]);
+    // clouds
+    let c = ["clouds", "--size", "33", "-o", "c.png"];
+    add("clouds", "--size", &c, &["--size", "65"]);
+    add("clouds", "--hurst", &c, &["--hurst", "0.2"]);
+    add("clouds", "--seed", &c, &["--seed", "1"]);
+    add("clouds", "--threshold", &c, &["--threshold", "0.2"]);
+    add("clouds", "--sky", &c, &["--sky", "0,0,0"]);
+    add("clouds", "--cloud", &c, &["--cloud", "255,0,0"]);
+    // compare (its report is its output)
+    let k = ["compare", &eight, "--methods", "asperity,meshoptimizer", "--json"];
+    add("compare", "--target-vertices", &k, &["--target-vertices", "100"]);
+    add("compare", "--methods", &k, &["--methods", "asperity"]);
+    let kf = ["compare", &fandisk, "--methods", "asperity", "--target-vertices", "400", "--json"];
+    add("compare", "--keep-features", &kf, &["--keep-features", "none"]);
+    add("compare", "--feature-vertices", &kf, &["--feature-vertices", "keep"]);
+    // convert
+    add("convert", "--ascii", &["convert", &eight, "v.ply"], &["--ascii"]);
+    // detail, with a recipe whose relief makes self-intersections
+    let d = ["detail", &eight, "-o", "d.ply", "--recipe", "relief.toml"];
+    add("detail", "--recipe", &["detail", &eight, "-o", "d.ply"], &["--recipe", "relief.toml"]);
+    add("detail", "--no-self-intersections", &d, &["--no-self-intersections"]);
+    add("detail", "--target-vertices", &d, &["--target-vertices", "150"]);
+    add("detail", "--levels", &d, &["--levels", "2"]);
+    add("detail", "--max-error", &d, &["--max-error", "0.001"]);
+    add("detail", "--removal-weight", &d, &["--removal-weight", "0.1"]);
+    add("detail", "--swap-weight", &d, &["--swap-weight", "3"]);
+    add("detail", "--no-intersection-guard", &d, &["--no-intersection-guard"]);
+    let df = ["detail", &fandisk, "-o", "d.ply", "--recipe", "relief.toml", "--target-vertices", "400"];
+    add("detail", "--keep-features", &df, &["--keep-features", "none"]);
+    add("detail", "--feature-vertices", &df, &["--feature-vertices", "keep"]);
+    // noise
+    let n = ["noise", "--size", "32", "-o", "n.png"];
+    add("noise", "--kind", &n, &["--kind", "fbm"]);
+    add("noise", "--size", &n, &["--size", "40"]);
+    add("noise", "--scale", &n, &["--scale", "0.1"]);
+    add("noise", "--seed", &n, &["--seed", "2"]);
+    add("noise", "--range", &n, &["--range", "-2,2"]);
+    let nf = ["noise", "--size", "32", "-o", "n.png", "--kind", "fbm"];
+    add("noise", "--octaves", &nf, &["--octaves", "2"]);
+    add("noise", "--lacunarity", &nf, &["--lacunarity", "3"]);
+    add("noise", "--gain", &nf, &["--gain", "0.8"]);
+    add("noise", "--offset", &["noise", "--size", "32", "-o", "n.png", "--kind", "multifractal"], &["--offset", "0.5"]);
+    let ng = ["noise", "--size", "32", "-o", "n.png", "--kind", "gabor"];
+    add("noise", "--k", &ng, &["--k", "2"]);
+    add("noise", "--a", &ng, &["--a", "0.08"]);
+    add("noise", "--f0", &ng, &["--f0", "0.1"]);
+    add("noise", "--omega", &ng, &["--omega", "0.3"]);
+    add("noise", "--impulses", &ng, &["--impulses", "16"]);
+    add("noise", "--isotropic", &ng, &["--isotropic"]);
+    // render
+    let r = ["render", &eight, "-o", "r.png", "--size", "64,48"];
+    add("render", "--size", &r, &["--size", "80,60"]);
+    add("render", "--mode", &r, &["--mode", "wireframe"]);
+    add("render", "--yaw", &r, &["--yaw", "100"]);
+    add("render", "--pitch", &r, &["--pitch", "70"]);
+    add("render", "--up", &r, &["--up", "x"]);
+    add("render", "--colors", &r, &["--colors", "height"]);
+    add("render", "--background", &r, &["--background", "#000000"]);
+    add("render", "--samples", &r, &["--samples", "1"]);
+    add("render", "--crease", &r, &["--crease", "1"]);
+    add("render", "--edges", &r, &["--edges"]);
+    // simplify
+    let s = ["simplify", &eight, "-o", "s.ply"];
+    add("simplify", "--target-vertices", &s, &["--target-vertices", "100"]);
+    add("simplify", "--levels", &s, &["--levels", "2"]);
+    add("simplify", "--max-error", &s, &["--max-error", "0.001"]);
+    add("simplify", "--removal-weight", &s, &["--removal-weight", "0.1"]);
+    add("simplify", "--swap-weight", &s, &["--swap-weight", "3"]);
+    add("simplify", "--no-intersection-guard", &s, &["--no-intersection-guard"]);
+    add("simplify", "--levels-out", &s, &["--levels-out", "levels"]);
+    add("simplify", "--lod-out", &s, &["--lod-out", "l.glb"]);
+    add("simplify", "--param-out", &s, &["--param-out", "p.ply"]);
+    let sf = ["simplify", &fandisk, "-o", "s.ply", "--target-vertices", "400"];
+    add("simplify", "--keep-features", &sf, &["--keep-features", "none"]);
+    add("simplify", "--feature-vertices", &sf, &["--feature-vertices", "keep"]);
+    // terrain
+    let t = ["terrain", "--size", "33", "-o", "t.ply"];
+    add("terrain", "--method", &t, &["--method", "smooth"]);
+    add("terrain", "--size", &t, &["--size", "17"]);
+    add("terrain", "--iterations", &["terrain", "-o", "t.ply"], &["--iterations", "4"]);
+    add("terrain", "--hurst", &t, &["--hurst", "0.3"]);
+    add("terrain", "--roughness", &t, &["--roughness", "1.5"]);
+    add("terrain", "--sigma", &t, &["--sigma", "2"]);
+    add("terrain", "--seed", &t, &["--seed", "1"]);
+    add("terrain", "--distribution", &t, &["--distribution", "uniform"]);
+    add("terrain", "--mean", &t, &["--mean", "0.5"]);
+    add("terrain", "--variance", &t, &["--variance", "2"]);
+    add("terrain", "--corners", &t, &["--corners", "1,1,1,1"]);
+    add("terrain", "--applet", &t, &["--applet"]);
+    add("terrain", "--width", &t, &["--width", "5"]);
+    add("terrain", "--depth", &t, &["--depth", "5"]);
+    add("terrain", "--max-height", &t, &["--max-height", "3"]);
+    add("terrain", "--sea-level", &t, &["--sea-level", "0"]);
+    add("terrain", "--colors", &t, &["--colors", "0,0,1;0,1,0;1,1,0;1,0,0;1,1,1"]);
+    add("terrain", "--peak-height", &t, &["--peak-height", "0.2"]);
+    add("terrain", "--grid", &t, &["--grid", "triangle"]);
+    add("terrain", "--tile", &t, &["--tile", "1,0", "--tile-size", "17"]);
+    add("terrain", "--tile-size", &t, &["--tile-size", "17"]);
+    add("terrain", "--range", &["terrain", "--size", "33", "-o", "t.png"], &["--range", "-1,1"]);
+    add("terrain", "--preview", &t, &["--preview", "p.png"]);
+    let dual = ["terrain", "--method", "dual", "--levels", "3", "-o", "t.ply"];
+    add("terrain", "--x", &dual, &["--x", "2,0,0"]);
+    add("terrain", "--y", &dual, &["--y", "0,2,0.5"]);
+    add("terrain", "--levels", &dual, &["--levels", "4"]);
+    add("terrain", "--deterministic", &dual, &["--deterministic"]);
+    add("terrain", "--cross-product", &dual, &["--cross-product"]);
+    add("terrain", "--no-mean-correction", &dual, &["--no-mean-correction"]);
+    add("terrain", "--steps", &dual, &["--steps", "steps"]);
+    // --format makes an output name without a telling extension work.
+    cases.push(Case {
+        sub: "terrain",
+        flag: "--format",
+        base: owned(&["terrain", "--size", "33", "-o", "t.out"]),
+        with: owned(&["terrain", "--size", "33", "-o", "t.out", "--format", "f32"]),
+        may_fix: true,
+    });
+    // --repair and --force make a refused base work.
+    let mut fixes = |sub: &'static str, flag: &'static str, base: Vec<String>| {
+        let mut with = base.clone();
+        with.push(flag.to_string());
+        cases.push(Case { sub, flag, base, with, may_fix: true });
+    };
+    for (sub, base) in [
+        ("analyze", owned(&["analyze", &broken, "-o", "a.ply"])),
+        ("compare", owned(&["compare", &broken, "--methods", "asperity", "--target-vertices", "4", "--json"])),
+        ("convert", owned(&["convert", &broken, "v.off"])),
+        ("detail", owned(&["detail", &broken, "-o", "d.ply"])),
+        ("info", owned(&["info", &broken, "--json"])),
+        // The picture of a repaired mesh can look the same: the report says what changed.
+        ("render", owned(&["render", &broken, "-o", "r.png", "--size", "64,48", "--json"])),
+        ("simplify", owned(&["simplify", &broken, "-o", "s.ply"])),
+    ] {
+        fixes(sub, "--repair", base);
+    }
+    for (sub, base) in [
+        ("analyze", owned(&["analyze", "in.ply", "-o", "in.ply"])),
+        ("convert", owned(&["convert", "in.ply", "in.ply"])),
+        ("detail", owned(&["detail", "in.ply", "-o", "in.ply"])),
+        ("simplify", owned(&["simplify", "in.ply", "-o", "in.ply"])),
+    ] {
+        fixes(sub, "--force", base);
+    }
+    cases
+}
+
+/// What a run leaves: its exit code, every file in its folder (the inputs it was given
+/// removed) and, for the commands that report on stdout, the JSON report without timings.
+#[derive(Debug, PartialEq)]
+struct Outcome {
+    code: Option<i32>,
+    files: BTreeMap<PathBuf, Vec<u8>>,
+    report: Option<serde_json::Value>,
+    stderr: String,
+}
+
+fn run(args: &[String], meshes: &Path) -> Outcome {
+    let dir = temp_dir();
+    let relief = "seed = 3\n\n[[step]]\nop = \"noise\"\nlevel = -1\n\
+                  noise = { kind = \"fbm\", amplitude = 0.2, frequency = 12.0, attenuate = false }\n";
+    std::fs::write(dir.path().join("relief.toml"), relief).unwrap();
+    std::fs::copy(meshes.join("eight.off"), dir.path().join("in.ply.off")).unwrap();
+    let eight = asperity::io::read(&meshes.join("eight.off")).unwrap().mesh;
+    asperity::io::write(&eight, &dir.path().join("in.ply"), Default::default()).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(args)
+        .current_dir(dir.path())
+        .env("RAYON_NUM_THREADS", "1")
+        .output()
+        .expect("run asperity");
+    let mut files = BTreeMap::new();
+    let mut stack = vec![dir.path().to_path_buf()];
+    while let Some(folder) = stack.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else {
+                files.insert(path.strip_prefix(dir.path()).unwrap().to_path_buf(), std::fs::read(&path).unwrap());
+            }
+        }
+    }
+    files.remove(Path::new("relief.toml"));
+    files.remove(Path::new("in.ply.off"));
+    let report = args.iter().any(|a| a == "--json").then(|| {
+        let mut value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap_or(serde_json::Value::Null);
+        strip_timings(&mut value);
+        value
+    });
+    Outcome { code: out.status.code(), files, report, stderr: String::from_utf8_lossy(&out.stderr).into_owned() }
+}
+
+/// Removes every field that holds a time (its name mentions seconds or milliseconds).
+fn strip_timings(value: &mut serde_json::Value) {
+    match value {
+        serde_json::Value::Object(map) => {
+            map.retain(|k, _| !k.contains("second") && !k.contains("milli"));
+            map.values_mut().for_each(strip_timings);
+        }
+        serde_json::Value::Array(items) => items.iter_mut().for_each(strip_timings),
+        _ => {}
+    }
+}
+
+#[test]
+fn every_flag_changes_the_output_or_is_refused() {
+    let meshes = shared_meshes();
+    let broken = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bad/nonmanifold-edge.off");
+    let cases = cases(&meshes, &broken);
+    // The table covers every flag the command line has.
+    for (sub, flags) in asperity::cli::subcommand_flags() {
+        for flag in flags.iter().filter(|f| !["--output", "--version"].contains(&f.as_str())) {
+            let covered = cases.iter().any(|c| c.sub == sub && c.flag == flag)
+                || EXEMPT.iter().any(|&(s, f, _)| s == sub && f == flag);
+            assert!(
+                covered,
+                "asperity {sub} {flag} has no case: add one (or an exemption saying which test covers it)"
+            );
+        }
+    }
+    let failures: Vec<String> = cases
+        .par_iter()
+        .filter_map(|c| {
+            let (base, with) = (run(&c.base, &meshes), run(&c.with, &meshes));
+            let name = format!("asperity {} {}", c.sub, c.flag);
+            let differ = with.files != base.files || with.report != base.report;
+            match (base.code, with.code) {
+                (Some(0), Some(2)) => None,
+                (Some(0), Some(0)) if differ => None,
+                (Some(2), Some(0)) if c.may_fix => None,
+                (Some(0), Some(0)) => Some(format!("{name}: the output is byte-identical with and without it")),
+                (Some(0), code) => Some(format!("{name}: exit {code:?}: {}", with.stderr)),
+                (code, _) => Some(format!("{name}: the base command gave exit {code:?}: {}", base.stderr)),
+            }
+        })
+        .collect();
+    assert!(failures.is_empty(), "{} flag(s) do nothing:\n{}", failures.len(), failures.join("\n"));
+}
