@@ -19,6 +19,7 @@ pub mod io;
 pub mod memory;
 pub mod mesh;
 pub mod noise;
+pub mod progress;
 pub mod render;
 pub mod terrain;
 

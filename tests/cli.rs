@@ -717,3 +717,29 @@ fn flags_that_would_be_ignored_are_refused() {
         assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
     }
 }
+
+#[test]
+fn long_stages_show_progress_bars_on_a_terminal_only() {
+    // #24 item 14: position, rate and time left on a terminal; nothing with --quiet or
+    // --json, or when stderr is not a terminal. `script` (util-linux, in every Debian)
+    // gives the command a terminal.
+    let tmp = temp_dir();
+    let bin = env!("CARGO_BIN_EXE_asperity");
+    let on_terminal = |args: &str| -> String {
+        let out = Command::new("script")
+            .args(["-qec", &format!("{bin} {args}"), "/dev/null"])
+            .current_dir(tmp.path())
+            .output()
+            .expect("`script` (util-linux) runs a command on a terminal; install bsdutils");
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let shown = on_terminal("terrain --size 8193 --stream -o t.raw16");
+    assert!(shown.contains("terrain [") && shown.contains("left") && shown.contains("/8193"), "{shown}");
+    for quiet in ["--quiet", "--json"] {
+        let shown = on_terminal(&format!("{quiet} terrain --size 4097 --stream -o q.raw16"));
+        assert!(!shown.contains("left"), "{quiet}: {shown}");
+    }
+    let piped = asperity(&["terrain", "--size", "4097", "--stream", "-o", "p.raw16"], tmp.path());
+    assert!(!String::from_utf8_lossy(&piped.stderr).contains("left"), "no bars when stderr is not a terminal");
+}

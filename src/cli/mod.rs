@@ -101,6 +101,7 @@ pub fn run() -> i32 {
     };
     std::panic::set_hook(Box::new(|_| {}));
     remove_partial_outputs_on_signals();
+    Context { json: cli.json, quiet: cli.quiet }.install_progress_bars();
     let outcome = std::panic::catch_unwind(|| dispatch(cli)).unwrap_or_else(|payload| {
         let msg = payload
             .downcast_ref::<&str>()

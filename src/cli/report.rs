@@ -6,7 +6,16 @@
 use std::io::IsTerminal;
 use std::time::Duration;
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::collections::HashMap;
+use std::sync::{Mutex, OnceLock};
+
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+/// Every bar and spinner of the process draws through one multi-bar, so they stack.
+fn bars() -> &'static MultiProgress {
+    static BARS: OnceLock<MultiProgress> = OnceLock::new();
+    BARS.get_or_init(|| MultiProgress::with_draw_target(ProgressDrawTarget::stderr()))
+}
 
 /// Output settings from the global flags.
 #[derive(Debug, Clone, Copy, Default)]
@@ -41,6 +50,39 @@ impl Context {
         }
     }
 
+    /// Installs the library's progress sink ([`crate::progress`]) as bars with position,
+    /// rate and time left, when progress shows (a terminal, no `--quiet` or `--json`).
+    pub fn install_progress_bars(&self) {
+        if !self.shows_progress() {
+            return;
+        }
+        let open: Mutex<HashMap<String, ProgressBar>> = Mutex::new(HashMap::new());
+        crate::progress::install(Box::new(move |stage, done, total| {
+            let Ok(mut open) = open.lock() else { return };
+            if done >= total && !open.contains_key(stage) {
+                return; // a stage that ended already (or ends as it begins): nothing to show
+            }
+            let bar = open.entry(stage.to_string()).or_insert_with(|| {
+                let bar = bars().add(ProgressBar::new(total)).with_style(
+                    ProgressStyle::with_template(
+                        "{prefix:>10} [{bar:30}] {pos}/{len} {per_sec} {eta} left ({elapsed})",
+                    )
+                    .expect("a valid template")
+                    .progress_chars("=> "),
+                );
+                bar.set_prefix(stage.to_string());
+                bar.enable_steady_tick(Duration::from_millis(200));
+                bar
+            });
+            bar.set_length(total);
+            bar.set_position(done);
+            if done >= total {
+                bar.finish_and_clear();
+                open.remove(stage);
+            }
+        }));
+    }
+
     fn shows_progress(&self) -> bool {
         !self.json && !self.quiet && std::io::stderr().is_terminal()
     }
@@ -51,15 +93,16 @@ impl Context {
             return ProgressBar::hidden();
         }
         let bar = match total {
-            Some(n) => ProgressBar::with_draw_target(Some(n), ProgressDrawTarget::stderr()).with_style(
+            Some(n) => ProgressBar::new(n).with_style(
                 ProgressStyle::with_template("{prefix:>10} [{bar:30}] {pos}/{len} {msg} ({elapsed})")
                     .expect("a valid template")
                     .progress_chars("=> "),
             ),
-            None => ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr()).with_style(
+            None => ProgressBar::new_spinner().with_style(
                 ProgressStyle::with_template("{prefix:>10} {spinner} {msg} ({elapsed})").expect("a valid template"),
             ),
         };
+        let bar = bars().add(bar);
         bar.set_prefix(stage.to_string());
         bar.enable_steady_tick(Duration::from_millis(120));
         bar

@@ -75,7 +75,12 @@ pub fn compare(
         let result = decimate(mesh, method, target, ours)?;
         reference.row(method, target, &result, start.elapsed().as_secs_f64())
     };
-    let mut rows = methods.iter().map(|&m| run(m, target_vertices)).collect::<Result<Vec<_>>>()?;
+    let mut rows = Vec::with_capacity(methods.len());
+    crate::progress::report("compare", 0, methods.len() as u64);
+    for &method in methods {
+        rows.push(run(method, target_vertices)?);
+        crate::progress::report("compare", rows.len() as u64, methods.len() as u64);
+    }
     for _ in 0..3 {
         let Some(top) = rows.iter().map(|r| r.vertices).max() else { break };
         if top <= target_vertices || rows.iter().all(|r| same_count(r.vertices, top)) {

@@ -204,8 +204,11 @@ impl<'h> Refiner<'h> {
     /// As [`Refiner::refine_level`].
     pub fn refine_all(&mut self) -> Result<Vec<LevelReport>> {
         let mut reports = Vec::new();
+        let (first, steps) = (self.level as u64, self.hierarchy.steps() as u64);
+        crate::progress::report("refine", 0, steps - first);
         while !self.is_finished() {
             reports.push(self.refine_level(&|_| true)?);
+            crate::progress::report("refine", self.level as u64 - first, steps - first);
         }
         Ok(reports)
     }

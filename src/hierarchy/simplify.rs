@@ -148,6 +148,9 @@ impl Planner<'_> {
         let max_error = options.max_error.map(|f| f * f);
         let mut steps = 0;
         let mut retries = 0;
+        let first_live = self.live.len();
+        let to_remove = first_live.saturating_sub(options.target_vertices.unwrap_or(0)).max(1) as u64;
+        crate::progress::report("simplify", 0, to_remove);
         // Vertices whose plans the guard dropped on the last level (or the last tries).
         let mut waiting: FxHashSet<u32> = FxHashSet::default();
         while options.levels.is_none_or(|l| steps < l) {
@@ -217,6 +220,7 @@ impl Planner<'_> {
             let removed: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
             self.live.retain(|v| !removed.contains(v));
             steps += 1;
+            crate::progress::report("simplify", (first_live - self.live.len()) as u64, to_remove);
             lap(clock, &mut stages.planning);
             for plan in &plans {
                 self.params.apply_removal(plan, self.positions);
@@ -228,6 +232,7 @@ impl Planner<'_> {
                 break;
             }
         }
+        crate::progress::report("simplify", to_remove, to_remove);
         Ok(())
     }
 }

@@ -210,12 +210,14 @@ fn for_each_band(
     let last = params.size - 1;
     let m = u64::from(margin);
     let mut y0 = rect.y0;
+    crate::progress::report("terrain", 0, rect.y1 - rect.y0 + 1);
     while y0 <= rect.y1 {
         let y1 = (y0 + band as u64 - 1).min(rect.y1);
         let region = Rect { y0, y1, ..rect }.grown(m, last);
         let field = heights(params, region).map_err(std::io::Error::other)?;
         observe(&field, y0, y1);
         emit(&field, y0, y1)?;
+        crate::progress::report("terrain", y1 - rect.y0 + 1, rect.y1 - rect.y0 + 1);
         y0 = y1 + 1;
     }
     Ok(())
