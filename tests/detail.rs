@@ -96,7 +96,7 @@ fn noise_displaces_along_the_direction_by_amplitude_over_level() {
     let params = NoiseParams { kind: asperity::noise::NoiseKind::Fbm, amplitude: 0.02, ..Default::default() };
     let all = vec![true; mesh.vertex_count()];
     let none = vec![false; mesh.vertex_count()];
-    let field = LevelNoise::new(&params, false, 0, &frame, 5).unwrap();
+    let field = LevelNoise::new(&params, false, 0, 0, &frame, 5).unwrap();
     for depth in [0, 3] {
         let view = level_view(&mesh, depth);
         let moves = noise_displacements(OperatorKind::Noise, &params, &view, &frame, &all, &none, 5).unwrap();
@@ -134,7 +134,7 @@ fn propagation_follows_table_5_1_influence_per_ring() {
     let reach = view.rings_from(&[0], 4);
     let reached = reach.iter().filter(|r| r.is_some()).count();
     assert_eq!(moves.len(), reached, "the centre and its 4 rings move, nothing else");
-    let field = LevelNoise::new(&params, false, 0, &frame, 3).unwrap();
+    let field = LevelNoise::new(&params, false, 0, 0, &frame, 3).unwrap();
     let diffusion = view.analysis().unwrap().diffusion();
     for (v, p) in moves {
         let (ring, _) = reach[v].unwrap();
@@ -503,4 +503,38 @@ fn surface_gabor_noise_has_no_seam_at_the_equator() {
         let ratio = equator_steepness(&mesh, &moved);
         assert!((ratio - 1.0).abs() <= 0.15, "isotropic {isotropic}: equator edges {ratio:.2}× as steep as the rest");
     }
+}
+
+#[test]
+fn level_modulation_attenuates_lacunarity_towards_coarser_levels() {
+    // §5.1.1: "we attenuate its influence while moving to coarser levels" (#26 A6): the
+    // modulated lacunarity grows from the base domain towards the input, the gain falls.
+    let base = asperity::noise::Fractal::default().for_level(0);
+    let finer = asperity::noise::Fractal::default().for_level(5);
+    assert!(finer.lacunarity > base.lacunarity && finer.gain < base.gain, "{base:?} vs {finer:?}");
+    // A step at the base domain and one at the input use those ends: the noise a
+    // variation step makes on the base level is that of level 0's parameters.
+    let mesh = icosphere(1.0, 3);
+    let frame = BoxFrame::of(&mesh);
+    let params = NoiseParams { kind: asperity::noise::NoiseKind::Turbulence, ..Default::default() };
+    let p = DVec3::new(0.3, 0.4, 0.5);
+    let frame3 = tangent_frame(DVec3::Z, None, false);
+    let at = |level: usize| LevelNoise::new(&params, true, level, 3, &frame, 1).unwrap().at(p, frame3);
+    let by_hand = |fractal: asperity::noise::Fractal| {
+        let spec = asperity::noise::NoiseSpec {
+            kind: params.kind,
+            fractal: asperity::noise::Fractal {
+                kind: asperity::noise::FractalKind::Turbulence,
+                octaves: params.octaves,
+                offset: params.offset,
+                ..fractal
+            },
+            seed: 1,
+            ..Default::default()
+        };
+        let field = asperity::noise::NoiseField::new(&spec).unwrap();
+        field.sample3((p - frame.min) * (params.frequency / frame.diagonal), frame3)
+    };
+    assert_eq!(at(0), by_hand(asperity::noise::Fractal::default().for_level(0)));
+    assert_eq!(at(5), by_hand(asperity::noise::Fractal::default().for_level(5)));
 }

@@ -31,7 +31,14 @@ impl LevelNoise {
     ///
     /// # Errors
     /// [`crate::Error::InvalidInput`] for invalid Gabor parameters.
-    pub fn new(params: &NoiseParams, modulate: bool, depth: usize, frame: &BoxFrame, seed: u64) -> Result<Self> {
+    pub fn new(
+        params: &NoiseParams,
+        modulate: bool,
+        level: usize,
+        depth: usize,
+        frame: &BoxFrame,
+        seed: u64,
+    ) -> Result<Self> {
         let mut fractal = Fractal {
             kind: fractal_kind(params.kind),
             octaves: params.octaves,
@@ -41,7 +48,7 @@ impl LevelNoise {
         };
         let mut impulses = params.impulses;
         if modulate {
-            fractal = fractal.for_level(depth as u32);
+            fractal = fractal.for_level(level as u32);
             impulses *= f64::from(1u32 << depth.min(2));
         }
         let gabor = GaborParams {
@@ -152,7 +159,7 @@ pub fn noise_displacements(
     if targets.is_empty() {
         return Ok(Vec::new());
     }
-    let ring_noise = ring_fields(params, modulate, view.depth, frame, seed)?;
+    let ring_noise = ring_fields(params, modulate, view.level, view.depth, frame, seed)?;
     let dirs = directions(view, params.direction)?;
     let diffusion = if params.kind == NoiseKind::Gabor && params.follow_diffusion {
         Some(view.analysis()?.diffusion())
@@ -191,11 +198,12 @@ pub fn free_centres(selected: &[bool], noised: &[bool], accumulate: bool) -> Vec
 fn ring_fields(
     params: &NoiseParams,
     modulate: bool,
+    level: usize,
     depth: usize,
     frame: &BoxFrame,
     seed: u64,
 ) -> Result<Vec<LevelNoise>> {
-    let mut fields = vec![LevelNoise::new(params, modulate, depth, frame, seed)?];
+    let mut fields = vec![LevelNoise::new(params, modulate, level, depth, frame, seed)?];
     for ring in &params.rings {
         let p = NoiseParams {
             k: ring.k.unwrap_or(params.k),
@@ -203,7 +211,7 @@ fn ring_fields(
             f0: ring.f0.unwrap_or(params.f0),
             ..params.clone()
         };
-        fields.push(LevelNoise::new(&p, modulate, depth, frame, seed)?);
+        fields.push(LevelNoise::new(&p, modulate, level, depth, frame, seed)?);
     }
     Ok(fields)
 }

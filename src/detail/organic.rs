@@ -33,7 +33,7 @@ pub fn organic_displacements(
     if centres.is_empty() || params.rings.is_empty() {
         return Ok(Vec::new());
     }
-    let field = LevelNoise::new(noise, false, view.depth, frame, seed)?;
+    let field = LevelNoise::new(noise, false, view.level, view.depth, frame, seed)?;
     let scale = params.height * frame.diagonal / if noise.attenuate { view.thesis_level() } else { 1.0 };
     let pick = derive_seed(seed, "organic direction");
     let mut growth = vec![DVec3::ZERO; n];

@@ -50,8 +50,14 @@ impl Fractal {
         Fractal { kind, ..Default::default() }
     }
 
-    /// The thesis' level-modulated parameters (§4.7.3.1): at hierarchy level `l`,
-    /// lacunarity 1.1 + (l + 1)/10 and gain 0.8/(l + 1).
+    /// The thesis' level-modulated parameters (§4.7.3.1): at hierarchy level `l`, counted
+    /// from the base domain (0) towards the input as the thesis numbers K⁰ … Kᴸ (§4.4.1.2),
+    /// lacunarity 1.1 + (l + 1)/10 and gain 0.8/(l + 1). The printed "1.1 + (l + 1/10)" is
+    /// read as (l + 1)/10 with l from the base, because §5.1.1 says the lacunarity's
+    /// influence is attenuated "while moving to coarser levels": it is then 1.2 on the base
+    /// domain and grows towards the input, while the gain falls (finer levels get weaker
+    /// high octaves). Counting l from the input instead would make it grow at coarser
+    /// levels, against that sentence.
     pub fn for_level(self, level: u32) -> Self {
         let l = f64::from(level);
         Fractal { lacunarity: 1.1 + (l + 1.0) / 10.0, gain: 0.8 / (l + 1.0), ..self }
