@@ -251,6 +251,7 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
             "output_faces": base.face_count(),
             "levels": hierarchy.steps(),
             "feature_vertices_kept": hierarchy.feature_vertices,
+            "stage_seconds": hierarchy.stages,
             "hausdorff": hausdorff,
             "min_angle_deg": shape.min_angle_deg,
             "sliver_share": shape.sliver_share,
