@@ -182,8 +182,6 @@ pub fn plan_cluster(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules: &
     let ring_points: RingVec<DVec3> = ring.iter().map(|&r| pos[r as usize]).collect();
     let flat = Flattening::of_star(pv, &ring_points, boundary)?.points;
     let faces = if boundary { d - 1 } else { d };
-    let star_min_sine =
-        (0..faces).map(|i| min_angle_sine(pv, ring_points[i], ring_points[(i + 1) % d])).fold(1.0, f64::min);
     let line = match geometry.lines.neighbours(v, rings) {
         Some((ends, bound)) => Some((ends.map(|e| ring.iter().position(|&r| r == e).expect("a ring vertex")), bound)),
         None if geometry.lines.is_on_line(v) || boundary => return None,
@@ -193,8 +191,9 @@ pub fn plan_cluster(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules: &
     if boundary && line.is_none_or(|([a, b], _)| [a.min(b), a.max(b)] != [0, d - 1]) {
         return None;
     }
-    let floor = rules.min_angle.sin().min(star_min_sine);
-    let star = Star { v, ring, points: ring_points, flat, rings, geometry, rules, floor, line, boundary };
+    let floor = ShapeFloor { rule: rules.min_angle.sin(), star: std::cell::Cell::new(None), faces };
+    let points_on_star = std::cell::OnceCell::new();
+    let star = Star { v, ring, points: ring_points, flat, rings, geometry, rules, floor, points_on_star, line, boundary };
     if let Some(plan) = star.greedy_ears().and_then(|ears| star.weld(ears)) {
         return Some(plan);
     }
@@ -213,8 +212,10 @@ struct Star<'a> {
     rings: &'a Rings,
     geometry: LevelGeometry<'a>,
     rules: &'a ClusterRules,
-    /// The sine of the smallest angle the cluster may make.
-    floor: f64,
+    /// The smallest angle the cluster may make.
+    floor: ShapeFloor,
+    /// The vertices parametrized onto the star, once needed.
+    points_on_star: std::cell::OnceCell<StarPoints>,
     /// For a vertex on a feature line: the ring slots of its two line neighbours (their
     /// spokes are never flipped and the diagonal joins them) and the larger bound of its
     /// two feature edges.
@@ -233,7 +234,36 @@ struct Ears {
     swap_error: f64,
 }
 
+/// The sine of the smallest angle a cluster may make: the rule's, or the star's own
+/// smallest where that is smaller. The star's is measured only when a shape falls below the
+/// rule's (most never do), so planning skips it.
+struct ShapeFloor {
+    rule: f64,
+    star: std::cell::Cell<Option<f64>>,
+    faces: usize,
+}
+
 impl Star<'_> {
+    /// The vertices parametrized onto the star (see [`star_points`]), gathered once per
+    /// star however many welds are tried.
+    fn star_points(&self) -> &StarPoints {
+        self.points_on_star.get_or_init(|| star_points(self.v, &self.ring, &self.flat, self.geometry, self.boundary))
+    }
+
+    /// Whether `shape` (a sine) is below the floor.
+    fn below_floor(&self, shape: f64) -> bool {
+        if shape >= self.floor.rule {
+            return false;
+        }
+        let star = self.floor.star.get().unwrap_or_else(|| {
+            let (pv, p, d) = (self.pv(), &self.points, self.ring.len());
+            let least = (0..self.floor.faces).map(|i| min_angle_sine(pv, p[i], p[(i + 1) % d])).fold(1.0, f64::min);
+            self.floor.star.set(Some(least));
+            least
+        });
+        shape < star
+    }
+
     fn pv(&self) -> DVec3 {
         self.geometry.positions[self.v as usize]
     }
@@ -285,7 +315,7 @@ impl Star<'_> {
             return None;
         }
         let shape = min_angle_sine(p[prev], p[apex], p[next]);
-        if shape < self.floor {
+        if self.below_floor(shape) {
             return None;
         }
         let (_, s) = spoke_crossing(flat[apex], flat[prev], flat[next]).unwrap_or((0.5, 0.5));
@@ -308,12 +338,27 @@ impl Star<'_> {
 
     /// Spoke flips until the degree is 4: the cheapest valid one each time, shape breaking
     /// near-ties.
+    ///
+    /// An ear depends only on its own corners and their degree changes, so after a cut only
+    /// the two ears beside it are evaluated again (the others are kept, by apex slot).
     fn greedy_ears(&self) -> Option<Ears> {
         let mut ears = self.start();
+        let mut known: RingVec<Option<Option<(f64, f64)>>> = smallvec::smallvec![None; self.ring.len()];
         while ears.current.len() > self.weld_degree() {
-            let choices: RingVec<Choice> =
-                self.ear_positions(ears.current.len()).filter_map(|i| self.ear(&ears, i)).collect();
-            Self::cut(&mut ears, choose(&choices, self.geometry.tolerance)?);
+            let choices: RingVec<Choice> = self
+                .ear_positions(ears.current.len())
+                .filter_map(|i| {
+                    let slot = &mut known[ears.current[i]];
+                    let ear = *slot.get_or_insert_with(|| self.ear(&ears, i).map(|c| (c.cost, c.shape)));
+                    ear.map(|(cost, shape)| Choice { index: i, cost, shape })
+                })
+                .collect();
+            let choice = choose(&choices, self.geometry.tolerance)?;
+            let m = ears.current.len();
+            let (prev, next) = (ears.current[(choice.index + m - 1) % m], ears.current[(choice.index + 1) % m]);
+            known[prev] = None;
+            known[next] = None;
+            Self::cut(&mut ears, choice);
         }
         Some(ears)
     }
@@ -348,7 +393,6 @@ impl Star<'_> {
         let pv = self.pv();
         let mut choices: RingVec<Choice> = RingVec::new();
         let mut located = [None; 2];
-        let mut points: Option<StarPoints> = None;
         for k in 0..2 {
             let c = [current[k], current[k + 1], current[(k + 2) % 4], current[(k + 3) % 4]];
             if self.line.is_some_and(|([a, b], _)| [a.min(b), a.max(b)] != [c[0].min(c[2]), c[0].max(c[2])])
@@ -369,7 +413,7 @@ impl Star<'_> {
                 continue;
             }
             let shape = min_angle_sine(p[c[0]], p[c[1]], p[c[2]]).min(min_angle_sine(p[c[0]], p[c[2]], p[c[3]]));
-            if shape < self.floor {
+            if self.below_floor(shape) {
                 continue;
             }
             let weld = [[c[0], c[1], c[2]], [c[0], c[2], c[3]]];
@@ -378,7 +422,7 @@ impl Star<'_> {
             let image = interpolate(weld[t].map(|i| p[i]), w);
             let mut made: RingVec<[usize; 3]> = ears.cut.clone();
             made.extend(weld);
-            let points = points.get_or_insert_with(|| star_points(self.v, ring, flat, self.geometry, false));
+            let points = self.star_points();
             let mapped = mapped_error(points, ring, flat, &made, self.geometry.positions);
             let mut removal = self.geometry.quadrics[self.v as usize].mean_error(image).max(mapped);
             if let Some(bound) = self.line_bound(c[0], c[2]) {
@@ -446,15 +490,15 @@ impl Star<'_> {
             return None;
         }
         let shape = min_angle_sine(p[c[0]], p[c[1]], p[c[2]]);
-        if shape < self.floor {
+        if self.below_floor(shape) {
             return None;
         }
         let (_, w) = locate(DVec2::ZERO, &[c.map(|i| flat[i])]);
         let image = interpolate(c.map(|i| p[i]), w);
         let mut made: RingVec<[usize; 3]> = ears.cut.clone();
         made.push(c);
-        let points = star_points(self.v, ring, flat, self.geometry, true);
-        let mapped = mapped_error(&points, ring, flat, &made, self.geometry.positions);
+        let points = self.star_points();
+        let mapped = mapped_error(points, ring, flat, &made, self.geometry.positions);
         let bound = self.line_bound(c[0], c[2])?;
         let removal = self.geometry.quadrics[self.v as usize].mean_error(image).max(mapped).max(bound * bound);
         let error = self.rules.removal_weight * removal + self.rules.swap_weight * ears.swap_error;
