@@ -105,6 +105,7 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     add("noise", "--omega", &ng, &["--omega", "0.3"]);
     add("noise", "--impulses", &ng, &["--impulses", "16"]);
     add("noise", "--isotropic", &ng, &["--isotropic"]);
+    add("noise", "--profile", &["noise", "--size", "32", "-o", "n.png", "--kind", "phasor"], &["--profile", "square"]);
     // render
     let r = ["render", &eight, "-o", "r.png", "--size", "64,48"];
     add("render", "--size", &r, &["--size", "80,60"]);

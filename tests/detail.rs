@@ -538,3 +538,25 @@ fn level_modulation_attenuates_lacunarity_towards_coarser_levels() {
     assert_eq!(at(0), by_hand(asperity::noise::Fractal::default().for_level(0)));
     assert_eq!(at(5), by_hand(asperity::noise::Fractal::default().for_level(5)));
 }
+
+#[test]
+fn a_phasor_step_displaces_by_at_most_its_amplitude_with_constant_contrast() {
+    // Phasor noise in the noise operator (#26 A5): |displacement| ≤ amplitude × K, and
+    // reaching it all over the surface (Gabor's would fade where its impulses cancel).
+    let mesh = icosphere(1.0, 4);
+    let frame = BoxFrame::of(&mesh);
+    let view = level_view(&mesh, 0);
+    let text = "[[step]]\nop = \"noise\"\nnoise = { kind = \"phasor\", profile = \"square\", amplitude = 0.01, attenuate = false, frequency = 6.0 }\n";
+    let params = recipe(text).steps[0].noise.clone();
+    let all = vec![true; mesh.vertex_count()];
+    let moves = noise_displacements(OperatorKind::Noise, &params, &view, &frame, &all, &all.map_false(), 2).unwrap();
+    let amplitude = 0.01 * frame.diagonal;
+    for (v, p) in &moves {
+        let d = (*p - mesh.positions[*v]).length();
+        assert!((d - amplitude).abs() < 1e-9, "square profile: every vertex moves by exactly the amplitude ({d})");
+    }
+    assert!(
+        Recipe::parse("[[step]]\nop = \"noise\"\nnoise = { kind = \"gabor\", profile = \"square\" }\n").is_err(),
+        "profile is phasor's"
+    );
+}

@@ -4,7 +4,7 @@
 use std::f64::consts::PI;
 
 use asperity::noise::{
-    Fractal, FractalKind, Frame, Gabor, GaborParams, NoiseField, NoiseKind, NoiseSpec, Perlin, ScaledPerlin,
+    Fractal, FractalKind, Frame, Gabor, GaborParams, NoiseField, NoiseKind, NoiseSpec, Perlin, Profile, ScaledPerlin,
     hash::Stream, plane_point,
 };
 use glam::DVec3;
@@ -382,5 +382,79 @@ fn invalid_gabor_parameters_are_errors() {
         GaborParams { f0: f64::INFINITY, ..GaborParams::default() },
     ] {
         assert!(Gabor::new(params, 0).is_err(), "{params:?}");
+    }
+}
+
+fn phasor_image(params: GaborParams, profile: Profile, seed: u64, n: usize) -> Vec<f64> {
+    let spec = NoiseSpec { kind: NoiseKind::Phasor, gabor: params, profile, seed, ..NoiseSpec::default() };
+    NoiseField::new(&spec).unwrap().grid2(0.0, 0.0, 1.0, n, n)
+}
+
+/// The smallest, over `side`-pixel windows, of the largest |value| in the window, relative
+/// to the image's largest |value|: near 1 when the contrast is the same everywhere.
+fn weakest_window_peak(image: &[f64], n: usize, side: usize) -> f64 {
+    let peak = image.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut weakest = f64::INFINITY;
+    for wy in (0..n).step_by(side) {
+        for wx in (0..n).step_by(side) {
+            let mut local = 0.0f64;
+            for y in wy..(wy + side).min(n) {
+                for x in wx..(wx + side).min(n) {
+                    local = local.max(image[y * n + x].abs());
+                }
+            }
+            weakest = weakest.min(local / peak);
+        }
+    }
+    weakest
+}
+
+#[test]
+fn phasor_noise_has_constant_contrast_and_gabor_s_spectrum() {
+    // Tricard et al. 2019: the phase of complex Gabor noise through a profile keeps the
+    // spectral control (F0, ω0) with the same contrast everywhere (#26 A5).
+    let n = 256;
+    let params = GaborParams::default();
+    let period = (1.0 / params.f0) as usize; // 16 pixels
+    let phasor = phasor_image(params, Profile::Sine, 4, n);
+    let gabor = gabor_image(params, 4, n);
+    let (ours, control) = (weakest_window_peak(&phasor, n, 2 * period), weakest_window_peak(&gabor, n, 2 * period));
+    assert!(ours > 0.9, "phasor noise's weakest window reaches {ours:.2} of its peak");
+    assert!(control < 0.5, "the measure must see Gabor's fading contrast ({control:.2})");
+    assert!(phasor.iter().all(|v| v.abs() <= 1.0), "sine profile within ±K");
+    // The spectrum peaks where Gabor's does: at F0 along ω0.
+    let power = power_spectrum(&phasor, n);
+    let dir = (params.omega0.cos(), params.omega0.sin());
+    let (mut sx, mut sy, mut total) = (0.0, 0.0, 0.0);
+    for r in 0..n {
+        for c in 0..n {
+            let (fx, fy) = (frequency(c, n), frequency(r, n));
+            if fx * dir.0 + fy * dir.1 > 0.0 {
+                let p = power[r * n + c];
+                sx += p * fx;
+                sy += p * fy;
+                total += p;
+            }
+        }
+    }
+    let (cx, cy) = (sx / total, sy / total);
+    let (radius, angle) = (cx.hypot(cy), cy.atan2(cx));
+    assert!((radius - params.f0).abs() <= 0.15 * params.f0, "peak radius {radius} vs F0 {}", params.f0);
+    assert!((angle - params.omega0).abs() <= 5f64.to_radians(), "peak angle {}°", angle.to_degrees());
+}
+
+#[test]
+fn phasor_profiles_and_k() {
+    let params = GaborParams { k: 0.5, ..GaborParams::default() };
+    let square = phasor_image(params, Profile::Square, 1, 64);
+    assert!(square.iter().all(|&v| v == 0.5 || v == -0.5), "square profile: ±K only");
+    let saw = phasor_image(params, Profile::Sawtooth, 1, 64);
+    assert!(
+        saw.iter().all(|v| v.abs() <= 0.5) && saw.iter().any(|v| v.abs() < 0.1) && saw.iter().any(|v| v.abs() > 0.4)
+    );
+    let sine = phasor_image(params, Profile::Sine, 1, 64);
+    let unit = phasor_image(GaborParams::default(), Profile::Sine, 1, 64);
+    for (a, b) in unit.iter().zip(&sine) {
+        assert!((b - 0.5 * a).abs() < 1e-12, "K scales phasor noise: {b} vs {a}");
     }
 }

@@ -324,6 +324,7 @@ impl Demo {
             ("multifractal", NoiseKind::Multifractal, 1.0 / 32.0),
             ("wood", NoiseKind::Wood, 1.0 / 64.0),
             ("gabor", NoiseKind::Gabor, 1.0),
+            ("phasor", NoiseKind::Phasor, 1.0),
         ];
         let mut tiles = Vec::new();
         for (name, kind, scale) in kinds {

@@ -7,7 +7,7 @@ use clap::Args;
 
 use crate::error::{Error, Result};
 use crate::io::image::{value_range, write_f32, write_png16};
-use crate::noise::{Fractal, GaborParams, NoiseField, NoiseKind, NoiseSpec};
+use crate::noise::{Fractal, GaborParams, NoiseField, NoiseKind, NoiseSpec, Profile};
 
 #[derive(Debug, Args)]
 pub struct NoiseArgs {
@@ -27,7 +27,8 @@ pub struct NoiseArgs {
     /// Offset d of the multifractal (eq. 4.12) [default: 1].
     #[arg(long, allow_hyphen_values = true)]
     offset: Option<f64>,
-    /// Gabor kernel magnitude K: the noise's standard deviation [default: 1].
+    /// Gabor kernel magnitude K: the noise's standard deviation (phasor: its amplitude)
+    /// [default: 1].
     #[arg(long, allow_negative_numbers = true)]
     k: Option<f64>,
     /// Gabor bandwidth a [default: 0.05].
@@ -45,6 +46,9 @@ pub struct NoiseArgs {
     /// Gabor: a random orientation per impulse.
     #[arg(long)]
     isotropic: bool,
+    /// Phasor noise's profile of the phase: sine, square or sawtooth [default: sine].
+    #[arg(long, value_enum)]
+    profile: Option<Profile>,
     /// Image width and height in pixels.
     #[arg(long, default_value_t = 512)]
     size: usize,
@@ -56,7 +60,7 @@ pub struct NoiseArgs {
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// PNG grey range LO,HI [default: the image's own minimum and maximum; Gabor −3,3,
-    /// three standard deviations at K = 1, so K shows as contrast].
+    /// three standard deviations at K = 1, and phasor −1,1, so K shows as contrast].
     #[arg(long, value_parser = super::parse::range, allow_hyphen_values = true)]
     range: Option<(f64, f64)>,
     /// Output: .png (16-bit grey) or .f32 (raw little-endian, row-major).
@@ -91,10 +95,11 @@ pub fn run(args: NoiseArgs, ctx: super::Context) -> Result<()> {
             impulses_per_kernel: args.impulses.unwrap_or(gabor.impulses_per_kernel),
             isotropic: args.isotropic,
         },
+        profile: args.profile.unwrap_or_default(),
         seed: args.seed,
     };
     let scale = args.scale.unwrap_or(match args.kind {
-        NoiseKind::Gabor => 1.0,
+        NoiseKind::Gabor | NoiseKind::Phasor => 1.0,
         NoiseKind::Wood => 1.0 / 128.0,
         _ => 1.0 / 32.0,
     });
@@ -106,9 +111,13 @@ pub fn run(args: NoiseArgs, ctx: super::Context) -> Result<()> {
     let (lo, hi) = value_range(&values).ok_or_else(|| Error::Internal("noise produced no finite value".into()))?;
     if ext.as_deref() == Some("png") {
         let own = if hi > lo { (lo, hi) } else { (lo - 1.0, lo + 1.0) };
-        // Gabor's magnitude K would cancel in the image's own range.
-        let gabor = (args.kind == NoiseKind::Gabor).then_some((-3.0, 3.0));
-        let range = args.range.or(gabor).unwrap_or(own);
+        // Gabor's and phasor's magnitude K would cancel in the image's own range.
+        let fixed = match args.kind {
+            NoiseKind::Gabor => Some((-3.0, 3.0)),
+            NoiseKind::Phasor => Some((-1.0, 1.0)),
+            _ => None,
+        };
+        let range = args.range.or(fixed).unwrap_or(own);
         write_png16(&args.output, &values, args.size, range)?;
     } else {
         write_f32(&args.output, &values)?;
@@ -141,7 +150,8 @@ fn refuse_other_kinds_flags(args: &NoiseArgs) -> Result<()> {
         args.kind,
         NoiseKind::Fbm | NoiseKind::Turbulence | NoiseKind::Marble | NoiseKind::Multifractal | NoiseKind::Wood
     );
-    let flags: [(&str, bool, bool, &str); 10] = [
+    let spectral = matches!(args.kind, NoiseKind::Gabor | NoiseKind::Phasor);
+    let flags: [(&str, bool, bool, &str); 11] = [
         (
             "--octaves",
             args.octaves.is_some(),
@@ -156,12 +166,13 @@ fn refuse_other_kinds_flags(args: &NoiseArgs) -> Result<()> {
         ),
         ("--gain", args.gain.is_some(), fractal, "the fractal kinds (fbm, turbulence, marble, multifractal, wood)"),
         ("--offset", args.offset.is_some(), args.kind == NoiseKind::Multifractal, "--kind multifractal"),
-        ("--k", args.k.is_some(), args.kind == NoiseKind::Gabor, "--kind gabor"),
-        ("--a", args.a.is_some(), args.kind == NoiseKind::Gabor, "--kind gabor"),
-        ("--f0", args.f0.is_some(), args.kind == NoiseKind::Gabor, "--kind gabor"),
-        ("--omega", args.omega.is_some(), args.kind == NoiseKind::Gabor, "--kind gabor"),
-        ("--impulses", args.impulses.is_some(), args.kind == NoiseKind::Gabor, "--kind gabor"),
-        ("--isotropic", args.isotropic, args.kind == NoiseKind::Gabor, "--kind gabor"),
+        ("--k", args.k.is_some(), spectral, "--kind gabor and phasor"),
+        ("--a", args.a.is_some(), spectral, "--kind gabor and phasor"),
+        ("--f0", args.f0.is_some(), spectral, "--kind gabor and phasor"),
+        ("--omega", args.omega.is_some(), spectral, "--kind gabor and phasor"),
+        ("--impulses", args.impulses.is_some(), spectral, "--kind gabor and phasor"),
+        ("--isotropic", args.isotropic, spectral, "--kind gabor and phasor"),
+        ("--profile", args.profile.is_some(), args.kind == NoiseKind::Phasor, "--kind phasor"),
     ];
     match flags.iter().find(|&&(_, given, applies, _)| given && !applies) {
         Some((flag, _, _, kinds)) => Err(Error::InvalidInput(format!(

@@ -59,10 +59,9 @@ impl LevelNoise {
             impulses_per_kernel: impulses,
             isotropic: params.isotropic,
         };
-        let field = NoiseField::new(&NoiseSpec { kind: params.kind, fractal, gabor, seed })?;
+        let field = NoiseField::new(&NoiseSpec { kind: params.kind, fractal, gabor, profile: params.profile, seed })?;
         let per_unit = params.frequency / frame.diagonal;
-        let scale =
-            if params.kind == NoiseKind::Gabor { per_unit / params.f0.max(f64::MIN_POSITIVE) } else { per_unit };
+        let scale = if params.kind.is_spectral() { per_unit / params.f0.max(f64::MIN_POSITIVE) } else { per_unit };
         Ok(LevelNoise { field, origin: frame.min, scale })
     }
 
@@ -91,7 +90,7 @@ fn fractal_kind(kind: NoiseKind) -> FractalKind {
         NoiseKind::Marble => FractalKind::Marble,
         NoiseKind::Multifractal => FractalKind::Multifractal,
         NoiseKind::Wood => FractalKind::Wood,
-        NoiseKind::Perlin | NoiseKind::Fbm | NoiseKind::Gabor => FractalKind::Fbm,
+        NoiseKind::Perlin | NoiseKind::Fbm | NoiseKind::Gabor | NoiseKind::Phasor => FractalKind::Fbm,
     }
 }
 
@@ -161,11 +160,8 @@ pub fn noise_displacements(
     }
     let ring_noise = ring_fields(params, modulate, view.level, view.depth, frame, seed)?;
     let dirs = directions(view, params.direction)?;
-    let diffusion = if params.kind == NoiseKind::Gabor && params.follow_diffusion {
-        Some(view.analysis()?.diffusion())
-    } else {
-        None
-    };
+    let diffusion =
+        if params.kind.is_spectral() && params.follow_diffusion { Some(view.analysis()?.diffusion()) } else { None };
     let amplitude = params.amplitude * frame.diagonal / if params.attenuate { view.thesis_level() } else { 1.0 };
     let edge = view.mean_edge_length();
     let positions = &view.mesh.positions;

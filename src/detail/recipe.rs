@@ -359,6 +359,8 @@ pub struct NoiseParams {
     pub impulses: f64,
     /// Gabor isotropic mode.
     pub isotropic: bool,
+    /// Phasor noise's profile (sine, square, sawtooth).
+    pub profile: crate::noise::Profile,
     /// Orient Gabor by the diffusion direction (else by a fixed tangent frame).
     pub follow_diffusion: bool,
     /// Displacement direction.
@@ -393,6 +395,7 @@ impl Default for NoiseParams {
             omega: std::f64::consts::FRAC_PI_4,
             impulses: 64.0,
             isotropic: false,
+            profile: crate::noise::Profile::Sine,
             follow_diffusion: true,
             direction: Direction::Normal,
             attenuate: true,
@@ -421,10 +424,13 @@ impl NoiseParams {
             ("rings' k, a and f0", ring_gabor),
         ];
         let kind = format!("{:?}", self.kind).to_lowercase();
-        if self.kind != NoiseKind::Gabor {
+        if !self.kind.is_spectral() {
             if let Some((name, _)) = gabor_only.iter().find(|(_, given)| *given) {
-                return Err(format!("noise {name} applies only to kind = \"gabor\", not to \"{kind}\""));
+                return Err(format!("noise {name} applies only to kind = \"gabor\" or \"phasor\", not to \"{kind}\""));
             }
+        }
+        if self.kind != NoiseKind::Phasor && self.profile != d.profile {
+            return Err(format!("noise profile applies only to kind = \"phasor\", not to \"{kind}\""));
         }
         if self.kind != NoiseKind::Multifractal && self.offset != d.offset {
             return Err(format!("noise offset applies only to kind = \"multifractal\", not to \"{kind}\""));

@@ -193,7 +193,8 @@ pub fn plan_cluster(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules: &
     }
     let floor = ShapeFloor { rule: rules.min_angle.sin(), star: std::cell::Cell::new(None), faces };
     let points_on_star = std::cell::OnceCell::new();
-    let star = Star { v, ring, points: ring_points, flat, rings, geometry, rules, floor, points_on_star, line, boundary };
+    let star =
+        Star { v, ring, points: ring_points, flat, rings, geometry, rules, floor, points_on_star, line, boundary };
     if let Some(plan) = star.greedy_ears().and_then(|ears| star.weld(ears)) {
         return Some(plan);
     }

@@ -282,6 +282,79 @@ impl Gabor {
         }
     }
 
+    /// The complex 2D sum at (x, y) (Tricard et al. 2019, eq. 3): each impulse's kernel with
+    /// the cosine replaced by e^(i 2π F0 d·(p − pᵢ)); its real part is the Gabor sum. Its
+    /// argument is phasor noise's phase.
+    pub(super) fn complex2(&self, x: f64, y: f64) -> (f64, f64) {
+        let (cx, cy) = (self.cell_of(x), self.cell_of(y));
+        let r2_max = self.radius * self.radius;
+        let mut impulses = Vec::with_capacity(64);
+        let (mut re, mut im) = (0.0, 0.0);
+        for dy in -1..=1 {
+            for dx in -1..=1 {
+                impulses.clear();
+                self.cell_impulses_2d(cx + dx, cy + dy, &mut impulses);
+                for i in &impulses {
+                    let (ddx, ddy) = (x - i.x, y - i.y);
+                    let r2 = ddx * ddx + ddy * ddy;
+                    if r2 < r2_max {
+                        let envelope = i.weight * (-self.gauss * r2).exp();
+                        let (sin, cos) = (i.fx * ddx + i.fy * ddy).sin_cos();
+                        re += envelope * cos;
+                        im += envelope * sin;
+                    }
+                }
+            }
+        }
+        (re, im)
+    }
+
+    /// The complex sum at a surface point (as [`Gabor::sample3`] for its real part).
+    pub(super) fn complex3(&self, p: DVec3, frame: Frame) -> (f64, f64) {
+        let c = [self.cell_of(p.x), self.cell_of(p.y), self.cell_of(p.z)];
+        let r2_max = self.radius * self.radius;
+        let params = &self.params;
+        let two_pi_f0 = TAU * params.f0;
+        let fixed_dir = frame.tangent * params.omega0.cos() + frame.bitangent * params.omega0.sin();
+        let normal = frame.tangent.cross(frame.bitangent);
+        let (mut re, mut im) = (0.0, 0.0);
+        for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let cell = [c[0] + dx, c[1] + dy, c[2] + dz];
+                    let mut rng = Stream::new(hash_coords(self.seed, &cell));
+                    let count = rng.poisson(self.mean_per_cell_3d);
+                    for _ in 0..count {
+                        let q = DVec3::new(
+                            (cell[0] as f64 + rng.unit()) * self.radius,
+                            (cell[1] as f64 + rng.unit()) * self.radius,
+                            (cell[2] as f64 + rng.unit()) * self.radius,
+                        );
+                        let weight = rng.uniform(-1.0, 1.0) * params.k;
+                        let dir = if params.isotropic {
+                            let z = rng.uniform(-1.0, 1.0);
+                            let phi = rng.uniform(0.0, TAU);
+                            let rho = (1.0 - z * z).max(0.0).sqrt();
+                            let d = DVec3::new(rho * phi.cos(), rho * phi.sin(), z);
+                            d - normal * normal.dot(d)
+                        } else {
+                            fixed_dir
+                        };
+                        let d = p - q;
+                        let r2 = d.length_squared();
+                        if r2 < r2_max {
+                            let envelope = weight * (-self.gauss * r2).exp();
+                            let (sin, cos) = (two_pi_f0 * d.dot(dir)).sin_cos();
+                            re += envelope * cos;
+                            im += envelope * sin;
+                        }
+                    }
+                }
+            }
+        }
+        (re, im)
+    }
+
     /// 3D noise at a surface point with its tangent frame, standard deviation K (2D
     /// isotropic: about K): impulses live in 3D cells, the Gaussian uses the 3D distance
     /// and the cosine runs along cos ω·tangent + sin ω·bitangent, so the stripes follow the

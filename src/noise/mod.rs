@@ -7,6 +7,7 @@ mod fractal;
 mod gabor;
 pub mod hash;
 mod perlin;
+mod phasor;
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -15,6 +16,7 @@ use serde::{Deserialize, Serialize};
 pub use fractal::{Basis, Fractal, FractalKind, ScaledPerlin};
 pub use gabor::{Frame, Gabor, GaborParams};
 pub use perlin::{Perlin, plane_point};
+pub use phasor::{Phasor, Profile};
 
 use crate::error::Result;
 
@@ -36,9 +38,18 @@ pub enum NoiseKind {
     Wood,
     /// Gabor noise (eq. 3.20–3.21).
     Gabor,
+    /// Phasor noise (Tricard et al. 2019): Gabor's phase through a profile, constant
+    /// contrast.
+    Phasor,
 }
 
 impl NoiseKind {
+    /// Whether the kind is made of Gabor kernels (Gabor and phasor noise), whose spectrum
+    /// F0, ω0, a and the impulse density control.
+    pub fn is_spectral(self) -> bool {
+        matches!(self, NoiseKind::Gabor | NoiseKind::Phasor)
+    }
+
     /// The octaves a kind shows its pattern with: wood is eq. 4.13's single noise f, whose
     /// contour bands are its rings (more octaves break them into static); the other
     /// fractal kinds take [`Fractal::default`]'s six.
@@ -57,15 +68,23 @@ pub struct NoiseSpec {
     pub kind: NoiseKind,
     /// Octave parameters for the fractal kinds (its `kind` is set from `kind`).
     pub fractal: Fractal,
-    /// Gabor parameters.
+    /// Gabor parameters (also phasor noise's).
     pub gabor: GaborParams,
+    /// Phasor noise's profile.
+    pub profile: Profile,
     /// Seed.
     pub seed: u64,
 }
 
 impl Default for NoiseSpec {
     fn default() -> Self {
-        NoiseSpec { kind: NoiseKind::Perlin, fractal: Fractal::default(), gabor: GaborParams::default(), seed: 0 }
+        NoiseSpec {
+            kind: NoiseKind::Perlin,
+            fractal: Fractal::default(),
+            gabor: GaborParams::default(),
+            profile: Profile::default(),
+            seed: 0,
+        }
     }
 }
 
@@ -81,6 +100,8 @@ pub enum NoiseField {
     },
     /// Gabor noise.
     Gabor(Gabor),
+    /// Phasor noise.
+    Phasor(Phasor),
 }
 
 impl NoiseField {
@@ -97,6 +118,7 @@ impl NoiseField {
             NoiseKind::Multifractal => Some(FractalKind::Multifractal),
             NoiseKind::Wood => Some(FractalKind::Wood),
             NoiseKind::Gabor => return Ok(NoiseField::Gabor(Gabor::new(spec.gabor, spec.seed)?)),
+            NoiseKind::Phasor => return Ok(NoiseField::Phasor(Phasor::new(spec.gabor, spec.profile, spec.seed)?)),
         };
         Ok(NoiseField::Perlin {
             basis: Perlin::new(spec.seed),
@@ -110,6 +132,7 @@ impl NoiseField {
             NoiseField::Perlin { basis, fractal: None } => basis.sample2(x, y),
             NoiseField::Perlin { basis, fractal: Some(f) } => f.eval(x, |s| basis.sample2(x * s, y * s)),
             NoiseField::Gabor(g) => g.sample2(x, y),
+            NoiseField::Phasor(p) => p.sample2(x, y),
         }
     }
 
@@ -119,6 +142,7 @@ impl NoiseField {
             NoiseField::Perlin { basis, fractal: None } => basis.sample3(p),
             NoiseField::Perlin { basis, fractal: Some(f) } => f.eval(p.x, ScaledPerlin { perlin: basis, point: p }),
             NoiseField::Gabor(g) => g.sample3(p, frame),
+            NoiseField::Phasor(phasor) => phasor.sample3(p, frame),
         }
     }
 
