@@ -37,7 +37,7 @@ fn main() {
     let tensors = voting_tensors(&mesh, &adjacency, &faces);
     stage("voting tensors", start);
     let start = Instant::now();
-    let _ = classify(&adjacency, &tensors, &Default::default());
+    let _ = classify(&mesh.positions, &adjacency, &tensors, &Default::default());
     stage("classes", start);
 
     let start = Instant::now();

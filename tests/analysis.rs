@@ -4,8 +4,8 @@
 use std::f64::consts::{PI, TAU};
 
 use asperity::analysis::{
-    AnalysisOptions, FaceGeometry, FeatureClass, NormalWeighting, analyze, angle_deficits, face_gradients,
-    face_normals, propagate_features, vertex_normals,
+    AnalysisOptions, FaceGeometry, FeatureClass, FeatureOptions, NormalWeighting, VotingTensor, analyze,
+    angle_deficits, classify, face_gradients, face_normals, propagate_features, vertex_normals,
 };
 use asperity::io;
 use asperity::mesh::primitives::{cube, grid, icosphere, torus};
@@ -202,4 +202,105 @@ fn closed_form_eigen_agrees_with_nalgebra() {
         assert!((m * e3 - e3 * values[2]).length() < 1e-7 * scale, "residual for {m:?}");
         assert!((e3.length() - 1.0).abs() < 1e-12);
     }
+}
+
+/// A flat square folded along x = 1/2 so its two halves meet at `bend_degrees` off flat
+/// (grid `n`, even).
+fn ridge(n: u32, bend_degrees: f64) -> Mesh {
+    let mut mesh = grid(n);
+    let slope = (bend_degrees.to_radians() / 2.0).tan();
+    for p in &mut mesh.positions {
+        p.z = -slope * (p.x - 0.5).abs();
+    }
+    mesh
+}
+
+#[test]
+fn a_shallow_ridge_is_a_weak_edge_and_a_cylinder_rim_a_strong_one() {
+    // #26 B10: Algorithm 1 on meshes made in code with known dihedral angles. A 30° fold
+    // gives λ2 ≈ 0.07 (weak band 0.02–0.1): its line vertices pass NVC (their ridge
+    // neighbours lie along their diffusion direction and share it) and are weak; a 10° fold
+    // stays below the band (face); the flat rest is face.
+    for (bend, expected) in [(30.0, FeatureClass::Weak), (10.0, FeatureClass::Face), (60.0, FeatureClass::StrongEdge)] {
+        let mesh = ridge(20, bend);
+        let a = analyze(&mesh, &AnalysisOptions::default()).unwrap();
+        for (v, p) in mesh.positions.iter().enumerate() {
+            let inner = p.y > 0.15 && p.y < 0.85;
+            if (p.x - 0.5).abs() < 1e-12 && inner {
+                assert_eq!(a.classes[v], expected, "{bend}° fold, ridge vertex at {p}");
+                assert!(a.tensors[v].diffusion.y.abs() > 0.99, "diffusion along the ridge: {}", a.tensors[v].diffusion);
+            } else if (p.x - 0.5).abs() > 0.15 && inner && p.x > 0.15 && p.x < 0.85 {
+                assert_eq!(a.classes[v], FeatureClass::Face, "{bend}° fold, flat vertex at {p}");
+            }
+        }
+    }
+    // A closed cylinder: the rims (90°) are strong edges, the side and the caps faces.
+    let mesh = closed_cylinder(48, 12);
+    let a = analyze(&mesh, &AnalysisOptions::default()).unwrap();
+    for (v, p) in mesh.positions.iter().enumerate() {
+        let on_rim = (p.z.abs() - 1.0).abs() < 1e-12 && (p.x.hypot(p.y) - 1.0).abs() < 1e-12;
+        let inner_side = p.z.abs() < 0.6 && (p.x.hypot(p.y) - 1.0).abs() < 1e-12;
+        if on_rim {
+            assert_eq!(a.classes[v], FeatureClass::StrongEdge, "rim vertex at {p}");
+        } else if inner_side {
+            assert_eq!(a.classes[v], FeatureClass::Face, "side vertex at {p}");
+        }
+    }
+}
+
+#[test]
+fn nvc_counts_only_neighbours_along_the_diffusion_direction() {
+    // "We try to find, along its principal diffusion direction, neighboring non-face
+    // vertices which have similar principal diffusion direction" (§4.4.1.1). A row of weak
+    // candidates along x: with diffusion along the row each finds its row neighbours and is
+    // weak; with the same diffusion across the row (parallel strokes side by side, noise
+    // rather than a line) none of them lies along it and they are faces.
+    let mesh = grid(12);
+    let adjacency = Adjacency::of(&mesh);
+    for (diffusion, expected) in [(DVec3::X, FeatureClass::Weak), (DVec3::Y, FeatureClass::Face)] {
+        let tensors: Vec<VotingTensor> = mesh
+            .positions
+            .iter()
+            .map(|p| {
+                let weak = (p.y - 0.5).abs() < 1e-12;
+                let eigenvalues = if weak { [0.95, 0.05, 0.0] } else { [1.0, 0.0, 0.0] };
+                VotingTensor { eigenvalues, diffusion: if weak { diffusion } else { DVec3::X } }
+            })
+            .collect();
+        let classes = classify(&mesh.positions, &adjacency, &tensors, &FeatureOptions::default());
+        for (v, p) in mesh.positions.iter().enumerate() {
+            if (p.y - 0.5).abs() < 1e-12 && p.x > 0.2 && p.x < 0.8 {
+                assert_eq!(classes[v], expected, "diffusion {diffusion}, vertex at {p}");
+            }
+        }
+    }
+}
+
+/// A cylinder of radius 1 from z = −1 to 1 with `segments` around and `rows` along, closed
+/// by fan caps (a centre vertex each).
+fn closed_cylinder(segments: u32, rows: u32) -> Mesh {
+    let mut positions = Vec::new();
+    for j in 0..=rows {
+        let z = -1.0 + 2.0 * f64::from(j) / f64::from(rows);
+        for i in 0..segments {
+            let t = TAU * f64::from(i) / f64::from(segments);
+            positions.push(DVec3::new(t.cos(), t.sin(), z));
+        }
+    }
+    let at = |i: u32, j: u32| j * segments + i % segments;
+    let mut triangles = Vec::new();
+    for j in 0..rows {
+        for i in 0..segments {
+            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    let (bottom, top) = (positions.len() as u32, positions.len() as u32 + 1);
+    positions.push(DVec3::new(0.0, 0.0, -1.0));
+    positions.push(DVec3::new(0.0, 0.0, 1.0));
+    for i in 0..segments {
+        triangles.push([bottom, at(i + 1, 0), at(i, 0)]);
+        triangles.push([top, at(i, rows), at(i + 1, rows)]);
+    }
+    Mesh::new(positions, triangles)
 }

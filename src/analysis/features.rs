@@ -50,6 +50,10 @@ pub struct FeatureOptions {
     /// NVC: the k-ring searched for coinciding vertices (2: a 1-ring holds at most two
     /// neighbours along an edge line, so "more than 2" needs the second ring).
     pub nvc_rings: usize,
+    /// NVC: a neighbour counts only if it lies along the vertex's diffusion direction: the
+    /// direction to it within this angle of that line, degrees (30: a triangulated line
+    /// strays from straight by up to half a face's angle).
+    pub nvc_along_degrees: f64,
 }
 
 impl Default for FeatureOptions {
@@ -62,6 +66,7 @@ impl Default for FeatureOptions {
             nvc_angle_degrees: 15.0,
             nvc_min_coincidences: 3,
             nvc_rings: 2,
+            nvc_along_degrees: 30.0,
         }
     }
 }
@@ -187,7 +192,18 @@ pub fn symmetric_eigen3(a: DMat3) -> ([f64; 3], DVec3) {
 
 /// Classes of Algorithm 1. Vertices that match no rule (for example λ2 > 0.1 with
 /// 0.02 ≤ λ3 ≤ 0.1, or a weak candidate failing NVC) are face vertices.
-pub fn classify(adjacency: &Adjacency, tensors: &[VotingTensor], options: &FeatureOptions) -> Vec<FeatureClass> {
+///
+/// NVC (Wang et al., as §4.4.1.1 states it): "given a vertex vᵢ (that is not a face
+/// vertex), we try to find, along its principal diffusion direction, neighboring non-face
+/// vertices which have similar principal diffusion direction" (within 15°); more than two
+/// such make it a weak-edge vertex. "Along" is a neighbour in the k-ring whose direction
+/// from vᵢ lies within [`FeatureOptions::nvc_along_degrees`] of the diffusion line.
+pub fn classify(
+    positions: &[glam::DVec3],
+    adjacency: &Adjacency,
+    tensors: &[VotingTensor],
+    options: &FeatureOptions,
+) -> Vec<FeatureClass> {
     let o = options;
     let provisional: Vec<Option<FeatureClass>> = tensors
         .iter()
@@ -207,16 +223,22 @@ pub fn classify(adjacency: &Adjacency, tensors: &[VotingTensor], options: &Featu
         })
         .collect();
     let cos_limit = o.nvc_angle_degrees.to_radians().cos();
+    let cos_along = o.nvc_along_degrees.to_radians().cos();
     (0..tensors.len())
         .into_par_iter()
         .map(|v| {
             provisional[v].unwrap_or_else(|| {
-                // NVC: non-face vertices nearby whose diffusion direction coincides.
+                // NVC: non-face vertices along the diffusion direction whose own
+                // direction coincides.
                 let d = tensors[v].diffusion;
+                let along = |w: u32| {
+                    let to = (positions[w as usize] - positions[v]).normalize_or_zero();
+                    to.dot(d).abs() >= cos_along
+                };
                 let coincidences = adjacency
                     .k_ring(v, o.nvc_rings)
                     .iter()
-                    .filter(|&&w| provisional[w as usize] != Some(FeatureClass::Face))
+                    .filter(|&&w| provisional[w as usize] != Some(FeatureClass::Face) && along(w))
                     .filter(|&&w| tensors[w as usize].diffusion.dot(d).abs() >= cos_limit)
                     .count();
                 if coincidences >= o.nvc_min_coincidences { FeatureClass::Weak } else { FeatureClass::Face }

@@ -104,6 +104,6 @@ pub fn analyze(mesh: &Mesh, options: &AnalysisOptions) -> Result<SurfaceAnalysis
     let normals = vertex_normals(mesh, &adjacency, &faces, options.normal_weighting);
     let curvatures = curvatures(mesh, &adjacency, &faces, &normals);
     let tensors = voting_tensors(mesh, &adjacency, &faces);
-    let classes = classify(&adjacency, &tensors, &options.features);
+    let classes = classify(&mesh.positions, &adjacency, &tensors, &options.features);
     Ok(SurfaceAnalysis { normals, curvatures, tensors, classes })
 }

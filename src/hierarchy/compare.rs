@@ -140,7 +140,8 @@ impl Reference {
     fn of(input: &Mesh) -> Result<Self> {
         let adjacency = Adjacency::of(input);
         let geometry = FaceGeometry::of(input);
-        let classes = classify(&adjacency, &voting_tensors(input, &adjacency, &geometry), &Default::default());
+        let classes =
+            classify(&input.positions, &adjacency, &voting_tensors(input, &adjacency, &geometry), &Default::default());
         let features =
             classes.iter().enumerate().filter(|(_, c)| c.is_sharp()).map(|(v, _)| input.positions[v]).collect();
         let unit = UnitFrame::of(input)?;

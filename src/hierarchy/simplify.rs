@@ -317,8 +317,12 @@ fn features_and_kept(mesh: &Mesh, options: &SimplifyOptions) -> Result<Features>
     let mut corner = vec![false; n];
     if options.keep_features != KeepFeatures::None {
         let adjacency = Adjacency::of(mesh);
-        let classes =
-            classify(&adjacency, &voting_tensors(mesh, &adjacency, &FaceGeometry::of(mesh)), &Default::default());
+        let classes = classify(
+            &mesh.positions,
+            &adjacency,
+            &voting_tensors(mesh, &adjacency, &FaceGeometry::of(mesh)),
+            &Default::default(),
+        );
         for (v, class) in classes.into_iter().enumerate() {
             feature[v] = match options.keep_features {
                 KeepFeatures::None => false,
