@@ -76,7 +76,7 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     // detail, with a recipe whose relief makes self-intersections
     let d = ["detail", &eight, "-o", "d.ply", "--recipe", "relief.toml"];
     add("detail", "--recipe", &["detail", &eight, "-o", "d.ply"], &["--recipe", "relief.toml"]);
-    add("detail", "--no-self-intersections", &d, &["--no-self-intersections"]);
+    add("detail", "--allow-self-intersections", &d, &["--allow-self-intersections"]);
     add("detail", "--target-vertices", &d, &["--target-vertices", "150"]);
     add("detail", "--levels", &d, &["--levels", "2"]);
     add("detail", "--max-error", &d, &["--max-error", "0.001"]);

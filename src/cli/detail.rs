@@ -25,9 +25,10 @@ pub struct DetailArgs {
     /// Recipe (TOML, see docs/recipes.md); without one, the round trip.
     #[arg(long)]
     recipe: Option<PathBuf>,
-    /// Damp displacements until the result has no self-intersections.
+    /// Keep the recipe's displacements even where the result intersects itself (by default
+    /// the offending displacements are damped until there is no self-intersection).
     #[arg(long)]
-    no_self_intersections: bool,
+    allow_self_intersections: bool,
     #[command(flatten)]
     hierarchy: HierarchyArgs,
     /// Allow the output to overwrite the input.
@@ -56,7 +57,8 @@ pub fn run(args: DetailArgs, ctx: super::Context) -> Result<()> {
     let hierarchy = ctx
         .spin("simplify", "building the 4-k hierarchy", || build(&mesh, &simplify))
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;
-    let options = DetailOptions { simplify, no_self_intersections: args.no_self_intersections, ..Default::default() };
+    let options =
+        DetailOptions { simplify, no_self_intersections: !args.allow_self_intersections, ..Default::default() };
     let outcome =
         ctx.spin("detail", "applying the recipe level by level", || apply_to(&hierarchy, &mesh, &recipe, &options))?;
     io::write(&outcome.result.mesh, &args.output, WriteOptions::default())?;
@@ -103,7 +105,7 @@ pub fn run(args: DetailArgs, ctx: super::Context) -> Result<()> {
         );
     }
     let i = outcome.intersections;
-    let intersections = if args.no_self_intersections {
+    let intersections = if !args.allow_self_intersections && i.found > 0 {
         format!("{} self-intersections, {} damped to {} in {} passes", i.found, i.damped, i.remaining, i.passes)
     } else {
         format!("{} self-intersections", i.found)

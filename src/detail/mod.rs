@@ -43,7 +43,8 @@ use crate::noise::hash::derive_seed;
 pub struct DetailOptions {
     /// How the hierarchy is built.
     pub simplify: SimplifyOptions,
-    /// Damp displacements until the result has no self-intersections.
+    /// Damp displacements until the result has no self-intersections (the default: a
+    /// recipe's result is free of them unless asked otherwise).
     pub no_self_intersections: bool,
     /// Place later insertions on the deformed surface (§4.5.1); off only to show why.
     pub follow_deformation: bool,
@@ -51,7 +52,7 @@ pub struct DetailOptions {
 
 impl Default for DetailOptions {
     fn default() -> Self {
-        DetailOptions { simplify: SimplifyOptions::default(), no_self_intersections: false, follow_deformation: true }
+        DetailOptions { simplify: SimplifyOptions::default(), no_self_intersections: true, follow_deformation: true }
     }
 }
 
