@@ -240,6 +240,13 @@ fn noise_writes_png16_and_raw_f32_deterministically() {
         assert_one_line_error(&run(&all, "1"), 2, words);
         assert!(!tmp.path().join("x.png").exists());
     }
+    // --range is a PNG's grey mapping: raw values have none.
+    assert_one_line_error(
+        &run(&["noise", "--size", "8", "--range", "-1,1", "-o", "x.f32"], "1"),
+        2,
+        &["x.f32", "--range"],
+    );
+    assert!(!tmp.path().join("x.f32").exists());
 }
 
 #[test]

@@ -76,6 +76,12 @@ pub fn run(args: NoiseArgs, ctx: super::Context) -> Result<()> {
         return Err(Error::InvalidInput(format!("--size {} must be between 1 and 65536", args.size)));
     }
     refuse_other_kinds_flags(&args)?;
+    if args.range.is_some() && ext.as_deref() != Some("png") {
+        return Err(Error::InvalidInput(format!(
+            "{}: --range maps values to a PNG's 16-bit grey; raw .f32 keeps the values themselves",
+            args.output.display()
+        )));
+    }
     let fractal = Fractal::default();
     let gabor = GaborParams::default();
     let spec = NoiseSpec {
