@@ -222,7 +222,8 @@ impl<'a> Degenerates<'a> {
         let faces = std::mem::take(&mut self.faces_of[gone as usize]);
         let mut changed = Vec::new();
         for f in faces {
-            if !self.alive[f] {
+            // A face flipped earlier may no longer hold `gone` (its list keeps it).
+            if !self.alive[f] || !self.triangles[f].contains(&gone) {
                 continue;
             }
             if self.triangles[f].contains(&kept) {
