@@ -173,18 +173,10 @@ fn frequency(bin: usize, n: usize) -> f64 {
     if bin < n / 2 { bin as f64 / n as f64 } else { bin as f64 / n as f64 - 1.0 }
 }
 
-fn gabor_image(params: GaborParams, seed: u64, n: usize) -> Vec<f64> {
-    let spec = NoiseSpec { kind: NoiseKind::Gabor, gabor: params, seed, ..NoiseSpec::default() };
-    NoiseField::new(&spec).unwrap().grid2(0.0, 0.0, 1.0, n, n)
-}
-
-#[test]
-fn anisotropic_gabor_spectrum_peaks_at_f0_and_omega0() {
-    let n = 512;
-    let params = GaborParams::default();
-    let power = power_spectrum(&gabor_image(params, 1, n), n);
-    // Centroid of the lobe on the half-plane facing ω0 (the spectrum is symmetric).
-    let dir = (params.omega0.cos(), params.omega0.sin());
+/// The centroid of a power spectrum's lobe on the half-plane facing `omega` (the spectrum
+/// is symmetric), as (radius, angle).
+fn lobe_centroid(power: &[f64], n: usize, omega: f64) -> (f64, f64) {
+    let dir = (omega.cos(), omega.sin());
     let (mut sx, mut sy, mut total) = (0.0, 0.0, 0.0);
     for r in 0..n {
         for c in 0..n {
@@ -198,8 +190,20 @@ fn anisotropic_gabor_spectrum_peaks_at_f0_and_omega0() {
         }
     }
     let (cx, cy) = (sx / total, sy / total);
-    let radius = cx.hypot(cy);
-    let angle = cy.atan2(cx);
+    (cx.hypot(cy), cy.atan2(cx))
+}
+
+fn gabor_image(params: GaborParams, seed: u64, n: usize) -> Vec<f64> {
+    let spec = NoiseSpec { kind: NoiseKind::Gabor, gabor: params, seed, ..NoiseSpec::default() };
+    NoiseField::new(&spec).unwrap().grid2(0.0, 0.0, 1.0, n, n)
+}
+
+#[test]
+fn anisotropic_gabor_spectrum_peaks_at_f0_and_omega0() {
+    let n = 512;
+    let params = GaborParams::default();
+    let power = power_spectrum(&gabor_image(params, 1, n), n);
+    let (radius, angle) = lobe_centroid(&power, n, params.omega0);
     assert!((radius - params.f0).abs() <= 0.05 * params.f0, "peak radius {radius} vs F0 {}", params.f0);
     assert!((angle - params.omega0).abs() <= 3f64.to_radians(), "peak angle {}°", angle.to_degrees());
 }
@@ -423,22 +427,7 @@ fn phasor_noise_has_constant_contrast_and_gabor_s_spectrum() {
     assert!(control < 0.5, "the measure must see Gabor's fading contrast ({control:.2})");
     assert!(phasor.iter().all(|v| v.abs() <= 1.0), "sine profile within ±K");
     // The spectrum peaks where Gabor's does: at F0 along ω0.
-    let power = power_spectrum(&phasor, n);
-    let dir = (params.omega0.cos(), params.omega0.sin());
-    let (mut sx, mut sy, mut total) = (0.0, 0.0, 0.0);
-    for r in 0..n {
-        for c in 0..n {
-            let (fx, fy) = (frequency(c, n), frequency(r, n));
-            if fx * dir.0 + fy * dir.1 > 0.0 {
-                let p = power[r * n + c];
-                sx += p * fx;
-                sy += p * fy;
-                total += p;
-            }
-        }
-    }
-    let (cx, cy) = (sx / total, sy / total);
-    let (radius, angle) = (cx.hypot(cy), cy.atan2(cx));
+    let (radius, angle) = lobe_centroid(&power_spectrum(&phasor, n), n, params.omega0);
     assert!((radius - params.f0).abs() <= 0.15 * params.f0, "peak radius {radius} vs F0 {}", params.f0);
     assert!((angle - params.omega0).abs() <= 5f64.to_radians(), "peak angle {}°", angle.to_degrees());
 }

@@ -311,13 +311,28 @@ impl Gabor {
 
     /// The complex sum at a surface point (as [`Gabor::sample3`] for its real part).
     pub(super) fn complex3(&self, p: DVec3, frame: Frame) -> (f64, f64) {
+        let two_pi_f0 = TAU * self.params.f0;
+        let (mut re, mut im) = (0.0, 0.0);
+        self.for_each_impulse3(p, frame, |weight, r2, d, dir| {
+            let envelope = weight * (-self.gauss * r2).exp();
+            let (sin, cos) = (two_pi_f0 * d.dot(dir)).sin_cos();
+            re += envelope * cos;
+            im += envelope * sin;
+        });
+        (re, im)
+    }
+
+    /// Calls `f(weight·K, r², p − q, direction)` for every impulse q of the 3×3×3 cells
+    /// around `p` within a kernel radius, in the canonical order. The direction runs along
+    /// cos ω·tangent + sin ω·bitangent, or, isotropic, is the impulse's random 3D direction
+    /// projected on the tangent plane (Lagae et al. 2009 §5: it needs no frame, only the
+    /// normal tangent × bitangent).
+    fn for_each_impulse3(&self, p: DVec3, frame: Frame, mut f: impl FnMut(f64, f64, DVec3, DVec3)) {
         let c = [self.cell_of(p.x), self.cell_of(p.y), self.cell_of(p.z)];
         let r2_max = self.radius * self.radius;
         let params = &self.params;
-        let two_pi_f0 = TAU * params.f0;
         let fixed_dir = frame.tangent * params.omega0.cos() + frame.bitangent * params.omega0.sin();
         let normal = frame.tangent.cross(frame.bitangent);
-        let (mut re, mut im) = (0.0, 0.0);
         for dz in -1..=1 {
             for dy in -1..=1 {
                 for dx in -1..=1 {
@@ -343,16 +358,12 @@ impl Gabor {
                         let d = p - q;
                         let r2 = d.length_squared();
                         if r2 < r2_max {
-                            let envelope = weight * (-self.gauss * r2).exp();
-                            let (sin, cos) = (two_pi_f0 * d.dot(dir)).sin_cos();
-                            re += envelope * cos;
-                            im += envelope * sin;
+                            f(weight, r2, d, dir);
                         }
                     }
                 }
             }
         }
-        (re, im)
     }
 
     /// 3D noise at a surface point with its tangent frame, standard deviation K (2D
@@ -363,46 +374,11 @@ impl Gabor {
     /// direction projected on the tangent plane at the point, so it depends on the normal
     /// (tangent × bitangent) only and turning the frame about it changes nothing.
     pub fn sample3(&self, p: DVec3, frame: Frame) -> f64 {
-        let c = [self.cell_of(p.x), self.cell_of(p.y), self.cell_of(p.z)];
-        let r2_max = self.radius * self.radius;
-        let params = &self.params;
-        let two_pi_f0 = TAU * params.f0;
-        let fixed_dir = frame.tangent * params.omega0.cos() + frame.bitangent * params.omega0.sin();
-        let normal = frame.tangent.cross(frame.bitangent);
+        let two_pi_f0 = TAU * self.params.f0;
         let mut sum = 0.0;
-        for dz in -1..=1 {
-            for dy in -1..=1 {
-                for dx in -1..=1 {
-                    let cell = [c[0] + dx, c[1] + dy, c[2] + dz];
-                    let mut rng = Stream::new(hash_coords(self.seed, &cell));
-                    let count = rng.poisson(self.mean_per_cell_3d);
-                    for _ in 0..count {
-                        let q = DVec3::new(
-                            (cell[0] as f64 + rng.unit()) * self.radius,
-                            (cell[1] as f64 + rng.unit()) * self.radius,
-                            (cell[2] as f64 + rng.unit()) * self.radius,
-                        );
-                        let weight = rng.uniform(-1.0, 1.0) * params.k;
-                        let dir = if params.isotropic {
-                            // Lagae et al. 2009 §5: a random 3D direction projected on the
-                            // tangent plane, which needs no frame, only the normal.
-                            let z = rng.uniform(-1.0, 1.0);
-                            let phi = rng.uniform(0.0, TAU);
-                            let rho = (1.0 - z * z).max(0.0).sqrt();
-                            let d = DVec3::new(rho * phi.cos(), rho * phi.sin(), z);
-                            d - normal * normal.dot(d)
-                        } else {
-                            fixed_dir
-                        };
-                        let d = p - q;
-                        let r2 = d.length_squared();
-                        if r2 < r2_max {
-                            sum += weight * (-self.gauss * r2).exp() * (two_pi_f0 * d.dot(dir)).cos();
-                        }
-                    }
-                }
-            }
-        }
+        self.for_each_impulse3(p, frame, |weight, r2, d, dir| {
+            sum += weight * (-self.gauss * r2).exp() * (two_pi_f0 * d.dot(dir)).cos();
+        });
         sum * self.inv_sigma_3d
     }
 }
