@@ -274,6 +274,26 @@ fn nvc_counts_only_neighbours_along_the_diffusion_direction() {
             }
         }
     }
+    // The cone: a diffusion direction 40° off the row finds no neighbour along it within the
+    // default 30°, and finds the row within 45°.
+    let tilted = DVec3::new(40f64.to_radians().cos(), 40f64.to_radians().sin(), 0.0);
+    let tensors: Vec<VotingTensor> = mesh
+        .positions
+        .iter()
+        .map(|p| match (p.y - 0.5).abs() < 1e-12 {
+            true => VotingTensor { eigenvalues: [0.95, 0.05, 0.0], diffusion: tilted },
+            false => VotingTensor { eigenvalues: [1.0, 0.0, 0.0], diffusion: DVec3::X },
+        })
+        .collect();
+    for (degrees, expected) in [(30.0, FeatureClass::Face), (45.0, FeatureClass::Weak)] {
+        let options = FeatureOptions { nvc_along_degrees: degrees, ..FeatureOptions::default() };
+        let classes = classify(&mesh.positions, &adjacency, &tensors, &options);
+        for (v, p) in mesh.positions.iter().enumerate() {
+            if (p.y - 0.5).abs() < 1e-12 && p.x > 0.2 && p.x < 0.8 {
+                assert_eq!(classes[v], expected, "nvc_along_degrees {degrees}, vertex at {p}");
+            }
+        }
+    }
 }
 
 /// A cylinder of radius 1 from z = −1 to 1 with `segments` around and `rows` along, closed
