@@ -17,6 +17,7 @@ demo: build
 	./target/release/asperity demo --out out
 
 test: deps
+	@./scripts/install-deps.sh --test
 	@./scripts/install-gltf-validator.sh
 	@./scripts/fetch-test-meshes.sh
 	$(CARGO) test

@@ -1,12 +1,17 @@
 #!/usr/bin/env bash
 # Installs, only when missing, every Debian package asperity needs to build and test.
 # Idempotent: a machine that already has them all is left untouched (no apt-get at all).
+# With --test, also the tools the tests drive: GNU parallel (a job runner for terrain plans)
+# and gdal-bin (gdalinfo and gdal_translate open the plans' mosaics).
 set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config
   libopenmesh-dev libcgal-dev libeigen3-dev libgmp-dev libmpfr-dev libboost-dev
 )
+if [ "${1:-}" = "--test" ]; then
+  packages+=(parallel gdal-bin)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

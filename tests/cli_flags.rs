@@ -23,7 +23,7 @@ struct Case {
 }
 
 /// Flags whose effect is not in the output, with the test that checks what they do.
-const EXEMPT: [(&str, &str, &str); 3] = [
+const EXEMPT: [(&str, &str, &str); 6] = [
     ("demo", "--out", "slow; `demo_writes_its_meshes` checks the folder it names"),
     (
         "terrain",
@@ -31,6 +31,13 @@ const EXEMPT: [(&str, &str, &str); 3] = [
         "the same bytes by design, in bounded memory: `streaming_equals_whole_grids` and the memory test",
     ),
     ("terrain", "--band", "the same bytes by design: `streaming_equals_whole_grids` runs several bands"),
+    (
+        "terrain",
+        "--plan",
+        "runs a plan's tile: `terrain_scale::planned_tiles_through_gnu_parallel_and_xargs_equal_the_whole_grid`",
+    ),
+    ("terrain", "--tile-index", "`terrain_scale::the_tile_index_comes_from_the_flag_then_kubernetes_then_slurm`"),
+    ("terrain plan", "--tile-size", "required: every plan names it"),
 ];
 
 fn owned(args: &[&str]) -> Vec<String> {
@@ -157,6 +164,12 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     add("terrain", "--tile-size", &t, &["--tile-size", "17"]);
     add("terrain", "--range", &["terrain", "--size", "33", "-o", "t.png"], &["--range", "-1,1"]);
     add("terrain", "--preview", &t, &["--preview", "p.png"]);
+    add("terrain", "--erode", &t, &["--erode", "thermal"]);
+    let eroded = ["terrain", "--size", "33", "-o", "t.ply", "--erode", "thermal"];
+    add("terrain", "--erode-iterations", &eroded, &["--erode-iterations", "5"]);
+    add("terrain", "--talus", &eroded, &["--talus", "10"]);
+    add("terrain", "--preset", &["terrain", "--size", "33", "-o", "t.raw"], &["--preset", "unity"]);
+    add("terrain", "--sidecar", &["terrain", "--size", "33", "-o", "t.png"], &["--sidecar"]);
     let dual = ["terrain", "--method", "dual", "--levels", "3", "-o", "t.ply"];
     add("terrain", "--x", &dual, &["--x", "2,0,0"]);
     add("terrain", "--y", &dual, &["--y", "0,2,0.5"]);
@@ -173,6 +186,50 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
         with: owned(&["terrain", "--size", "33", "-o", "t.out", "--format", "f32"]),
         may_fix: true,
     });
+    // terrain plan: each generation flag as in terrain's case, on a plan (the plan refuses
+    // what a tile would refuse; what a tile makes of a flag is terrain's case).
+    let without_output = |args: &[String]| -> Vec<String> {
+        let mut kept = Vec::new();
+        let mut skip = false;
+        for a in &args[1..] {
+            if std::mem::take(&mut skip) {
+                continue;
+            }
+            if a == "-o" {
+                skip = true;
+                continue;
+            }
+            kept.push(a.clone());
+        }
+        kept
+    };
+    let plan = owned(&["terrain", "plan", "--tile-size", "17", "-o", "p"]);
+    let terrain_cases: Vec<(&'static str, Vec<String>, Vec<String>)> = cases
+        .iter()
+        .filter(|c| {
+            c.sub == "terrain" && !["--format", "--tile-size", "--tile", "--stream", "--band"].contains(&c.flag)
+        })
+        .map(|c| {
+            if c.base.iter().any(|a| a == "dual") {
+                // A plan tiles heightfields: dual's flags are tried alone on a classic plan.
+                (c.flag, Vec::new(), c.with[c.base.len()..].to_vec())
+            } else {
+                (c.flag, without_output(&c.base), without_output(&c.with))
+            }
+        })
+        .collect();
+    for (flag, base, with) in terrain_cases {
+        cases.push(Case {
+            sub: "terrain plan",
+            flag,
+            base: plan.iter().cloned().chain(base).collect(),
+            with: plan.iter().cloned().chain(with).collect(),
+            may_fix: false,
+        });
+    }
+    let p = owned(&["terrain", "plan", "--size", "33", "--tile-size", "17", "-o", "p"]);
+    let with_format = p.iter().cloned().chain(owned(&["--format", "f32"])).collect();
+    cases.push(Case { sub: "terrain plan", flag: "--format", base: p, with: with_format, may_fix: false });
     // --repair and --force make a refused base work.
     let mut fixes = |sub: &'static str, flag: &'static str, base: Vec<String>| {
         let mut with = base.clone();

@@ -19,4 +19,5 @@ mod readme;
 mod render;
 mod repair;
 mod terrain;
+mod terrain_scale;
 mod validation;

@@ -185,10 +185,14 @@ pub fn reference() -> String {
     );
     out += &cli.render_long_help().to_string();
     out += "```\n";
-    for sub in cli.get_subcommands_mut().filter(|s| !s.is_hide_set() && s.get_name() != "help") {
-        let name = sub.get_name().to_string();
-        out += &format!("\n## asperity {name}\n\n```text\n{}```\n", sub.render_long_help());
+    fn subcommands(prefix: &str, command: &mut clap::Command, out: &mut String) {
+        for sub in command.get_subcommands_mut().filter(|s| !s.is_hide_set() && s.get_name() != "help") {
+            let name = format!("{prefix}{}", sub.get_name());
+            *out += &format!("\n## asperity {name}\n\n```text\n{}```\n", sub.render_long_help());
+            subcommands(&format!("{name} "), sub, out);
+        }
     }
+    subcommands("", &mut cli, &mut out);
     out
 }
 
@@ -196,20 +200,24 @@ pub fn reference() -> String {
 /// for the test that runs each one and checks it changes the output or is refused.
 pub fn subcommand_flags() -> Vec<(String, Vec<String>)> {
     use clap::CommandFactory;
-    let mut cli = Cli::command();
-    cli.build();
-    cli.get_subcommands()
-        .filter(|s| !s.is_hide_set() && s.get_name() != "help")
-        .map(|s| {
+    fn visit(prefix: &str, command: &clap::Command, out: &mut Vec<(String, Vec<String>)>) {
+        for s in command.get_subcommands().filter(|s| !s.is_hide_set() && s.get_name() != "help") {
+            let name = if prefix.is_empty() { s.get_name().to_string() } else { format!("{prefix} {}", s.get_name()) };
             let flags = s
                 .get_arguments()
                 .filter_map(|a| a.get_long())
                 .filter(|l| !["help", "json", "quiet"].contains(l))
                 .map(|l| format!("--{l}"))
                 .collect();
-            (s.get_name().to_string(), flags)
-        })
-        .collect()
+            out.push((name.clone(), flags));
+            visit(&name, s, out);
+        }
+    }
+    let mut cli = Cli::command();
+    cli.build();
+    let mut out = Vec::new();
+    visit("", &cli, &mut out);
+    out
 }
 
 fn one_line(msg: &str) -> String {

@@ -6,8 +6,13 @@
 mod clouds;
 mod diamond_square;
 mod dual;
+pub mod erosion;
+pub mod mosaic;
+pub mod presets;
 mod random;
+pub mod sidecar;
 pub mod stream;
+mod whole_file;
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -16,6 +21,8 @@ use serde::{Deserialize, Serialize};
 pub use clouds::{CloudParams, clouds};
 pub use diamond_square::{DiamondSquare, Lattice, Rect, Rule};
 pub use dual::{DualParams, QuadSurface, dual_midpoint_displacement};
+pub use erosion::ThermalErosion;
+pub use presets::Preset;
 pub use random::{Displacements, Distribution};
 
 use crate::error::{Error, Result};
@@ -88,6 +95,10 @@ pub struct TerrainParams {
     /// Height (above the sea, or above 0) that gets the peak colour; by default half of
     /// [`TerrainParams::height_scale`].
     pub peak_height: Option<f64>,
+    /// Thermal erosion applied to the generated heights (after the height factor, before
+    /// the sea clamp), when set.
+    #[serde(default)]
+    pub erosion: Option<ThermalErosion>,
 }
 
 /// Colours of the height ramp: the sea (at or below sea level, or 0), then land from low
@@ -138,6 +149,7 @@ impl Default for TerrainParams {
             height_factor: 1.0,
             palette: Palette::default(),
             peak_height: None,
+            erosion: None,
         }
     }
 }
@@ -165,6 +177,9 @@ impl TerrainParams {
         }
         if self.variance < 0.0 || self.width <= 0.0 || self.depth <= 0.0 {
             return Err(Error::InvalidInput("variance must be ≥ 0 and width, depth > 0".into()));
+        }
+        if let Some(erosion) = &self.erosion {
+            erosion.validate()?;
         }
         Ok(DiamondSquare {
             lattice: match self.grid {
@@ -195,7 +210,8 @@ impl TerrainParams {
 
     /// Seed 001's "max height" (the highest peak's height): the same terrain with every
     /// height scaled so that its highest point is `top` exactly. It measures the whole
-    /// grid once (so tiles of the result still agree), before any sea clamp.
+    /// grid once (so tiles of the result still agree), before any sea clamp or erosion (which
+    /// then lowers the peaks).
     ///
     /// # Errors
     /// [`Error::InvalidInput`] when `top` is not positive or no point of the terrain lies
@@ -204,7 +220,7 @@ impl TerrainParams {
         if !(top.is_finite() && top > 0.0) {
             return Err(Error::InvalidInput(format!("max height {top} must be positive")));
         }
-        let raw = TerrainParams { height_factor: 1.0, sea_level: None, ..self };
+        let raw = TerrainParams { height_factor: 1.0, sea_level: None, erosion: None, ..self };
         let last = self.size.saturating_sub(1);
         let peak = heights(&raw, Rect { x0: 0, y0: 0, x1: last, y1: last })?
             .heights
@@ -278,7 +294,7 @@ impl Heightfield {
     }
 }
 
-/// The finished heights (sea clamp applied) on `rect`.
+/// The finished heights (erosion and sea clamp applied) on `rect`.
 ///
 /// # Errors
 /// [`Error::InvalidInput`] for invalid parameters or a rectangle outside the grid.
@@ -288,26 +304,39 @@ pub fn heights(params: &TerrainParams, rect: Rect) -> Result<Heightfield> {
     if rect.x0 > rect.x1 || rect.y0 > rect.y1 || rect.x1 > last || rect.y1 > last {
         return Err(Error::InvalidInput(format!("region {rect:?} is outside the {0}x{0} grid", params.size)));
     }
-    if params.method == Method::Smooth {
-        // Two 3×3 Gaussian passes: each height depends on raw heights two points away.
-        let grown = rect.grown(2, last);
-        let raw = Heightfield { rect: grown, heights: raw_heights(&generator, grown) };
-        let once = gaussian_3x3(&raw, params.size, rect.grown(1, last));
-        let mut twice = gaussian_3x3(&once, params.size, rect);
-        clamp_heights(params, &mut twice.heights);
-        return Ok(twice);
+    let mut field = match &params.erosion {
+        // Erosion's halo: the points within `iterations` steps of the rectangle.
+        Some(erosion) => {
+            let mut grown = generated_heights(params, &generator, rect.grown(erosion.halo(), last));
+            erosion::erode(&mut grown, params, erosion);
+            erosion::crop(&grown, rect)
+        }
+        None => generated_heights(params, &generator, rect),
+    };
+    if let Some(sea) = params.sea_level {
+        field.heights.par_iter_mut().for_each(|h| *h = h.max(sea));
     }
-    let mut values = raw_heights(&generator, rect);
-    clamp_heights(params, &mut values);
-    Ok(Heightfield { rect, heights: values })
+    Ok(field)
 }
 
-/// Heights times the height factor, then the sea raises what is below it.
-fn clamp_heights(params: &TerrainParams, heights: &mut [f64]) {
-    let (factor, sea) = (params.height_factor, params.sea_level.unwrap_or(f64::NEG_INFINITY));
-    if factor != 1.0 || params.sea_level.is_some() {
-        heights.par_iter_mut().for_each(|h| *h = (*h * factor).max(sea));
+/// The generator's heights on `rect` times the height factor, smoothed by seed 002's
+/// filter for the smooth method.
+fn generated_heights(params: &TerrainParams, generator: &DiamondSquare, rect: Rect) -> Heightfield {
+    let last = params.size - 1;
+    let mut field = if params.method == Method::Smooth {
+        // Two 3×3 Gaussian passes: each height depends on raw heights two points away.
+        let grown = rect.grown(2, last);
+        let raw = Heightfield { rect: grown, heights: raw_heights(generator, grown) };
+        let once = gaussian_3x3(&raw, params.size, rect.grown(1, last));
+        gaussian_3x3(&once, params.size, rect)
+    } else {
+        Heightfield { rect, heights: raw_heights(generator, rect) }
+    };
+    let factor = params.height_factor;
+    if factor != 1.0 {
+        field.heights.par_iter_mut().for_each(|h| *h *= factor);
     }
+    field
 }
 
 /// One pass of the 3×3 Gaussian filter ([1 2 1]ᵀ[1 2 1] / 16) over `rect`, from `field`
@@ -373,18 +402,36 @@ pub fn whole(params: &TerrainParams) -> Result<Heightfield> {
 /// # Errors
 /// [`Error::InvalidInput`] when the tile size does not divide the grid or the tile is outside it.
 pub fn tile_rect(params: &TerrainParams, i: u64, j: u64, tile_size: u64) -> Result<Rect> {
+    tile_rect_in(params.size, i, j, tile_size)
+}
+
+/// The rectangle of tile (i, j) of `tile_size` points per side cut from the first
+/// `extent` × `extent` points of the grid (a preset's window of a larger grid).
+///
+/// # Errors
+/// As [`tile_rect`].
+pub fn tile_rect_in(extent: u64, i: u64, j: u64, tile_size: u64) -> Result<Rect> {
+    let tiles = tiles_per_side(extent, tile_size)?;
+    if i >= tiles || j >= tiles {
+        return Err(Error::InvalidInput(format!("tile {i},{j} is outside the {tiles}x{tiles} tiles")));
+    }
+    let span = tile_size - 1;
+    Ok(Rect { x0: i * span, y0: j * span, x1: (i + 1) * span, y1: (j + 1) * span })
+}
+
+/// How many tiles of `tile_size` points (sharing borders) cover `extent` points a side.
+///
+/// # Errors
+/// [`Error::InvalidInput`] when the tiles do not cover it exactly.
+pub fn tiles_per_side(extent: u64, tile_size: u64) -> Result<u64> {
     let span = tile_size.saturating_sub(1);
-    let last = params.size.saturating_sub(1);
+    let last = extent.saturating_sub(1);
     if span == 0 || last % span != 0 {
         return Err(Error::InvalidInput(format!(
             "tile size {tile_size} must be k·m + 1 with k·m = {last} (grid size − 1)"
         )));
     }
-    let tiles = last / span;
-    if i >= tiles || j >= tiles {
-        return Err(Error::InvalidInput(format!("tile {i},{j} is outside the {tiles}x{tiles} tiles")));
-    }
-    Ok(Rect { x0: i * span, y0: j * span, x1: (i + 1) * span, y1: (j + 1) * span })
+    Ok(last / span)
 }
 
 /// Unit normal at grid point (x, y) from heights known on `field` (which must hold the

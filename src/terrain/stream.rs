@@ -26,6 +26,11 @@ pub enum StreamFormat {
     Raw16,
     /// Row-major f32 little-endian heights, no header.
     F32,
+    /// 32-bit float OpenEXR, one channel `Y` (ZIP, scan lines in increasing order); written
+    /// whole.
+    Exr,
+    /// 32-bit float baseline TIFF, one sample per pixel (BigTIFF past 4 GB); written whole.
+    Tiff,
 }
 
 impl StreamFormat {
@@ -35,10 +40,54 @@ impl StreamFormat {
             "ply" => StreamFormat::Ply,
             "obj" => StreamFormat::Obj,
             "png" => StreamFormat::Png16,
-            "raw16" => StreamFormat::Raw16,
+            "raw16" | "raw" | "r16" => StreamFormat::Raw16,
             "f32" => StreamFormat::F32,
+            "exr" => StreamFormat::Exr,
+            "tif" | "tiff" => StreamFormat::Tiff,
             _ => return None,
         })
+    }
+
+    /// Whether rows can be written as they are generated (EXR and TIFF need the whole
+    /// image: their encoders seek back to write offsets).
+    pub fn streams(self) -> bool {
+        !matches!(self, StreamFormat::Exr | StreamFormat::Tiff)
+    }
+
+    /// Whether heights are quantised to 16 bits over a range.
+    pub fn is_16_bit(self) -> bool {
+        matches!(self, StreamFormat::Png16 | StreamFormat::Raw16)
+    }
+
+    /// Whether this is a heightmap (not a mesh).
+    pub fn is_heightmap(self) -> bool {
+        !matches!(self, StreamFormat::Ply | StreamFormat::Obj)
+    }
+
+    /// The format's name in reports and sidecars.
+    pub fn name(self) -> &'static str {
+        match self {
+            StreamFormat::Ply => "ply",
+            StreamFormat::Obj => "obj",
+            StreamFormat::Png16 => "png16",
+            StreamFormat::Raw16 => "raw16",
+            StreamFormat::F32 => "f32",
+            StreamFormat::Exr => "exr32",
+            StreamFormat::Tiff => "tiff32",
+        }
+    }
+
+    /// The usual file extension.
+    pub fn extension(self) -> &'static str {
+        match self {
+            StreamFormat::Ply => "ply",
+            StreamFormat::Obj => "obj",
+            StreamFormat::Png16 => "png",
+            StreamFormat::Raw16 => "raw16",
+            StreamFormat::F32 => "f32",
+            StreamFormat::Exr => "exr",
+            StreamFormat::Tiff => "tif",
+        }
     }
 }
 
@@ -169,6 +218,23 @@ pub fn write_terrain_observed(
                 Ok(())
             })
             .map_err(io)?;
+        }
+        StreamFormat::Exr | StreamFormat::Tiff => {
+            let (Ok(width), Ok(height)) = (u32::try_from(cols), u32::try_from(rows)) else {
+                return Err(Error::InvalidInput(format!("{cols}x{rows} is too large for one image: use tiles")));
+            };
+            let mut encoded = None;
+            for_each_band(params, rect, rows, false, observe, |field, _, _| {
+                let values: Vec<f32> = field.heights.iter().map(|&h| h as f32).collect();
+                encoded = Some(match format {
+                    StreamFormat::Exr => super::whole_file::exr(&values, width, height),
+                    _ => super::whole_file::tiff(&values, width, height),
+                });
+                Ok(())
+            })
+            .map_err(io)?;
+            let bytes = encoded.expect("one band covers the image").map_err(io)?;
+            w.write_all(&bytes).map_err(io)?;
         }
         StreamFormat::Png16 => {
             let (Ok(width), Ok(height)) = (u32::try_from(cols), u32::try_from(rows)) else {

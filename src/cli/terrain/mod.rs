@@ -1,0 +1,533 @@
+//! `asperity terrain`: classic diamond-square terrains as meshes or heightmaps, whole,
+//! tiled or streamed; engine presets, sidecars, thermal erosion; `terrain plan` and
+//! `terrain --plan DIR` for tiles run by a job runner.
+
+mod dual;
+mod plan;
+mod preview;
+mod rules;
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::{Args, Subcommand, ValueEnum};
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::io::{self, WriteOptions, write_atomically};
+use crate::terrain::sidecar::{HeightRange, Sidecar};
+use crate::terrain::stream::{StreamFormat, write_terrain_observed};
+use crate::terrain::{
+    Distribution, Grid, Method, Preset, Rect, TerrainParams, ThermalErosion, mesh, presets, tile_rect_in,
+};
+use preview::{PreviewSampler, write_preview};
+
+/// Generators.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum MethodArg {
+    /// Midpoint displacement / diamond-square (seed 001).
+    Classic,
+    /// Seed 002: uniform within the parents' range, Gaussian-smoothed.
+    Smooth,
+    /// Janeczek's dual midpoint displacement over a 3D quadrilateral (seed 000).
+    Dual,
+}
+
+/// Erosion models.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum ErodeArg {
+    /// Talus-angle thermal erosion (Musgrave et al. 1989): material slides downhill
+    /// wherever the slope exceeds the talus angle; tiles equal the whole grid.
+    Thermal,
+}
+
+/// The flags that say which terrain is made: everything a plan stores and replays for
+/// each tile.
+#[derive(Debug, Clone, Args, Serialize, Deserialize)]
+#[group(id = "generation", multiple = true)]
+pub(crate) struct Generation {
+    /// Generator.
+    #[arg(long, value_enum, default_value_t = MethodArg::Classic)]
+    method: MethodArg,
+    /// Points per side, 2^n + 1 (classic, smooth; with --preset, a size the engine imports)
+    /// [default: 257].
+    #[arg(long)]
+    size: Option<u64>,
+    /// Seed 001's iterations k: a (2^k + 1)² grid, the same as --size 2^k+1.
+    #[arg(long, conflicts_with = "size")]
+    iterations: Option<u32>,
+    /// Roughness H: the displacement scale falls by 2^-H per level (default 0.8; 1.5 for dual).
+    #[arg(long, allow_negative_numbers = true)]
+    hurst: Option<f64>,
+    /// Seed 001's roughness: the factor by which the perturbations shrink per iteration,
+    /// 2^H (2 is --hurst 1).
+    #[arg(long, conflicts_with = "hurst", allow_negative_numbers = true)]
+    roughness: Option<f64>,
+    /// Displacement scale at the first level (dual: the factor applied to (|x| + |y|)/2).
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    sigma: f64,
+    /// Dual: first side of the quadrilateral X,Y,Z [default: 1,0,0].
+    #[arg(long, value_parser = crate::cli::parse::vector, allow_hyphen_values = true)]
+    x: Option<[f64; 3]>,
+    /// Dual: second side of the quadrilateral X,Y,Z [default: 0,1,0].
+    #[arg(long, value_parser = crate::cli::parse::vector, allow_hyphen_values = true)]
+    y: Option<[f64; 3]>,
+    /// Dual: number of divisions n ((2^n + 1)² points) [default: 9].
+    #[arg(long)]
+    levels: Option<u32>,
+    /// Dual: displace by σ itself instead of a random sample.
+    #[arg(long)]
+    deterministic: bool,
+    /// Dual: one sample per point along the cross product of its two pairs.
+    #[arg(long)]
+    cross_product: bool,
+    /// Dual: keep the original points where they are (shows his Fig. 2 artifacts).
+    #[arg(long)]
+    no_mean_correction: bool,
+    /// Dual: also write each division's surface as DIR/level-NN.ply.
+    #[arg(long)]
+    steps: Option<PathBuf>,
+    /// Seed.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Displacement distribution (classic, smooth's corners) [default: normal].
+    #[arg(long, value_enum)]
+    distribution: Option<Distribution>,
+    /// Mean of the distribution (classic, smooth's corners) [default: 0].
+    #[arg(long, allow_hyphen_values = true)]
+    mean: Option<f64>,
+    /// Variance of the distribution (classic, smooth's corners) [default: 1].
+    #[arg(long, allow_negative_numbers = true)]
+    variance: Option<f64>,
+    /// Corner heights A,B,C,D (x0y0, xNy0, x0yN, xNyN), set exactly as in seed 001's
+    /// applet [default: each a random draw around 0].
+    #[arg(long, value_parser = crate::cli::parse::four, allow_hyphen_values = true)]
+    corners: Option<[f64; 4]>,
+    /// Seed 001's applet variant: constant scale, random sign.
+    #[arg(long)]
+    applet: bool,
+    /// World width (x) (classic, smooth) [default: 10].
+    #[arg(long, allow_negative_numbers = true)]
+    width: Option<f64>,
+    /// World depth (y) (classic, smooth) [default: 10].
+    #[arg(long, allow_negative_numbers = true)]
+    depth: Option<f64>,
+    /// Seed 001's max height: the highest peak's height; every height is scaled so the
+    /// whole grid's highest point is exactly this (classic, smooth; measured on the whole
+    /// grid before erosion, so not with --stream or --tile; exclusive with --sigma and
+    /// --corners, which set heights too).
+    #[arg(long, conflicts_with_all = ["sigma", "corners"], allow_negative_numbers = true)]
+    max_height: Option<f64>,
+    /// Raise everything below this height to it.
+    #[arg(long, allow_hyphen_values = true)]
+    sea_level: Option<f64>,
+    /// Ramp colours SEA;LOW;MID;HIGH;PEAK, each R,G,B.
+    #[arg(long, value_parser = crate::cli::parse::palette)]
+    colors: Option<crate::terrain::Palette>,
+    /// Height above the sea that gets the peak colour (default: half the height scale).
+    #[arg(long, allow_negative_numbers = true)]
+    peak_height: Option<f64>,
+    /// Grid type (classic, smooth) [default: square].
+    #[arg(long, value_enum)]
+    grid: Option<Grid>,
+    /// Height range LO,HI mapped to 16 bits (.png, .raw16); default ± the height scale.
+    #[arg(long, value_parser = crate::cli::parse::range, allow_hyphen_values = true)]
+    range: Option<(f64, f64)>,
+    /// Erode the generated heights (classic, smooth): identical in tiles, which are computed
+    /// with a halo of one point per iteration.
+    #[arg(long, value_enum)]
+    erode: Option<ErodeArg>,
+    /// Erosion iterations (with --erode) [default: 50].
+    #[arg(long)]
+    erode_iterations: Option<u32>,
+    /// Talus angle in degrees: the steepest slope erosion leaves in place (with --erode
+    /// thermal) [default: 30].
+    #[arg(long, allow_negative_numbers = true)]
+    talus: Option<f64>,
+    /// Write what a game engine imports: unity (RAW16 little-endian, 2^n + 1 from 33 to
+    /// 4097 points a side) or unreal (PNG16, 127, 253, 505, 1009, 2017, 4033 or 8129);
+    /// tiles named NAME_x{X}_y{Y}; a JSON sidecar with the height mapping.
+    #[arg(long, value_enum)]
+    preset: Option<Preset>,
+}
+
+#[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+pub struct TerrainArgs {
+    #[command(subcommand)]
+    command: Option<TerrainCommand>,
+    #[command(flatten)]
+    generation: Generation,
+    /// Write rows as they are generated, in bounded memory (.ply, .obj, .png, .raw16, .f32).
+    #[arg(long)]
+    stream: bool,
+    /// Rows per streamed band (with --stream) [default: 64].
+    #[arg(long)]
+    band: Option<usize>,
+    /// Generate only tile I,J (needs --tile-size).
+    #[arg(long, value_parser = crate::cli::parse::index_pair, requires = "tile_size")]
+    tile: Option<(u64, u64)>,
+    /// Points per tile side, 2^k + 1; tiles share their borders.
+    #[arg(long)]
+    tile_size: Option<u64>,
+    /// Output: .ply / .obj mesh, .png 16-bit heightmap, .raw16, .f32, .exr or .tif (32-bit
+    /// float); with --preset and --tile, the tile's name is made from it (NAME_x{I}_y{J}).
+    #[arg(short, long, required_unless_present = "plan")]
+    output: Option<PathBuf>,
+    /// Also write a picture: a hillshaded colour map (classic, smooth; one pixel per point,
+    /// or with --stream every k-th point of the streamed rows, at most 1024 a side) or a
+    /// rendering of the surface (dual), as .png.
+    #[arg(long)]
+    preview: Option<PathBuf>,
+    /// Output format when the file name has no telling extension (e.g. -o /dev/null):
+    /// ply, obj, png, raw16, f32, exr or tif.
+    #[arg(long, conflicts_with = "preset")]
+    format: Option<String>,
+    /// Also write OUTPUT.json beside a heightmap: its place on the grid and in the world,
+    /// its height range and how 16-bit values map to heights (always with --preset).
+    #[arg(long)]
+    sidecar: bool,
+    /// Run one tile of the plan in DIR (made by `asperity terrain plan`): the tile given by
+    /// --tile-index, else $JOB_COMPLETION_INDEX (Kubernetes Indexed Jobs), else
+    /// $SLURM_ARRAY_TASK_ID (Slurm job arrays). A tile already complete is skipped.
+    #[arg(
+        long,
+        value_name = "DIR",
+        conflicts_with_all = [
+            "method", "size", "iterations", "hurst", "roughness", "sigma", "x", "y", "levels", "deterministic",
+            "cross_product", "no_mean_correction", "steps", "seed", "distribution", "mean", "variance", "corners",
+            "applet", "width", "depth", "max_height", "sea_level", "colors", "peak_height", "grid", "range", "erode",
+            "erode_iterations", "talus", "preset", "stream", "band", "tile", "tile_size", "output", "preview", "format",
+            "sidecar"
+        ]
+    )]
+    plan: Option<PathBuf>,
+    /// The plan's tile to run, 0-based (with --plan; wins over the job runners' variables).
+    #[arg(long, requires = "plan")]
+    tile_index: Option<u64>,
+}
+
+#[derive(Debug, Subcommand)]
+enum TerrainCommand {
+    /// Cut a terrain into tiles for a job runner: writes DIR/plan.json (every tile's index,
+    /// rectangle, output and command), DIR/mosaic.vrt (a GDAL mosaic of the tiles) and, for
+    /// headerless formats, a VRT per tile.
+    Plan(Box<plan::PlanArgs>),
+}
+
+/// One terrain to write: the generation flags and where and how to write it.
+#[derive(Debug)]
+pub(super) struct Job<'a> {
+    generation: &'a Generation,
+    stream: bool,
+    band: Option<usize>,
+    tile: Option<(u64, u64)>,
+    tile_size: Option<u64>,
+    output: PathBuf,
+    preview: Option<PathBuf>,
+    format: Option<String>,
+    sidecar: bool,
+    /// The plan's fingerprint, recorded in the sidecar of a planned tile.
+    plan: Option<String>,
+    /// The output path is final: a preset's tile name is not made from it (planned tiles).
+    named: bool,
+}
+
+impl Job<'_> {
+    /// The output's extension (lower case): --format's, the preset's or the file name's.
+    fn extension(&self) -> String {
+        match (&self.format, self.generation.preset) {
+            (Some(format), _) => format.to_ascii_lowercase(),
+            (None, Some(preset)) => preset.format().extension().to_string(),
+            (None, None) => self.output.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase(),
+        }
+    }
+}
+
+/// Memory a whole-grid mesh takes per grid point: the heights and their coarser levels,
+/// positions, normals, colours and two triangles (peak measured at 2049²: 99 bytes).
+const MESH_BYTES_PER_POINT: u64 = 112;
+
+/// Memory a heightmap's rows take per point: the heights, the coarser levels that feed them
+/// and the encoded output (peak measured at 2049²: 11 bytes; twice that with smoothing).
+const HEIGHTS_BYTES_PER_POINT: u64 = 16;
+
+pub fn run(args: TerrainArgs, ctx: crate::cli::Context) -> Result<()> {
+    if let Some(TerrainCommand::Plan(plan)) = args.command {
+        return plan::run(*plan, ctx);
+    }
+    if let Some(dir) = &args.plan {
+        return plan::run_tile(dir, args.tile_index, ctx);
+    }
+    let output = args.output.clone().expect("clap requires --output without --plan");
+    let job = Job {
+        generation: &args.generation,
+        stream: args.stream,
+        band: args.band,
+        tile: args.tile,
+        tile_size: args.tile_size,
+        output,
+        preview: args.preview.clone(),
+        format: args.format.clone(),
+        sidecar: args.sidecar,
+        plan: None,
+        named: false,
+    };
+    run_job(&job, ctx)
+}
+
+/// Writes one terrain.
+fn run_job(job: &Job, ctx: crate::cli::Context) -> Result<()> {
+    let start = Instant::now();
+    if job.generation.method == MethodArg::Dual {
+        return dual::run(job, start, ctx);
+    }
+    let setup = Setup::of(job)?;
+    generate(job, &setup, start, ctx)
+}
+
+/// What a heightfield job writes, checked before anything is generated.
+#[derive(Debug)]
+pub(super) struct Setup {
+    params: TerrainParams,
+    /// The region written.
+    rect: Rect,
+    /// Points per side of the region the tiles are cut from (the grid, or a preset's window).
+    extent: u64,
+    /// The output file.
+    output: PathBuf,
+    /// A whole mesh (PLY, OBJ) or a streamable encoding.
+    format: StreamFormat,
+    whole_mesh: bool,
+    /// Heights mapped to 16 bits.
+    range: (f64, f64),
+    hurst: f64,
+    sidecar: bool,
+}
+
+impl Setup {
+    /// Checks every flag of `job` and works out what it writes.
+    fn of(job: &Job) -> Result<Setup> {
+        let g = job.generation;
+        rules::refuse_other_modes_flags(job)?;
+        let method = if g.method == MethodArg::Smooth { Method::Smooth } else { Method::Classic };
+        let hurst = hurst_of(g, 0.8)?;
+        let size = match g.iterations {
+            Some(k @ 1..=31) => (1u64 << k) + 1,
+            Some(k) => return Err(Error::InvalidInput(format!("--iterations {k} must be between 1 and 31"))),
+            None => g.size.unwrap_or(257),
+        };
+        let grid = g.grid.unwrap_or_default();
+        if grid == Grid::Hex && job.tile.is_some() {
+            return Err(Error::InvalidInput(
+                "a hexagonal tile is one terrain: --tile applies to square and triangle grids".into(),
+            ));
+        }
+        // A preset's size is what the engine imports; the grid is the next 2^n + 1.
+        let (extent, grid_size) = match g.preset {
+            Some(preset) => {
+                if grid != Grid::Square {
+                    return Err(Error::InvalidInput(format!(
+                        "--preset {}: game engines import square grids, not --grid {grid:?}",
+                        preset.engine().to_lowercase()
+                    )));
+                }
+                match (job.tile, job.tile_size) {
+                    (Some(_), Some(t)) => preset.check_size(t, "--tile-size")?,
+                    _ => preset.check_size(size, "--size")?,
+                }
+                (size, Preset::generation_size(size))
+            }
+            None => (size, size),
+        };
+        let width = g.width.unwrap_or(10.0);
+        let depth = g.depth.unwrap_or(10.0);
+        // A window of a larger grid keeps the world extent on the window.
+        let stretch = (grid_size - 1) as f64 / (extent.max(2) - 1) as f64;
+        let erosion = g.erode.map(|_| ThermalErosion {
+            iterations: g.erode_iterations.unwrap_or(50),
+            talus_degrees: g.talus.unwrap_or(30.0),
+        });
+        let params = TerrainParams {
+            method,
+            grid,
+            size: grid_size,
+            hurst,
+            sigma: g.sigma,
+            seed: g.seed,
+            distribution: g.distribution.unwrap_or_default(),
+            mean: g.mean.unwrap_or(0.0),
+            variance: g.variance.unwrap_or(1.0),
+            corners: g.corners,
+            applet: g.applet,
+            width: width * stretch,
+            depth: depth * stretch,
+            sea_level: g.sea_level,
+            height_factor: 1.0,
+            palette: g.colors.unwrap_or_default(),
+            peak_height: g.peak_height,
+            erosion,
+        };
+        params.generator()?;
+        if let Some(preview) = &job.preview {
+            crate::cli::require_extension(preview, &["png"])?;
+        }
+        let rect = match (job.tile, job.tile_size) {
+            (Some((i, j)), Some(tile_size)) => tile_rect_in(extent, i, j, tile_size)?,
+            _ => Rect { x0: 0, y0: 0, x1: extent - 1, y1: extent - 1 },
+        };
+        let ext = job.extension();
+        let output = match (g.preset, job.tile) {
+            (Some(preset), _) if !job.named && job.format.is_none() => {
+                crate::cli::require_extension(&job.output, preset.extensions())?;
+                match job.tile {
+                    Some((i, j)) => presets::tile_path(&job.output, i, j),
+                    None => job.output.clone(),
+                }
+            }
+            _ => job.output.clone(),
+        };
+        let whole_mesh = matches!(ext.as_str(), "obj" | "ply") && !job.stream;
+        let format = StreamFormat::from_extension(&ext).ok_or_else(|| {
+            Error::InvalidInput(format!(
+                "{}: the output must end in .ply, .obj, .png, .raw16, .f32, .exr or .tif",
+                job.output.display()
+            ))
+        })?;
+        if job.stream && !format.streams() {
+            return Err(Error::InvalidInput(format!(
+                "{}: .{} is written whole (its encoder seeks back): --stream writes .ply, .obj, .png, .raw16 or .f32; cut a large .{} terrain into --tile pieces",
+                job.output.display(),
+                format.extension(),
+                format.extension()
+            )));
+        }
+        let points = rect.width() as u64 * rect.height() as u64;
+        if format == StreamFormat::Ply && points > i32::MAX as u64 {
+            return Err(Error::InvalidInput(format!("{points} vertices exceed PLY's int indices: use --tile")));
+        }
+        let halo = erosion.map_or(0, |e| 2 * e.halo());
+        let rows_at_once = if job.stream { job.band.unwrap_or(64).max(1).min(rect.height()) } else { rect.height() };
+        let bytes_per_point = if whole_mesh { MESH_BYTES_PER_POINT } else { HEIGHTS_BYTES_PER_POINT };
+        let smoothing = if method == Method::Smooth || erosion.is_some() { 2 } else { 1 };
+        crate::memory::ensure_available(
+            (rows_at_once as u64 + halo) * (rect.width() as u64 + halo) * bytes_per_point * smoothing,
+            &format!("a {}x{} terrain built whole", rect.width(), rect.height()),
+            "write a heightmap with --stream, or cut it into --tile pieces",
+        )?;
+        let params = match g.max_height {
+            Some(top) => params.with_max_height(top)?,
+            None => params,
+        };
+        let scale = params.height_scale();
+        let range = g.range.unwrap_or((-scale, scale));
+        let sidecar = job.sidecar || g.preset.is_some();
+        Ok(Setup { params, rect, extent, output, format, whole_mesh, range, hurst, sidecar })
+    }
+}
+
+/// Generates and writes the terrain `setup` describes, its preview and sidecar.
+fn generate(job: &Job, setup: &Setup, start: Instant, ctx: crate::cli::Context) -> Result<()> {
+    let (params, rect, output) = (&setup.params, setup.rect, &setup.output);
+    let points = rect.width() as u64 * rect.height() as u64;
+    let mut streamed_preview: Option<PreviewSampler> = None;
+    let mut extremes = HeightRange { min: f64::INFINITY, max: f64::NEG_INFINITY };
+    if setup.whole_mesh {
+        let terrain = ctx.spin("terrain", "generating the mesh", || mesh(params, rect))?;
+        let format = if setup.format == StreamFormat::Obj { io::Format::Obj } else { io::Format::Ply };
+        io::write_as(&terrain, output, format, WriteOptions::default())?;
+    } else {
+        let band = if job.stream { job.band.unwrap_or(64) } else { rect.height() };
+        let mut failure = None;
+        // A streamed terrain's preview is made from the streamed rows, at most
+        // STREAMED_PREVIEW_SIDE pixels a side: one more band-sized pass would not be bounded.
+        streamed_preview = (job.stream && job.preview.is_some()).then(|| PreviewSampler::new(rect));
+        // I/O failures go back to `write_atomically`, which names the output file; other
+        // errors keep their type.
+        let message = format!("{}x{} points", rect.width(), rect.height());
+        let sampler = &mut streamed_preview;
+        let extremes = &mut extremes;
+        ctx.spin("terrain", &message, || {
+            write_atomically(output, |w| {
+                let mut observe = |field: &crate::terrain::Heightfield, y0: u64, y1: u64| {
+                    if let Some(sampler) = sampler.as_mut() {
+                        sampler.take(field, y0, y1);
+                    }
+                    for y in y0..=y1 {
+                        for x in rect.x0..=rect.x1 {
+                            let h = field.at(x, y);
+                            extremes.min = extremes.min.min(h);
+                            extremes.max = extremes.max.max(h);
+                        }
+                    }
+                };
+                write_terrain_observed(params, rect, setup.format, setup.range, band, w, &mut observe).map_err(|e| {
+                    match e {
+                        Error::Io { source, .. } => source,
+                        other => {
+                            let message = other.to_string();
+                            failure = Some(other);
+                            std::io::Error::other(message)
+                        }
+                    }
+                })
+            })
+        })
+        .map_err(|e| failure.take().unwrap_or(e))?;
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    match (&job.preview, streamed_preview) {
+        (Some(preview), Some(sampler)) => sampler.picture(params).write_png(preview)?,
+        (Some(preview), None) => write_preview(params, rect, preview)?,
+        _ => {}
+    }
+    let sidecar_path = setup.sidecar.then(|| write_sidecar(job, setup, extremes)).transpose()?;
+    let method = job.generation.method.to_possible_value().map_or_else(String::new, |v| v.get_name().to_string());
+    ctx.report(
+        || {
+            format!(
+                "terrain: {method} {}x{} (H {}, seed {}) => {} in {} ms ({:.1} M points/s)",
+                rect.width(),
+                rect.height(),
+                setup.hurst,
+                job.generation.seed,
+                output.display(),
+                crate::cli::millis(start),
+                points as f64 / seconds.max(1e-9) / 1e6
+            )
+        },
+        || {
+            serde_json::json!({
+                "method": method, "output": output, "preview": job.preview, "sidecar": sidecar_path,
+                "columns": rect.width(), "rows": rect.height(), "hurst": setup.hurst, "seed": job.generation.seed,
+                "points": points, "seconds": seconds, "points_per_second": points as f64 / seconds.max(1e-9),
+            })
+        },
+    );
+    Ok(())
+}
+
+/// Writes OUTPUT.json beside the heightmap (after it: a sidecar means the file is complete).
+fn write_sidecar(job: &Job, setup: &Setup, heights: HeightRange) -> Result<PathBuf> {
+    let mut sidecar = Sidecar::new(&setup.params, setup.rect, setup.format, setup.range, heights);
+    sidecar.file = setup.output.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    sidecar.bytes = std::fs::metadata(&setup.output).map_err(|e| Error::io(&setup.output, e))?.len();
+    sidecar.plan = job.plan.clone();
+    let path = Sidecar::path_for(&setup.output);
+    let text = serde_json::to_string_pretty(&sidecar).map_err(|e| Error::Internal(e.to_string()))?;
+    write_atomically(&path, |w| w.write_all(format!("{text}\n").as_bytes()))?;
+    Ok(path)
+}
+
+/// H from `--hurst`, or from `--roughness` (2^H), or `default`.
+pub(super) fn hurst_of(args: &Generation, default: f64) -> Result<f64> {
+    match (args.hurst, args.roughness) {
+        (_, Some(r)) if !(r.is_finite() && r > 0.0) => {
+            Err(Error::InvalidInput(format!("--roughness {r} must be positive (it is 2^H)")))
+        }
+        (_, Some(r)) => Ok(r.log2()),
+        (h, None) => Ok(h.unwrap_or(default)),
+    }
+}
