@@ -31,12 +31,17 @@ fn examples(readme: &str) -> Vec<Example> {
     out
 }
 
-/// "in 123 ms" and "in 1.2 s" become "in … ms": timings vary from run to run.
+/// "in 123 ms", "in 1.2 s" and "(4.5 M points/s)" become "in … ms" and "(… M points/s)":
+/// timings vary from run to run.
 fn without_timings(line: &str) -> String {
     let mut words: Vec<String> = line.split(' ').map(String::from).collect();
     for i in 1..words.len() {
         if words[i - 1] == "in" && words[i].parse::<f64>().is_ok() {
             words[i] = "…".into();
+        }
+        let rate = words.get(i + 1).is_some_and(|w| w.starts_with("points/s"));
+        if words[i] == "M" && rate && words[i - 1].trim_start_matches('(').parse::<f64>().is_ok() {
+            words[i - 1] = "(…".into();
         }
     }
     words.join(" ")
@@ -53,7 +58,7 @@ fn readme_console_examples_print_what_the_commands_print() {
     for example in examples {
         let mut args = example.args.clone();
         for i in 1..args.len() {
-            if args[i - 1] == "-o" {
+            if args[i - 1] == "-o" || args[i - 1] == "--plan" {
                 args[i] = tmp.path().join(&args[i]).display().to_string();
             }
         }
@@ -68,8 +73,13 @@ fn readme_console_examples_print_what_the_commands_print() {
         let printed = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
         assert!(out.status.success(), "asperity {}: {printed}", example.args.join(" "));
         let fetched_prefix = format!("{}/", meshes.display());
-        let printed: Vec<String> =
-            printed.lines().map(|l| without_timings(&l.replace(&fetched_prefix, "../shared/data/meshes/"))).collect();
+        let outputs_prefix = format!("{}/", tmp.path().display());
+        let printed: Vec<String> = printed
+            .lines()
+            .map(|l| {
+                without_timings(&l.replace(&fetched_prefix, "../shared/data/meshes/").replace(&outputs_prefix, ""))
+            })
+            .collect();
         let mut at = 0;
         for shown in example.shown.iter().filter(|l| l.trim() != "...") {
             let shown = without_timings(shown);

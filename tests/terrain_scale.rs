@@ -427,3 +427,47 @@ fn erosion_is_identical_at_one_and_two_threads() {
         at(2).heights.iter().map(|h| h.to_bits()).collect::<Vec<_>>()
     );
 }
+
+#[test]
+fn the_readme_world_walkthrough_runs_as_it_stands() {
+    tool("parallel", "parallel");
+    tool("gdal_translate", "gdal-bin");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let start = readme.find("```sh\n# world-scale walkthrough\n").expect("README: the world-scale walkthrough block");
+    let block = &readme[start + "```sh\n".len()..];
+    let block = &block[..block.find("```").unwrap()];
+    let tmp = temp_dir();
+    let dir = tmp.path();
+    std::os::unix::fs::symlink(root.join("examples"), dir.join("examples")).unwrap();
+    let out = Command::new("bash")
+        .args(["-euo", "pipefail", "-c", block])
+        .current_dir(dir)
+        .env("PATH", path_with_asperity(dir))
+        .output()
+        .unwrap();
+    let printed = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{printed}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(printed.matches("is already complete").count(), 16, "the second run skips every tile: {printed}");
+    assert!(printed.contains("Size is 2049, 2049"), "gdalinfo: {printed}");
+    assert!(std::fs::metadata(dir.join("world.tif")).unwrap().len() > 2049 * 2049 * 2);
+    for (plan, extension, side) in [("world", "png", 513), ("unity", "raw", 513), ("unreal", "png", 505)] {
+        let tiles: Vec<PathBuf> = std::fs::read_dir(dir.join(plan).join("tiles"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == extension))
+            .collect();
+        assert_eq!(tiles.len(), 16, "{plan}");
+        for tile in tiles {
+            let sidecar: serde_json::Value =
+                serde_json::from_slice(&std::fs::read(asperity::terrain::sidecar::Sidecar::path_for(&tile)).unwrap())
+                    .unwrap();
+            assert_eq!(
+                (sidecar["columns"].as_u64(), sidecar["rows"].as_u64()),
+                (Some(side), Some(side)),
+                "{}",
+                tile.display()
+            );
+        }
+    }
+}

@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 use crate::io::{self, WriteOptions, write_atomically};
 use crate::terrain::sidecar::{HeightRange, Sidecar};
-use crate::terrain::stream::{StreamFormat, write_terrain_observed};
+use crate::terrain::stream::{StreamFormat, default_band, write_terrain_observed};
 use crate::terrain::{
     Distribution, Grid, Method, Preset, Rect, TerrainParams, ThermalErosion, mesh, presets, tile_rect_in,
 };
@@ -163,7 +163,8 @@ pub struct TerrainArgs {
     /// Write rows as they are generated, in bounded memory (.ply, .obj, .png, .raw16, .f32).
     #[arg(long)]
     stream: bool,
-    /// Rows per streamed band (with --stream) [default: 64].
+    /// Rows per streamed band (with --stream) [default: as many as 2^22 points make, 64 to
+    /// 1024].
     #[arg(long)]
     band: Option<usize>,
     /// Generate only tile I,J (needs --tile-size).
@@ -409,7 +410,8 @@ impl Setup {
             return Err(Error::InvalidInput(format!("{points} vertices exceed PLY's int indices: use --tile")));
         }
         let halo = erosion.map_or(0, |e| 2 * e.halo());
-        let rows_at_once = if job.stream { job.band.unwrap_or(64).max(1).min(rect.height()) } else { rect.height() };
+        let band = job.band.unwrap_or_else(|| default_band(rect.width())).max(1);
+        let rows_at_once = if job.stream { band.min(rect.height()) } else { rect.height() };
         let bytes_per_point = if whole_mesh { MESH_BYTES_PER_POINT } else { HEIGHTS_BYTES_PER_POINT };
         let smoothing = if method == Method::Smooth || erosion.is_some() { 2 } else { 1 };
         crate::memory::ensure_available(
@@ -439,7 +441,7 @@ fn generate(job: &Job, setup: &Setup, start: Instant, ctx: crate::cli::Context) 
         let format = if setup.format == StreamFormat::Obj { io::Format::Obj } else { io::Format::Ply };
         io::write_as(&terrain, output, format, WriteOptions::default())?;
     } else {
-        let band = if job.stream { job.band.unwrap_or(64) } else { rect.height() };
+        let band = if job.stream { job.band.unwrap_or_else(|| default_band(rect.width())) } else { rect.height() };
         let mut failure = None;
         // A streamed terrain's preview is made from the streamed rows, at most
         // STREAMED_PREVIEW_SIDE pixels a side: one more band-sized pass would not be bounded.
@@ -454,6 +456,9 @@ fn generate(job: &Job, setup: &Setup, start: Instant, ctx: crate::cli::Context) 
                 let mut observe = |field: &crate::terrain::Heightfield, y0: u64, y1: u64| {
                     if let Some(sampler) = sampler.as_mut() {
                         sampler.take(field, y0, y1);
+                    }
+                    if !setup.sidecar {
+                        return;
                     }
                     for y in y0..=y1 {
                         for x in rect.x0..=rect.x1 {
