@@ -251,6 +251,10 @@ fn the_tile_index_comes_from_the_flag_then_kubernetes_then_slurm() {
     refused(run(None, &[]), "needs a tile index");
     refused(run(None, &[("SLURM_ARRAY_TASK_ID", "x")]), "$SLURM_ARRAY_TASK_ID");
     refused(run(Some("4"), &[]), "outside the plan's 4 tiles");
+    let manifest = std::fs::read_to_string(dir.join("p/plan.json")).unwrap();
+    std::fs::write(dir.join("p/plan.json"), manifest.replace("tiles/terrain_x0_y0.png", "../../escaped.png")).unwrap();
+    refused(run(Some("0"), &[]), "is not the plan's name for tile 0,0");
+    assert!(!dir.join("escaped.png").exists() && !dir.parent().unwrap().join("escaped.png").exists());
     std::fs::write(dir.join("p/plan.json"), "{ not json").unwrap();
     refused(run(Some("0"), &[]), "plan.json: not an asperity terrain plan");
 }

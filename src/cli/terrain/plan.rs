@@ -92,6 +92,11 @@ fn plan_fingerprint(parameters: &Generation, size: u64, tile_size: u64, format: 
     Ok(fingerprint(&format!("asperity terrain plan v{PLAN_VERSION} {text}")))
 }
 
+/// Tile (x, y)'s file in the plan's folder.
+fn tile_output(x: u64, y: u64, format: &str) -> String {
+    format!("tiles/terrain_x{x}_y{y}.{format}")
+}
+
 /// The job of tile (i, j) of a plan in `dir`.
 fn tile_job<'a>(
     generation: &'a Generation,
@@ -148,7 +153,7 @@ pub(super) fn run(args: PlanArgs, ctx: crate::cli::Context) -> Result<()> {
                 x,
                 y,
                 rect: [x * span, y * span, (x + 1) * span, (y + 1) * span],
-                output: format!("tiles/terrain_x{x}_y{y}.{format}"),
+                output: tile_output(x, y, &format),
                 command: ["asperity", "terrain", "--plan", &dir_text, "--tile-index", &index.to_string()]
                     .map(String::from)
                     .to_vec(),
@@ -275,6 +280,18 @@ pub(super) fn run_tile(dir: &Path, flag: Option<u64>, ctx: crate::cli::Context) 
             plan.tiles.len().saturating_sub(1)
         )));
     };
+    // The tile's file is the plan's own name for it: an edited manifest cannot send a tile
+    // outside the plan's folder.
+    if tile.output != tile_output(tile.x, tile.y, &plan.format) {
+        return Err(Error::InvalidInput(format!(
+            "{}: tile {index}'s output {:?} is not the plan's name for tile {},{} ({:?}): make the plan again",
+            manifest.display(),
+            tile.output,
+            tile.x,
+            tile.y,
+            tile_output(tile.x, tile.y, &plan.format)
+        )));
+    }
     // Recomputed, not read: an edited manifest makes new tiles, never skips stale ones.
     let fingerprint = plan_fingerprint(&plan.parameters, plan.size, plan.tile_size, &plan.format)?;
     let output = dir.join(&tile.output);
