@@ -10,6 +10,7 @@ use crate::analysis::{AnalysisOptions, FeatureOptions, NormalWeighting, analyze}
 use crate::error::Result;
 use crate::io::{self, WriteOptions};
 
+/// The subcommand's flags (`AnalyzeArgs`).
 #[derive(Debug, Args)]
 pub struct AnalyzeArgs {
     /// Input mesh.
@@ -47,21 +48,34 @@ fn stats(values: &[f64]) -> serde_json::Value {
     json!({ "min": min, "max": max, "mean": mean })
 }
 
+impl AnalyzeArgs {
+    /// The library options the flags give.
+    pub fn options(&self) -> AnalysisOptions {
+        AnalysisOptions {
+            normal_weighting: self.normals,
+            features: FeatureOptions {
+                corner_min_l3: self.corner,
+                face_max_l2: self.face,
+                strong_min_l2: self.strong,
+                ..FeatureOptions::default()
+            },
+        }
+    }
+
+    /// Whether `--repair` was given.
+    pub fn repair(&self) -> bool {
+        self.repair.repair
+    }
+}
+
+/// Runs the subcommand.
 pub fn run(args: AnalyzeArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     super::refuse_ascii_for(&args.output, args.ascii)?;
     super::guard_overwrite(&args.input, &args.output, args.force)?;
     let input = super::input::read_input(&args.input, args.repair, ctx)?;
     let mut mesh = input.read.mesh.clone();
-    let options = AnalysisOptions {
-        normal_weighting: args.normals,
-        features: FeatureOptions {
-            corner_min_l3: args.corner,
-            face_max_l2: args.face,
-            strong_min_l2: args.strong,
-            ..FeatureOptions::default()
-        },
-    };
+    let options = args.options();
     let analysis = analyze(&mesh, &options)?;
     analysis.attach_to(&mut mesh);
     io::write(&mesh, &args.output, WriteOptions { ascii: args.ascii })?;

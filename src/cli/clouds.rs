@@ -9,6 +9,7 @@ use crate::error::Result;
 use crate::io::image::write_png_rgb8;
 use crate::terrain::{CloudParams, TerrainParams, clouds};
 
+/// The subcommand's flags (`CloudArgs`).
 #[derive(Debug, Args)]
 pub struct CloudArgs {
     /// Pixels per side, 2^n + 1.
@@ -34,15 +35,23 @@ pub struct CloudArgs {
     output: PathBuf,
 }
 
+impl CloudArgs {
+    /// The library parameters the flags give.
+    pub fn params(&self) -> CloudParams {
+        CloudParams {
+            plasma: TerrainParams { size: self.size, hurst: self.hurst, seed: self.seed, ..TerrainParams::default() },
+            threshold: self.threshold,
+            sky: self.sky,
+            cloud: self.cloud,
+        }
+    }
+}
+
+/// Runs the subcommand.
 pub fn run(args: CloudArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     super::require_extension(&args.output, &["png"])?;
-    let params = CloudParams {
-        plasma: TerrainParams { size: args.size, hurst: args.hurst, seed: args.seed, ..TerrainParams::default() },
-        threshold: args.threshold,
-        sky: args.sky,
-        cloud: args.cloud,
-    };
+    let params = args.params();
     let (rgb, cover) = clouds(&params)?;
     write_png_rgb8(&args.output, &rgb, args.size as usize)?;
     ctx.report(

@@ -9,6 +9,7 @@ use crate::error::Result;
 use crate::hierarchy::SimplifyOptions;
 use crate::hierarchy::compare::{METHODS, compare};
 
+/// The subcommand's flags (`CompareArgs`).
 #[derive(Debug, Args)]
 pub struct CompareArgs {
     /// Input mesh.
@@ -30,18 +31,36 @@ pub struct CompareArgs {
     repair: super::input::RepairArg,
 }
 
+impl CompareArgs {
+    /// Compares the methods the flags name on `mesh`, at the flags' vertex budget.
+    ///
+    /// # Errors
+    /// Invalid flags; the methods' errors.
+    pub fn compare(&self, mesh: &crate::mesh::Mesh) -> Result<Vec<crate::hierarchy::compare::CompareRow>> {
+        let target = super::simplify::resolve_target(&self.target_vertices, mesh.vertex_count())?;
+        let methods: Vec<&str> = self.methods.iter().map(String::as_str).collect();
+        let keep_features = self.keep_features.into();
+        let ours = SimplifyOptions {
+            keep_features,
+            feature_vertices: super::simplify::resolve_feature_vertices(self.feature_vertices, keep_features)?,
+            ..SimplifyOptions::default()
+        };
+        compare(mesh, target, &methods, &ours)
+    }
+
+    /// Whether `--repair` was given.
+    pub fn repair(&self) -> bool {
+        self.repair.repair
+    }
+}
+
+/// Runs the subcommand.
 pub fn run(args: CompareArgs, ctx: super::Context) -> Result<()> {
     let mesh = super::input::read_input(&args.input, args.repair, ctx)?.read.mesh;
     let target = super::simplify::resolve_target(&args.target_vertices, mesh.vertex_count())?;
     let methods: Vec<&str> = args.methods.iter().map(String::as_str).collect();
-    let keep_features = args.keep_features.into();
-    let ours = SimplifyOptions {
-        keep_features,
-        feature_vertices: super::simplify::resolve_feature_vertices(args.feature_vertices, keep_features)?,
-        ..SimplifyOptions::default()
-    };
     let rows = ctx
-        .spin("compare", &methods.join(", "), || compare(&mesh, target, &methods, &ours))
+        .spin("compare", &methods.join(", "), || args.compare(&mesh))
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;
     if ctx.json {
         println!("{}", serde_json::to_string_pretty(&rows).expect("report serialises"));

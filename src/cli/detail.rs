@@ -15,6 +15,7 @@ use crate::hierarchy::{build, connectivity_match};
 use crate::io::{self, WriteOptions};
 use crate::mesh::{Mesh, primitives};
 
+/// The subcommand's flags (`DetailArgs`).
 #[derive(Debug, Args)]
 pub struct DetailArgs {
     /// Input mesh, or `builtin:sphere` (icosphere, 10 242 vertices) or `builtin:torus`.
@@ -38,6 +39,32 @@ pub struct DetailArgs {
     repair: super::input::RepairArg,
 }
 
+impl DetailArgs {
+    /// Builds the hierarchy of `mesh` with the flags' options (what they leave unset taken
+    /// from the recipe's `[hierarchy]`) and applies `recipe` level by level.
+    ///
+    /// # Errors
+    /// Invalid flags; the hierarchy's and the recipe's errors.
+    pub fn apply(
+        &self,
+        mesh: &Mesh,
+        recipe: &Recipe,
+    ) -> Result<(crate::hierarchy::Hierarchy, crate::detail::DetailOutcome)> {
+        let simplify = self.hierarchy.options_over(mesh.vertex_count(), false, &recipe.hierarchy)?;
+        let hierarchy = build(mesh, &simplify)?;
+        let options =
+            DetailOptions { simplify, no_self_intersections: !self.allow_self_intersections, ..Default::default() };
+        let outcome = apply_to(&hierarchy, mesh, recipe, &options)?;
+        Ok((hierarchy, outcome))
+    }
+
+    /// Whether `--repair` was given.
+    pub fn repair(&self) -> bool {
+        self.repair.repair
+    }
+}
+
+/// Runs the subcommand.
 pub fn run(args: DetailArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     io::Format::from_path(&args.output)?;

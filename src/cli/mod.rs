@@ -1,20 +1,20 @@
 //! The command line: one subcommand per capability, thin over the library. Errors are
 //! one line on stderr; exit codes are 0 (success), 2 (bad input or usage), 1 (internal).
 
-mod analyze;
-mod clouds;
-mod compare;
+pub mod analyze;
+pub mod clouds;
+pub mod compare;
 mod convert;
 mod demo;
-mod detail;
+pub mod detail;
 mod info;
-mod input;
-mod noise;
+pub mod input;
+pub mod noise;
 mod parse;
-mod render;
+pub mod render;
 mod report;
-mod simplify;
-mod terrain;
+pub mod simplify;
+pub mod terrain;
 
 use std::path::PathBuf;
 

@@ -9,6 +9,7 @@ use crate::error::{Error, Result};
 use crate::io::image::{value_range, write_f32, write_png16};
 use crate::noise::{Fractal, GaborParams, NoiseField, NoiseKind, NoiseSpec, Profile};
 
+/// The subcommand's flags (`NoiseArgs`).
 #[derive(Debug, Args)]
 pub struct NoiseArgs {
     /// Which noise.
@@ -68,6 +69,48 @@ pub struct NoiseArgs {
     output: PathBuf,
 }
 
+impl NoiseArgs {
+    /// The noise the flags describe, and the image's sample spacing (`--scale`).
+    ///
+    /// # Errors
+    /// Flags of other kinds, or invalid parameters.
+    pub fn field(&self) -> Result<(NoiseField, f64)> {
+        refuse_other_kinds_flags(self)?;
+        let fractal = Fractal::default();
+        let gabor = GaborParams::default();
+        let spec = NoiseSpec {
+            kind: self.kind,
+            fractal: Fractal {
+                octaves: self.octaves.unwrap_or(self.kind.default_octaves()),
+                lacunarity: self.lacunarity.unwrap_or(fractal.lacunarity),
+                gain: self.gain.unwrap_or(fractal.gain),
+                offset: self.offset.unwrap_or(fractal.offset),
+                ..fractal
+            },
+            gabor: GaborParams {
+                k: self.k.unwrap_or(gabor.k),
+                a: self.a.unwrap_or(gabor.a),
+                f0: self.f0.unwrap_or(gabor.f0),
+                omega0: self.omega.unwrap_or(gabor.omega0),
+                impulses_per_kernel: self.impulses.unwrap_or(gabor.impulses_per_kernel),
+                isotropic: self.isotropic,
+            },
+            profile: self.profile.unwrap_or_default(),
+            seed: self.seed,
+        };
+        let scale = self.scale.unwrap_or(match self.kind {
+            NoiseKind::Gabor | NoiseKind::Phasor => 1.0,
+            NoiseKind::Wood => 1.0 / 128.0,
+            _ => 1.0 / 32.0,
+        });
+        if !(scale.is_finite() && scale > 0.0) {
+            return Err(Error::InvalidInput(format!("--scale {scale} must be positive")));
+        }
+        Ok((NoiseField::new(&spec)?, scale))
+    }
+}
+
+/// Runs the subcommand.
 pub fn run(args: NoiseArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     super::require_extension(&args.output, &["png", "f32"])?;
@@ -82,37 +125,7 @@ pub fn run(args: NoiseArgs, ctx: super::Context) -> Result<()> {
             args.output.display()
         )));
     }
-    let fractal = Fractal::default();
-    let gabor = GaborParams::default();
-    let spec = NoiseSpec {
-        kind: args.kind,
-        fractal: Fractal {
-            octaves: args.octaves.unwrap_or(args.kind.default_octaves()),
-            lacunarity: args.lacunarity.unwrap_or(fractal.lacunarity),
-            gain: args.gain.unwrap_or(fractal.gain),
-            offset: args.offset.unwrap_or(fractal.offset),
-            ..fractal
-        },
-        gabor: GaborParams {
-            k: args.k.unwrap_or(gabor.k),
-            a: args.a.unwrap_or(gabor.a),
-            f0: args.f0.unwrap_or(gabor.f0),
-            omega0: args.omega.unwrap_or(gabor.omega0),
-            impulses_per_kernel: args.impulses.unwrap_or(gabor.impulses_per_kernel),
-            isotropic: args.isotropic,
-        },
-        profile: args.profile.unwrap_or_default(),
-        seed: args.seed,
-    };
-    let scale = args.scale.unwrap_or(match args.kind {
-        NoiseKind::Gabor | NoiseKind::Phasor => 1.0,
-        NoiseKind::Wood => 1.0 / 128.0,
-        _ => 1.0 / 32.0,
-    });
-    if !(scale.is_finite() && scale > 0.0) {
-        return Err(Error::InvalidInput(format!("--scale {scale} must be positive")));
-    }
-    let field = NoiseField::new(&spec)?;
+    let (field, scale) = args.field()?;
     let values = field.grid2(0.0, 0.0, scale, args.size, args.size);
     let (lo, hi) = value_range(&values).ok_or_else(|| Error::Internal("noise produced no finite value".into()))?;
     if ext.as_deref() == Some("png") {

@@ -80,6 +80,7 @@ impl ViewArgs {
     }
 }
 
+/// The subcommand's flags (`RenderArgs`).
 #[derive(Debug, Args)]
 pub struct RenderArgs {
     /// Input mesh (.obj, .ply, .off, .stl, .glb).
@@ -93,6 +94,22 @@ pub struct RenderArgs {
     repair: super::input::RepairArg,
 }
 
+impl RenderArgs {
+    /// The library options the flags give.
+    ///
+    /// # Errors
+    /// Invalid flags.
+    pub fn options(&self) -> Result<crate::render::RenderOptions> {
+        self.view.options()
+    }
+
+    /// Whether `--repair` was given.
+    pub fn repair(&self) -> bool {
+        self.repair.repair
+    }
+}
+
+/// Runs the subcommand.
 pub fn run(args: RenderArgs, ctx: Context) -> Result<()> {
     let start = Instant::now();
     super::require_extension(&args.output, &["png"])?;

@@ -47,10 +47,14 @@ pub struct HierarchyArgs {
     no_intersection_guard: bool,
 }
 
+/// `--keep-features`: which feature classes are kept.
 #[derive(Debug, Clone, Copy, clap::ValueEnum)]
 pub enum KeepArg {
+    /// No vertex is a feature: any may be removed.
     None,
+    /// Corners and strong-edge vertices are features.
     Strong,
+    /// Corners, strong and weak edge vertices are features.
     All,
 }
 
@@ -64,9 +68,12 @@ impl From<KeepArg> for KeepFeatures {
     }
 }
 
+/// `--feature-vertices`: what becomes of vertices on feature lines.
 #[derive(Debug, Clone, Copy, clap::ValueEnum)]
 pub enum FeatureVerticesArg {
+    /// Simplified along their line, which stays a line of every level.
     AlongLines,
+    /// Never removed (the thesis' literal rule).
     Keep,
 }
 
@@ -94,7 +101,9 @@ pub fn resolve_feature_vertices(arg: Option<FeatureVerticesArg>, keep: KeepFeatu
 /// A vertex budget, absolute or relative.
 #[derive(Debug, Clone, Copy)]
 pub enum Target {
+    /// A vertex count.
     Vertices(usize),
+    /// A share of the input's vertices, in percent.
     Percent(f64),
 }
 
@@ -182,6 +191,7 @@ impl HierarchyArgs {
     }
 }
 
+/// The subcommand's flags (`SimplifyArgs`).
 #[derive(Debug, Args)]
 pub struct SimplifyArgs {
     /// Input mesh.
@@ -209,6 +219,7 @@ pub struct SimplifyArgs {
     repair: super::input::RepairArg,
 }
 
+/// Runs the subcommand.
 pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     io::Format::from_path(&args.output)?;

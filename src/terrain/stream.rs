@@ -92,7 +92,7 @@ impl StreamFormat {
 }
 
 /// Points a streamed band holds at most by default: 2²² heights, 32 MB of f64.
-const BAND_POINTS: usize = 1 << 22;
+pub const BAND_POINTS: usize = 1 << 22;
 
 /// The default rows per streamed band for rows of `width` points: as many as fit
 /// [`BAND_POINTS`], from 64 (a 65537-point row: 32 MB) to 1024. Taller bands recompute

@@ -153,6 +153,7 @@ pub(crate) struct Generation {
     preset: Option<Preset>,
 }
 
+/// The subcommand's flags (`TerrainArgs`).
 #[derive(Debug, Args)]
 #[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
 pub struct TerrainArgs {
@@ -255,6 +256,7 @@ const MESH_BYTES_PER_POINT: u64 = 112;
 /// and the encoded output (peak measured at 2049²: 11 bytes; twice that with smoothing).
 const HEIGHTS_BYTES_PER_POINT: u64 = 16;
 
+/// Runs the subcommand.
 pub fn run(args: TerrainArgs, ctx: crate::cli::Context) -> Result<()> {
     if let Some(TerrainCommand::Plan(plan)) = args.command {
         return plan::run(*plan, ctx);
@@ -277,6 +279,34 @@ pub fn run(args: TerrainArgs, ctx: crate::cli::Context) -> Result<()> {
         named: false,
     };
     run_job(&job, ctx)
+}
+
+/// The heights the flags of `args` describe (a heightfield method; `--tile` for a tile), as
+/// the command would write them: the library call behind `asperity.terrain` in Python.
+///
+/// # Errors
+/// As the command's, for the flags given; `--method dual`, which makes a surface.
+pub fn heights_of(args: &TerrainArgs) -> Result<crate::terrain::Heightfield> {
+    if args.generation.method == MethodArg::Dual {
+        return Err(Error::InvalidInput(
+            "--method dual makes a 3D surface, not a heightfield: use the command line's terrain --method dual".into(),
+        ));
+    }
+    let job = Job {
+        generation: &args.generation,
+        stream: false,
+        band: None,
+        tile: args.tile,
+        tile_size: args.tile_size,
+        output: args.output.clone().unwrap_or_else(|| PathBuf::from("heights.f32")),
+        preview: None,
+        format: Some("f32".into()),
+        sidecar: false,
+        plan: None,
+        named: true,
+    };
+    let setup = Setup::of(&job)?;
+    crate::terrain::heights(&setup.params, setup.rect)
 }
 
 /// Writes one terrain.

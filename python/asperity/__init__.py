@@ -1,0 +1,331 @@
+"""asperity from numpy: controllable procedural detail on 3D surfaces.
+
+Meshes are numpy arrays — positions ``(n, 3) float64``, triangles ``(m, 3) uint32`` —
+or any object with ``.vertices`` and ``.faces`` (a ``trimesh.Trimesh``), or a
+``(positions, triangles)`` pair. Keyword options are the command line's flags with
+underscores (``target_vertices="5%"`` is ``--target-vertices 5%``): they are parsed by the
+command line's own definitions, so they mean the same, are checked the same and fail with
+the same one-line messages; results are bit for bit the command line's.
+
+Errors raise :class:`InputError` (a ``ValueError``: a bad file, mesh, recipe or option)
+or :class:`InternalError` (a ``RuntimeError``: please report it). Long calls release the
+GIL and stop at their next progress report on Ctrl-C (``KeyboardInterrupt``); progress is
+printed to stderr only with ``progress=True``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass, field
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _asperity as _native
+from ._asperity import InputError, InternalError, __version__
+
+__all__ = [
+    "InputError",
+    "InternalError",
+    "Mesh",
+    "Hierarchy",
+    "read",
+    "write",
+    "info",
+    "repair",
+    "analyze",
+    "detail",
+    "compare",
+    "terrain",
+    "noise",
+    "render",
+    "clouds",
+    "FEATURE_CLASSES",
+    "__version__",
+]
+
+#: Names of the feature classes :func:`analyze` returns as ``feature_class`` codes.
+FEATURE_CLASSES = ("face", "weak_edge", "strong_edge", "corner")
+
+
+@dataclass
+class Mesh:
+    """A triangle mesh: positions ``(n, 3) float64``, triangles ``(m, 3) uint32`` and
+    per-vertex attributes by name (``normals`` ``(n, 3)``, ``colors`` ``(n, 3) uint8``,
+    scalars ``(n,)``)."""
+
+    positions: np.ndarray
+    triangles: np.ndarray
+    attributes: Dict[str, np.ndarray] = field(default_factory=dict)
+    #: What the reader ignored or merged, one note each.
+    notes: List[str] = field(default_factory=list)
+
+    @property
+    def vertices(self) -> np.ndarray:
+        """The positions, under trimesh's name."""
+        return self.positions
+
+    @property
+    def faces(self) -> np.ndarray:
+        """The triangles, under trimesh's name."""
+        return self.triangles
+
+
+MeshLike = Union[Mesh, Tuple[Any, Any], Any]
+
+
+def _arrays(mesh: MeshLike, triangles: Any = None) -> Tuple[np.ndarray, np.ndarray]:
+    """Positions as C-contiguous float64 (n, 3) and triangles as uint32 (m, 3)."""
+    if triangles is not None:
+        positions = mesh
+    elif isinstance(mesh, Mesh):
+        positions, triangles = mesh.positions, mesh.triangles
+    elif hasattr(mesh, "vertices") and hasattr(mesh, "faces"):
+        positions, triangles = mesh.vertices, mesh.faces
+    elif isinstance(mesh, (tuple, list)) and len(mesh) == 2:
+        positions, triangles = mesh
+    else:
+        raise InputError(
+            "a mesh is an asperity.Mesh, an object with .vertices and .faces, or a (positions, triangles) pair"
+        )
+    positions = np.ascontiguousarray(positions, dtype=np.float64)
+    if positions.ndim != 2 or positions.shape[1] != 3:
+        raise InputError(f"positions must be an (n, 3) array, not {positions.shape}")
+    raw = np.asarray(triangles)
+    if raw.size and not np.issubdtype(raw.dtype, np.integer):
+        raise InputError(f"triangles must be integers, not {raw.dtype}")
+    if raw.ndim != 2 or raw.shape[1] != 3:
+        raise InputError(f"triangles must be an (m, 3) array, not {raw.shape}")
+    if raw.size and (raw.min() < 0 or raw.max() > 0xFFFFFFFF):
+        k = int(np.argmax((raw < 0).any(axis=1) | (raw > 0xFFFFFFFF).any(axis=1)))
+        raise InputError(f"triangle {k} names vertex index {raw[k].tolist()} outside 0..2^32-1")
+    return positions, np.ascontiguousarray(raw, dtype=np.uint32)
+
+
+def _value(value: Any) -> str:
+    if isinstance(value, (list, tuple)):
+        if value and isinstance(value[0], (list, tuple)):
+            return ";".join(_value(v) for v in value)
+        return ",".join(str(v) for v in value)
+    return str(value)
+
+
+def _flags(options: Mapping[str, Any]) -> List[str]:
+    """Keyword options as the command line's flags (``False``/``None`` leave a flag out)."""
+    flags = []
+    for key, value in options.items():
+        if value is None or value is False:
+            continue
+        flag = "--" + key.replace("_", "-")
+        flags.append(flag if value is True else f"{flag}={_value(value)}")
+    return flags
+
+
+def read(path: Union[str, "os.PathLike[str]"]) -> Mesh:
+    """Reads a mesh file (OBJ, PLY, OFF, STL, GLB): positions, triangles (polygons
+    triangulated), and the attributes the file holds."""
+    positions, triangles, normals, colors, scalars, notes = _native.read(str(path))
+    attributes: Dict[str, np.ndarray] = {}
+    if normals is not None:
+        attributes["normals"] = normals
+    if colors is not None:
+        attributes["colors"] = colors
+    attributes.update(scalars)
+    return Mesh(positions, triangles, attributes, list(notes))
+
+
+def write(
+    path: Union[str, "os.PathLike[str]"],
+    positions: Any,
+    triangles: Any = None,
+    *,
+    ascii: bool = False,
+    **attributes: np.ndarray,
+) -> None:
+    """Writes a mesh in the format the extension names. ``positions`` may also be a mesh
+    (then ``triangles`` is left out and its attributes are written too); attributes:
+    ``normals`` (n, 3), ``colors`` (n, 3) uint8, and scalars (n,) by name (PLY keeps them
+    all, other formats what they can). ``ascii`` writes text PLY or STL."""
+    if triangles is None and isinstance(positions, Mesh):
+        attributes = {**positions.attributes, **attributes}
+    p, t = _arrays(positions, triangles)
+    normals = attributes.pop("normals", None)
+    colors = attributes.pop("colors", None)
+    if normals is not None:
+        normals = np.ascontiguousarray(normals, dtype=np.float64)
+    if colors is not None:
+        colors = np.ascontiguousarray(colors, dtype=np.uint8)
+    scalars = [(name, np.ascontiguousarray(v, dtype=np.float64)) for name, v in attributes.items()]
+    _native.write(str(path), p, t, normals, colors, scalars, ascii)
+
+
+def info(mesh: MeshLike) -> Dict[str, Any]:
+    """``asperity info``'s validation report: counts, boundary loops, manifoldness,
+    orientation, components, Euler characteristic, genus, degenerate faces."""
+    return json.loads(_native.info(*_arrays(mesh)))
+
+
+def repair(mesh: MeshLike) -> Tuple[Mesh, Dict[str, Any]]:
+    """``--repair``: removes degenerate and duplicate faces, splits non-manifold vertices
+    and edges, orients faces consistently, drops unreferenced vertices. Returns the
+    repaired mesh and what changed."""
+    positions, triangles, report = _native.repair(*_arrays(mesh))
+    return Mesh(positions, triangles), json.loads(report)
+
+
+def analyze(mesh: MeshLike, **options: Any) -> Dict[str, np.ndarray]:
+    """``asperity analyze``: vertex ``normals`` (n, 3), ``mean_curvature``,
+    ``gaussian_curvature``, ``k1``, ``k2`` (n,), ``feature_class`` (n,) uint8 codes into
+    :data:`FEATURE_CLASSES`, and ``diffusion`` directions (n, 3).
+
+    Options: ``normals`` ("angle", "area", "uniform"), ``corner``, ``face``, ``strong``
+    (the voting-tensor thresholds), ``repair``."""
+    return _native.analyze(*_arrays(mesh), _flags(options))
+
+
+class Hierarchy:
+    """The feature-sensitive 4-k hierarchy of a mesh (``asperity simplify``), every level
+    kept: ``levels`` levels, level 0 the base domain and level ``levels - 1`` the input.
+
+    Options are ``simplify``'s: ``target_vertices`` (a count or "5%"), ``levels``,
+    ``max_error``, ``keep_features`` ("none", "strong", "all"), ``feature_vertices``
+    ("along-lines", "keep"), ``removal_weight``, ``swap_weight``,
+    ``no_intersection_guard``, ``repair``; ``progress`` prints the build's progress."""
+
+    def __init__(
+        self,
+        positions: MeshLike,
+        triangles: Any = None,
+        *,
+        target_vertices: Union[int, str, None] = "5%",
+        progress: bool = False,
+        **options: Any,
+    ) -> None:
+        p, t = _arrays(positions, triangles)
+        flags = _flags({"target_vertices": target_vertices, **options})
+        self._native = _native.Hierarchy(p, t, flags, progress)
+
+    @property
+    def levels(self) -> int:
+        """The number of levels, the base domain and the input included."""
+        return self._native.levels
+
+    def level(self, l: int) -> Tuple[np.ndarray, np.ndarray]:
+        """Level ``l``'s positions and triangles (0: the base domain; ``levels - 1``: the
+        input; negative counts from the input)."""
+        positions, triangles, _ = self._native.level(self._index(l))
+        return positions, triangles
+
+    def level_vertex_ids(self, l: int) -> np.ndarray:
+        """The input vertex id of each of level ``l``'s positions."""
+        return self._native.level(self._index(l))[2]
+
+    def _index(self, l: int) -> int:
+        return l + self.levels if l < 0 else l
+
+    @property
+    def vertex_level(self) -> np.ndarray:
+        """The level at which each input vertex appears (0 for the base domain's): the
+        level of its removal."""
+        return self._native.vertex_level
+
+    @property
+    def base_face(self) -> np.ndarray:
+        """For each input vertex, the index of the base face (in ``level(0)``'s triangles)
+        its parametrization puts it on; -1 for the base domain's own vertices."""
+        return self._native.parametrization()[0]
+
+    @property
+    def barycentrics(self) -> np.ndarray:
+        """Each input vertex's barycentric coordinates on its base face (n, 3), in the
+        order of that triangle's corners; NaN for the base domain's own vertices."""
+        return self._native.parametrization()[1]
+
+    def refine(self, region: Any = None) -> Tuple[np.ndarray, np.ndarray]:
+        """Refines the base domain back to full resolution — or, with ``region`` (a
+        boolean per input vertex, or input vertex indices), only those vertices: the
+        adaptive refinement. Returns positions and triangles."""
+        mask = None
+        if region is not None:
+            region = np.asarray(region)
+            if region.dtype == np.bool_:
+                mask = np.ascontiguousarray(region)
+            else:
+                mask = np.zeros(self._native.input_vertices, dtype=np.bool_)
+                mask[region.astype(np.int64)] = True
+        positions, triangles, _ = self._native.refine(mask)
+        return positions, triangles
+
+    @property
+    def stages(self) -> Dict[str, float]:
+        """Build time by stage, seconds."""
+        return json.loads(self._native.stages())
+
+
+def _recipe_text(recipe: Union[str, Mapping[str, Any], None]) -> Tuple[str, bool]:
+    if recipe is None:
+        return "", False
+    if isinstance(recipe, str):
+        return recipe, False
+    return json.dumps(recipe), True
+
+
+def detail(
+    mesh: MeshLike,
+    recipe: Union[str, Mapping[str, Any], None] = None,
+    *,
+    progress: bool = False,
+    **options: Any,
+) -> Tuple[Mesh, Dict[str, Any]]:
+    """``asperity detail``: builds the hierarchy, applies the recipe's steps at their
+    levels and refines back to full resolution. ``recipe`` is a recipe's TOML text or the
+    same as a dict (``{"seed": 3, "step": [{"op": "noise", ...}]}``); without one this is
+    the round trip. Options are ``detail``'s (``allow_self_intersections``, the
+    hierarchy's). Returns the mesh and the report."""
+    text, is_json = _recipe_text(recipe)
+    positions, triangles, report = _native.detail(*_arrays(mesh), text, is_json, _flags(options), progress)
+    return Mesh(positions, triangles), json.loads(report)
+
+
+def compare(
+    mesh: MeshLike,
+    *,
+    target_vertices: Union[int, str] = "1%",
+    methods: Optional[Sequence[str]] = None,
+    progress: bool = False,
+    **options: Any,
+) -> List[Dict[str, Any]]:
+    """``asperity compare``: ours against OpenMesh, CGAL and meshoptimizer at the same
+    vertex count, one dict per method (Hausdorff and RMS distance as shares of the
+    bounding-box diagonal, minimum angles, slivers, time)."""
+    flags = _flags({"target_vertices": target_vertices, "methods": methods, **options})
+    return json.loads(_native.compare(*_arrays(mesh), flags, progress))
+
+
+def terrain(*, progress: bool = False, **options: Any) -> np.ndarray:
+    """``asperity terrain``'s heights as a (rows, columns) float64 array: ``size``,
+    ``method`` ("classic", "smooth"), ``hurst``, ``seed``, ``sea_level``, ``erode``,
+    ``tile=(i, j)`` with ``tile_size``, ``preset``… (every heightfield flag)."""
+    return _native.terrain(_flags(options), progress)
+
+
+def noise(kind: str, points: Any, **params: Any) -> np.ndarray:
+    """``asperity noise``'s field at given points: (n, 2) points sample the plane as the
+    images do, (n, 3) points sample space (Gabor and phasor kernels oriented in the global
+    frame). ``params`` are the flags of the kind (``octaves``, ``k``, ``f0``, ``seed``…)."""
+    pts = np.ascontiguousarray(points, dtype=np.float64)
+    if pts.ndim != 2:
+        raise InputError(f"points must be an (n, 2) or (n, 3) array, not {pts.shape}")
+    return _native.noise(pts, _flags({"kind": kind, **params}))
+
+
+def render(mesh: MeshLike, **options: Any) -> np.ndarray:
+    """``asperity render``'s picture as a (height, width, 4) uint8 RGBA array: ``mode``,
+    ``size=(w, h)``, ``view``, ``up``… (``render``'s flags)."""
+    return _native.render(*_arrays(mesh), _flags(options))
+
+
+def clouds(**options: Any) -> Tuple[np.ndarray, float]:
+    """``asperity clouds``: a (size, size, 3) uint8 RGB sky and its cloud cover (0–1)."""
+    return _native.clouds(_flags(options))

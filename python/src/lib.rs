@@ -1,0 +1,476 @@
+//! `asperity._asperity`: the native layer of the Python package. Every function takes
+//! numpy arrays and the command line's own flags (the Python wrapper turns keyword
+//! arguments into them), parses them with the command line's own argument definitions and
+//! calls the same library functions the command line calls, so results are identical bit
+//! for bit and errors carry the same one-line messages. No logic of its own: see
+//! `python/asperity/__init__.py` for the public API and its documentation.
+
+mod arrays;
+mod flags;
+mod interrupt;
+
+use std::path::PathBuf;
+
+use numpy::{PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use arrays::{mesh_of, points_of, positions_array, triangles_array, vectors_array};
+use asperity::cli;
+use asperity::mesh::Mesh;
+use flags::parse;
+use interrupt::run;
+
+pyo3::create_exception!(
+    _asperity,
+    InputError,
+    PyValueError,
+    "Bad input: a file, a mesh, a recipe or a parameter asperity cannot use (the command line's exit 2)."
+);
+pyo3::create_exception!(
+    _asperity,
+    InternalError,
+    PyRuntimeError,
+    "A failure inside asperity or its native libraries (the command line's exit 1): please report it."
+);
+
+/// The Python exception of an asperity error, with the command line's message.
+fn to_py(error: asperity::Error) -> PyErr {
+    if error.exit_code() == 2 {
+        InputError::new_err(error.to_string())
+    } else {
+        InternalError::new_err(error.to_string())
+    }
+}
+
+/// A mesh repaired first when `repair` (the command line's `--repair`).
+fn repaired(mesh: Mesh, repair: bool) -> asperity::Result<Mesh> {
+    if repair { asperity::mesh::repair(&mesh).map(|(m, _)| m) } else { Ok(mesh) }
+}
+
+/// Reads a mesh file: positions, triangles, normals, colours, scalars by name, notes.
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+fn read<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+) -> PyResult<(
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray2<u32>>,
+    Option<Bound<'py, PyArray2<f64>>>,
+    Option<Bound<'py, PyArray2<u8>>>,
+    Bound<'py, PyDict>,
+    Vec<String>,
+)> {
+    let outcome = run(py, false, move || asperity::io::read(&path))?;
+    let mesh = outcome.mesh;
+    let scalars = PyDict::new(py);
+    for (name, values) in mesh.scalars {
+        scalars.set_item(name, PyArray1::from_vec(py, values))?;
+    }
+    let normals = mesh.normals.map(|n| vectors_array(py, n));
+    let colors = mesh.colors.map(|c| arrays::colors_array(py, c));
+    Ok((
+        positions_array(py, mesh.positions),
+        triangles_array(py, mesh.triangles),
+        normals,
+        colors,
+        scalars,
+        outcome.notes,
+    ))
+}
+
+/// Writes a mesh file in the format its extension names.
+#[pyfunction]
+#[pyo3(signature = (path, positions, triangles, normals=None, colors=None, scalars=None, ascii=false))]
+#[allow(clippy::too_many_arguments)]
+fn write(
+    py: Python<'_>,
+    path: PathBuf,
+    positions: PyReadonlyArray2<'_, f64>,
+    triangles: PyReadonlyArray2<'_, u32>,
+    normals: Option<PyReadonlyArray2<'_, f64>>,
+    colors: Option<PyReadonlyArray2<'_, u8>>,
+    scalars: Option<Vec<(String, PyReadonlyArray1<'_, f64>)>>,
+    ascii: bool,
+) -> PyResult<()> {
+    let mut mesh = mesh_of(&positions, &triangles)?;
+    let n = mesh.vertex_count();
+    if let Some(normals) = normals {
+        mesh.normals = Some(arrays::vectors_of(&normals, n, "normals")?);
+    }
+    if let Some(colors) = colors {
+        mesh.colors = Some(arrays::colors_of(&colors, n)?);
+    }
+    for (name, values) in scalars.unwrap_or_default() {
+        let values = values.as_slice().map_err(|e| InputError::new_err(format!("{name}: {e}")))?.to_vec();
+        if values.len() != n {
+            return Err(InputError::new_err(format!("attribute {name} has {} values for {n} vertices", values.len())));
+        }
+        mesh.scalars.insert(name, values);
+    }
+    let options = asperity::io::WriteOptions { ascii };
+    run(py, false, move || asperity::io::write(&mesh, &path, options))
+}
+
+/// The validation report of a mesh, as JSON.
+#[pyfunction]
+fn info(
+    py: Python<'_>,
+    positions: PyReadonlyArray2<'_, f64>,
+    triangles: PyReadonlyArray2<'_, u32>,
+) -> PyResult<String> {
+    let mesh = mesh_of(&positions, &triangles)?;
+    let report = run(py, false, move || Ok(mesh.validate()))?;
+    Ok(serde_json::to_string(&report).expect("a report serialises"))
+}
+
+/// Repairs a mesh: the repaired positions and triangles, and the report as JSON.
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+fn repair<'py>(
+    py: Python<'py>,
+    positions: PyReadonlyArray2<'py, f64>,
+    triangles: PyReadonlyArray2<'py, u32>,
+) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>, String)> {
+    let mesh = mesh_of(&positions, &triangles)?;
+    let (mesh, report) = run(py, false, move || asperity::mesh::repair(&mesh))?;
+    let report = serde_json::to_string(&report).expect("a report serialises");
+    Ok((positions_array(py, mesh.positions), triangles_array(py, mesh.triangles), report))
+}
+
+/// `asperity analyze`'s results as arrays: normals, curvatures, feature classes, diffusion
+/// directions.
+#[pyfunction]
+fn analyze<'py>(
+    py: Python<'py>,
+    positions: PyReadonlyArray2<'py, f64>,
+    triangles: PyReadonlyArray2<'py, u32>,
+    flags: Vec<String>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let args: cli::analyze::AnalyzeArgs = parse("analyze", &["<array>", "-o", "<array>.ply"], flags, &[])?;
+    let mesh = mesh_of(&positions, &triangles)?;
+    let analysis =
+        run(py, false, move || asperity::analysis::analyze(&repaired(mesh, args.repair())?, &args.options()))?;
+    let out = PyDict::new(py);
+    let c = &analysis.curvatures;
+    out.set_item("normals", vectors_array(py, analysis.normals.clone()))?;
+    out.set_item("mean_curvature", PyArray1::from_vec(py, c.mean.clone()))?;
+    out.set_item("gaussian_curvature", PyArray1::from_vec(py, c.gaussian.clone()))?;
+    out.set_item("k1", PyArray1::from_vec(py, c.k1.clone()))?;
+    out.set_item("k2", PyArray1::from_vec(py, c.k2.clone()))?;
+    let classes: Vec<u8> = analysis.classes.iter().map(|&k| k as u8).collect();
+    out.set_item("feature_class", PyArray1::from_vec(py, classes))?;
+    out.set_item("diffusion", vectors_array(py, analysis.diffusion()))?;
+    Ok(out)
+}
+
+/// The 4-k hierarchy of a mesh (`asperity simplify`'s), every level recorded.
+#[pyclass(module = "asperity._asperity", frozen)]
+struct Hierarchy {
+    input: Mesh,
+    inner: asperity::hierarchy::Hierarchy,
+}
+
+#[pymethods]
+impl Hierarchy {
+    #[new]
+    fn new(
+        positions: PyReadonlyArray2<'_, f64>,
+        triangles: PyReadonlyArray2<'_, u32>,
+        flags: Vec<String>,
+        progress: bool,
+    ) -> PyResult<Self> {
+        let py = positions.py();
+        let repair = flags.iter().any(|f| f == "--repair");
+        let flags: Vec<String> = flags.into_iter().filter(|f| f != "--repair").collect();
+        let args: cli::simplify::HierarchyArgs = parse("simplify", &[], flags, &[])?;
+        let mesh = mesh_of(&positions, &triangles)?;
+        let (input, inner) = run(py, progress, move || {
+            let mesh = repaired(mesh, repair)?;
+            let options = args.options(mesh.vertex_count(), true)?;
+            let inner = asperity::hierarchy::build(&mesh, &options)?;
+            Ok((mesh, inner))
+        })?;
+        Ok(Hierarchy { input, inner })
+    }
+
+    /// The number of levels, the base domain and the input included.
+    #[getter]
+    fn levels(&self) -> usize {
+        self.inner.levels.len()
+    }
+
+    /// Level `l` (0: the base domain; levels − 1: the input): positions, triangles and the
+    /// input vertex id of each position.
+    #[allow(clippy::type_complexity)]
+    fn level<'py>(
+        &self,
+        py: Python<'py>,
+        l: usize,
+    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>, Bound<'py, PyArray1<u32>>)> {
+        let count = self.inner.levels.len();
+        if l >= count {
+            return Err(InputError::new_err(format!(
+                "level {l} is outside the hierarchy's {count} levels (0..{})",
+                count - 1
+            )));
+        }
+        let level = if l == 0 {
+            asperity::hierarchy::LevelMesh::compact(&self.inner.positions, &self.inner.base_triangles)
+        } else {
+            self.inner.levels[count - 1 - l].clone()
+        };
+        Ok((
+            positions_array(py, level.mesh.positions),
+            triangles_array(py, level.mesh.triangles),
+            PyArray1::from_vec(py, level.ids),
+        ))
+    }
+
+    /// The level at which each input vertex appears (0 for the base domain's).
+    #[getter]
+    fn vertex_level<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u32>> {
+        let last = (self.inner.levels.len() - 1) as u32;
+        let mut level = vec![0u32; self.inner.positions.len()];
+        for r in &self.inner.removals {
+            level[r.vertex as usize] = last - r.step;
+        }
+        PyArray1::from_vec(py, level)
+    }
+
+    /// The parametrization: for each input vertex, the index of its base face in
+    /// `level(0)`'s triangles (−1 for base vertices) and its barycentric coordinates there.
+    #[allow(clippy::type_complexity)]
+    fn parametrization<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyArray1<i64>>, Bound<'py, PyArray2<f64>>)> {
+        let base = asperity::hierarchy::LevelMesh::compact(&self.inner.positions, &self.inner.base_triangles);
+        let faces: std::collections::HashMap<[u32; 3], i64> = base
+            .triangles_in_ids()
+            .iter()
+            .enumerate()
+            .map(|(k, &t)| (asperity::hierarchy::face_key(t), k as i64))
+            .collect();
+        let n = self.inner.positions.len();
+        let mut face = vec![-1i64; n];
+        let mut bary = vec![0.0f64; 3 * n];
+        for (v, point) in self.inner.params.iter().enumerate() {
+            match point {
+                Some(p) => {
+                    face[v] = *faces.get(&asperity::hierarchy::face_key(p.face)).ok_or_else(|| {
+                        InternalError::new_err(format!("vertex {v}'s base face {:?} is not a base face", p.face))
+                    })?;
+                    // Barycentrics in the order of the base triangle's corners.
+                    let t = base.triangles_in_ids()[face[v] as usize];
+                    for (corner, id) in t.iter().enumerate() {
+                        let k = p.face.iter().position(|f| f == id).expect("the same face");
+                        bary[3 * v + corner] = p.bary[k];
+                    }
+                }
+                None => bary[3 * v..3 * v + 3].fill(f64::NAN),
+            }
+        }
+        let bary = numpy::ndarray::Array2::from_shape_vec((n, 3), bary).expect("n × 3");
+        Ok((PyArray1::from_vec(py, face), PyArray2::from_owned_array(py, bary)))
+    }
+
+    /// Refines back to full resolution, or only the vertices `region` marks (a boolean per
+    /// input vertex): positions, triangles and input vertex ids of the result.
+    #[pyo3(signature = (region=None))]
+    #[allow(clippy::type_complexity)]
+    fn refine<'py>(
+        &self,
+        py: Python<'py>,
+        region: Option<PyReadonlyArray1<'py, bool>>,
+    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>, Bound<'py, PyArray1<u32>>)> {
+        let n = self.inner.positions.len();
+        let region = match region {
+            Some(r) => {
+                let r = r.as_slice().map_err(|e| InputError::new_err(format!("region: {e}")))?.to_vec();
+                if r.len() != n {
+                    return Err(InputError::new_err(format!("region has {} values for {n} vertices", r.len())));
+                }
+                Some(r)
+            }
+            None => None,
+        };
+        let hierarchy = &self.inner;
+        let level = run(py, false, move || {
+            let mut refiner = asperity::hierarchy::Refiner::new(hierarchy)?;
+            match &region {
+                None => {
+                    refiner.refine_all()?;
+                }
+                Some(mask) => {
+                    while !refiner.is_finished() {
+                        refiner.refine_level(&|v| mask.get(v as usize).copied().unwrap_or(false))?;
+                    }
+                }
+            }
+            refiner.mesh()
+        })?;
+        Ok((
+            positions_array(py, level.mesh.positions),
+            triangles_array(py, level.mesh.triangles),
+            PyArray1::from_vec(py, level.ids),
+        ))
+    }
+
+    /// Build time by stage, as JSON.
+    fn stages(&self) -> String {
+        serde_json::to_string(&self.inner.stages).expect("stages serialise")
+    }
+
+    /// The number of input vertices.
+    #[getter]
+    fn input_vertices(&self) -> usize {
+        self.input.vertex_count()
+    }
+}
+
+/// `asperity detail`: the refined mesh (positions, triangles) and the report as JSON.
+#[pyfunction]
+#[allow(clippy::type_complexity, clippy::too_many_arguments)]
+fn detail<'py>(
+    py: Python<'py>,
+    positions: PyReadonlyArray2<'py, f64>,
+    triangles: PyReadonlyArray2<'py, u32>,
+    recipe: &str,
+    recipe_is_json: bool,
+    flags: Vec<String>,
+    progress: bool,
+) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>, String)> {
+    let args: cli::detail::DetailArgs = parse("detail", &["<array>", "-o", "<array>.ply"], flags, &["--recipe"])?;
+    // A recipe given as a dict arrives as JSON and is read as the TOML it stands for.
+    let text = if recipe_is_json {
+        let value: serde_json::Value =
+            serde_json::from_str(recipe).map_err(|e| InputError::new_err(format!("recipe: {e}")))?;
+        toml::to_string(&value).map_err(|e| InputError::new_err(format!("recipe: {e}")))?
+    } else {
+        recipe.to_string()
+    };
+    let recipe = asperity::detail::Recipe::parse(&text).map_err(|(line, message)| {
+        InputError::new_err(match line {
+            Some(line) => format!("recipe: line {line}: {message}"),
+            None => format!("recipe: {message}"),
+        })
+    })?;
+    let mesh = mesh_of(&positions, &triangles)?;
+    let (mesh, report) = run(py, progress, move || {
+        let mesh = repaired(mesh, args.repair())?;
+        let (hierarchy, outcome) = args.apply(&mesh, &recipe)?;
+        let report = serde_json::json!({
+            "input_vertices": mesh.vertex_count(),
+            "base_vertices": outcome.base_vertices,
+            "output_vertices": outcome.result.mesh.vertex_count(),
+            "levels": outcome.levels,
+            "steps": outcome.steps,
+            "self_intersections": outcome.intersections,
+            "seconds": { "hierarchy": hierarchy.seconds, "detail": outcome.seconds.detail, "refine": outcome.seconds.refine },
+        });
+        Ok((outcome.result.mesh, report))
+    })?;
+    Ok((positions_array(py, mesh.positions), triangles_array(py, mesh.triangles), report.to_string()))
+}
+
+/// `asperity compare`'s rows, as JSON.
+#[pyfunction]
+fn compare(
+    py: Python<'_>,
+    positions: PyReadonlyArray2<'_, f64>,
+    triangles: PyReadonlyArray2<'_, u32>,
+    flags: Vec<String>,
+    progress: bool,
+) -> PyResult<String> {
+    let args: cli::compare::CompareArgs = parse("compare", &["<array>"], flags, &[])?;
+    let mesh = mesh_of(&positions, &triangles)?;
+    let rows = run(py, progress, move || args.compare(&repaired(mesh, args.repair())?))?;
+    Ok(serde_json::to_string(&rows).expect("rows serialise"))
+}
+
+/// `asperity terrain`'s heights as a rows × columns array.
+#[pyfunction]
+fn terrain<'py>(py: Python<'py>, flags: Vec<String>, progress: bool) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let args: cli::terrain::TerrainArgs =
+        parse("terrain", &["-o", "<array>.f32"], flags, &["--range", "--peak-height", "--colors"])?;
+    let field = run(py, progress, move || cli::terrain::heights_of(&args))?;
+    let shape = (field.rect.height(), field.rect.width());
+    let array = numpy::ndarray::Array2::from_shape_vec(shape, field.heights).expect("rows × columns");
+    Ok(PyArray2::from_owned_array(py, array))
+}
+
+/// `asperity noise`'s field at given points: 2D points (n, 2) sample the plane as the
+/// images do; 3D points (n, 3) sample space with the global frame.
+#[pyfunction]
+fn noise<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'py, f64>,
+    flags: Vec<String>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let args: cli::noise::NoiseArgs = parse("noise", &["-o", "<array>.f32"], flags, &["--size", "--scale", "--range"])?;
+    let (dimension, points) = points_of(&points)?;
+    let values = run(py, false, move || {
+        let (field, _scale) = args.field()?;
+        Ok(match dimension {
+            2 => points.iter().map(|p| field.sample2(p.x, p.y)).collect::<Vec<f64>>(),
+            _ => {
+                let frame = asperity::noise::Frame { tangent: glam::DVec3::X, bitangent: glam::DVec3::Y };
+                let frames = vec![frame; points.len()];
+                field.sample3_batch(&points, &frames)
+            }
+        })
+    })?;
+    Ok(PyArray1::from_vec(py, values))
+}
+
+/// `asperity render`'s picture as a height × width × 4 RGBA array.
+#[pyfunction]
+fn render<'py>(
+    py: Python<'py>,
+    positions: PyReadonlyArray2<'py, f64>,
+    triangles: PyReadonlyArray2<'py, u32>,
+    flags: Vec<String>,
+) -> PyResult<Bound<'py, PyArray3<u8>>> {
+    let args: cli::render::RenderArgs = parse("render", &["<array>", "-o", "<array>.png"], flags, &[])?;
+    let mesh = mesh_of(&positions, &triangles)?;
+    let picture = run(py, false, move || asperity::render::render(&repaired(mesh, args.repair())?, &args.options()?))?;
+    let array =
+        numpy::ndarray::Array3::from_shape_vec((picture.height, picture.width, 4), picture.rgba).expect("h × w × 4");
+    Ok(numpy::PyArray3::from_owned_array(py, array))
+}
+
+/// `asperity clouds`' picture as an RGB array, and the sky's cloud cover.
+#[pyfunction]
+fn clouds<'py>(py: Python<'py>, flags: Vec<String>) -> PyResult<(Bound<'py, PyArray3<u8>>, f64)> {
+    let args: cli::clouds::CloudArgs = parse("clouds", &["-o", "<array>.png"], flags, &[])?;
+    let params = args.params();
+    let side = params.plasma.size as usize;
+    let (rgb, cover) = run(py, false, move || asperity::terrain::clouds(&params))?;
+    let array = numpy::ndarray::Array3::from_shape_vec((side, side, 3), rgb)
+        .map_err(|e| InternalError::new_err(e.to_string()))?;
+    Ok((numpy::PyArray3::from_owned_array(py, array), cover))
+}
+
+#[pymodule]
+fn _asperity(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    interrupt::quiet_cancellation_panics();
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("InputError", m.py().get_type::<InputError>())?;
+    m.add("InternalError", m.py().get_type::<InternalError>())?;
+    m.add_function(wrap_pyfunction!(read, m)?)?;
+    m.add_function(wrap_pyfunction!(write, m)?)?;
+    m.add_function(wrap_pyfunction!(info, m)?)?;
+    m.add_function(wrap_pyfunction!(repair, m)?)?;
+    m.add_function(wrap_pyfunction!(analyze, m)?)?;
+    m.add_function(wrap_pyfunction!(detail, m)?)?;
+    m.add_function(wrap_pyfunction!(compare, m)?)?;
+    m.add_function(wrap_pyfunction!(terrain, m)?)?;
+    m.add_function(wrap_pyfunction!(noise, m)?)?;
+    m.add_function(wrap_pyfunction!(render, m)?)?;
+    m.add_function(wrap_pyfunction!(clouds, m)?)?;
+    m.add_class::<Hierarchy>()?;
+    Ok(())
+}
