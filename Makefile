@@ -1,7 +1,7 @@
 # asperity — the two commands: `make demo` and `make test`.
 CARGO ?= cargo
 
-.PHONY: all deps build demo test clippy doc bench clean install-cpp fuzz sanitize
+.PHONY: all deps build demo test clippy doc bench clean install-cpp fuzz sanitize python python-test
 
 all: build
 
@@ -22,8 +22,21 @@ test: deps
 	@./scripts/fetch-test-meshes.sh
 	$(CARGO) test
 	@./scripts/cpp-example.sh
+	@$(MAKE) --no-print-directory python-test
 	@$(MAKE) --no-print-directory clippy
 	@$(MAKE) --no-print-directory doc
+
+# The Python package in a virtual environment of its own (target/python-venv): `pip install
+# ./python` there, then `import asperity` from any folder with that environment's python.
+python: deps
+	./scripts/python-package.sh
+
+# pytest over python/tests, against the command line's binary for the identity tests (the
+# one `cargo test` built; any build gives the same bits).
+python-test: deps
+	@./scripts/python-package.sh --test
+	@[ -x target/debug/asperity ] || $(CARGO) build --bin asperity
+	ASPERITY_CLI=target/debug/asperity target/python-venv/bin/python -m pytest -q python/tests
 
 # API documentation, private items included; a broken link fails the tests.
 doc:

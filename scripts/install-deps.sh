@@ -8,6 +8,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libopenmesh-dev libcgal-dev libeigen3-dev libgmp-dev libmpfr-dev libboost-dev
+  python3-venv
 )
 if [ "${1:-}" = "--test" ]; then
   packages+=(parallel gdal-bin)

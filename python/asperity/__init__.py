@@ -37,6 +37,7 @@ __all__ = [
     "analyze",
     "detail",
     "compare",
+    "hausdorff",
     "terrain",
     "noise",
     "render",
@@ -301,6 +302,12 @@ def compare(
     bounding-box diagonal, minimum angles, slivers, time)."""
     flags = _flags({"target_vertices": target_vertices, "methods": methods, **options})
     return json.loads(_native.compare(*_arrays(mesh), flags, progress))
+
+
+def hausdorff(reference: MeshLike, other: MeshLike) -> float:
+    """The symmetric Hausdorff distance between two meshes (by CGAL), as a share of the
+    reference's bounding-box diagonal — what ``simplify`` and ``compare`` report."""
+    return _native.hausdorff(*_arrays(reference), *_arrays(other))
 
 
 def terrain(*, progress: bool = False, **options: Any) -> np.ndarray:

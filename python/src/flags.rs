@@ -32,7 +32,10 @@ pub fn parse<A: clap::Args + clap::FromArgMatches>(
     flags: Vec<String>,
     refused: &[&str],
 ) -> PyResult<A> {
-    if let Some(flag) = flags.iter().find(|f| FILE_FLAGS.contains(&f.as_str()) || refused.contains(&f.as_str())) {
+    let flag_of = |f: &String| f.split('=').next().unwrap_or_default().to_string();
+    if let Some(flag) =
+        flags.iter().map(flag_of).find(|f| FILE_FLAGS.contains(&f.as_str()) || refused.contains(&f.as_str()))
+    {
         let name = flag.trim_start_matches('-').replace('-', "_");
         return Err(InputError::new_err(format!(
             "{flag} ({name}=) applies to the command line's asperity {command}, which writes files: here it would be ignored"

@@ -376,6 +376,21 @@ fn detail<'py>(
     Ok((positions_array(py, mesh.positions), triangles_array(py, mesh.triangles), report.to_string()))
 }
 
+/// The symmetric Hausdorff distance between two meshes (CGAL), as a share of the first's
+/// bounding-box diagonal: what `simplify` and `compare` report.
+#[pyfunction]
+fn hausdorff(
+    py: Python<'_>,
+    reference_positions: PyReadonlyArray2<'_, f64>,
+    reference_triangles: PyReadonlyArray2<'_, u32>,
+    other_positions: PyReadonlyArray2<'_, f64>,
+    other_triangles: PyReadonlyArray2<'_, u32>,
+) -> PyResult<f64> {
+    let reference = mesh_of(&reference_positions, &reference_triangles)?;
+    let other = mesh_of(&other_positions, &other_triangles)?;
+    run(py, false, move || asperity::hierarchy::compare::relative_hausdorff(&reference, &other))
+}
+
 /// `asperity compare`'s rows, as JSON.
 #[pyfunction]
 fn compare(
@@ -467,6 +482,7 @@ fn _asperity(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analyze, m)?)?;
     m.add_function(wrap_pyfunction!(detail, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;
+    m.add_function(wrap_pyfunction!(hausdorff, m)?)?;
     m.add_function(wrap_pyfunction!(terrain, m)?)?;
     m.add_function(wrap_pyfunction!(noise, m)?)?;
     m.add_function(wrap_pyfunction!(render, m)?)?;

@@ -1,0 +1,386 @@
+"""The Python package: every function on meshes made in numpy and on the shared meshes,
+errors, interruption, the GIL, and identity with the command line."""
+
+import json
+import os
+import signal
+import struct
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+import zlib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import asperity
+from conftest import REPO, icosphere, run_cli
+
+
+def faces_as_set(positions, triangles):
+    """Triangles as a set of position triples (independent of vertex order and rotation)."""
+    out = set()
+    for t in triangles:
+        corners = [tuple(positions[v]) for v in t]
+        k = corners.index(min(corners))
+        out.add(tuple(corners[k:] + corners[:k]))
+    return out
+
+
+def test_a_numpy_mesh_round_trips_through_every_format(tmp_path):
+    positions, triangles = icosphere(1)
+    normals = positions.copy()
+    colors = (np.abs(positions) * 255).astype(np.uint8)
+    height = positions[:, 2].copy()
+    path = tmp_path / "sphere.ply"
+    asperity.write(path, positions, triangles, normals=normals, colors=colors, height=height)
+    mesh = asperity.read(path)
+    assert mesh.positions.dtype == np.float64 and mesh.positions.shape == positions.shape
+    assert mesh.triangles.dtype == np.uint32 and mesh.triangles.shape == triangles.shape
+    np.testing.assert_array_equal(mesh.positions, positions)
+    np.testing.assert_array_equal(mesh.triangles, triangles)
+    np.testing.assert_array_equal(mesh.attributes["colors"], colors)
+    np.testing.assert_array_equal(mesh.attributes["height"], height)
+    np.testing.assert_allclose(mesh.attributes["normals"], normals)
+    for ext in ("obj", "off", "stl", "glb"):
+        asperity.write(tmp_path / f"s.{ext}", mesh)
+        back = asperity.read(tmp_path / f"s.{ext}")
+        assert back.triangles.shape == triangles.shape, ext
+
+
+def test_every_shared_mesh_reads(meshes):
+    for path in sorted(meshes.glob("*.off")):
+        mesh = asperity.read(path)
+        assert mesh.positions.shape[1] == 3 and mesh.triangles.shape[1] == 3, path.name
+        assert mesh.triangles.max() < len(mesh.positions), path.name
+        assert asperity.info(mesh)["vertices"] == len(mesh.positions)
+
+
+def test_objects_with_vertices_and_faces_are_meshes():
+    class TrimeshLike:
+        def __init__(self, vertices, faces):
+            self.vertices, self.faces = vertices, faces
+
+    positions, triangles = icosphere(1)
+    a = asperity.info(TrimeshLike(positions, triangles))
+    b = asperity.info((positions, triangles.astype(np.int32)))
+    assert a == b and a["genus"] == 0 and a["boundary_loops"] == 0
+
+
+def test_errors_are_typed_with_the_command_lines_messages(tmp_path):
+    assert issubclass(asperity.InputError, ValueError)
+    assert issubclass(asperity.InternalError, RuntimeError)
+    positions, triangles = icosphere(0)
+    bad = triangles.copy()
+    bad[3, 1] = 99
+    with pytest.raises(asperity.InputError, match="triangle 3 names vertex 99"):
+        asperity.Hierarchy(positions, bad)
+    with pytest.raises(asperity.InputError, match="triangle 0 names vertex index"):
+        asperity.info((positions, -triangles))
+    nan = positions.copy()
+    nan[5, 0] = np.nan
+    with pytest.raises(asperity.InputError, match="position 5 is not finite"):
+        asperity.analyze((nan, triangles))
+    with pytest.raises(asperity.InputError, match="missing.off"):
+        asperity.read(tmp_path / "missing.off")
+    (tmp_path / "broken.off").write_text("OFF\n3 1 0\n0 0 0\n1 0 0\n")
+    with pytest.raises(asperity.InputError, match="broken.off"):
+        asperity.read(tmp_path / "broken.off")
+    with pytest.raises(asperity.InputError, match="unexpected argument '--bogus'"):
+        asperity.terrain(size=33, bogus=1)
+    with pytest.raises(asperity.InputError, match="is not a vertex count or a percentage"):
+        asperity.Hierarchy(positions, triangles, target_vertices="many")
+    with pytest.raises(asperity.InputError, match="--method dual makes a 3D surface"):
+        asperity.terrain(method="dual")
+    with pytest.raises(asperity.InputError, match="applies to the command line"):
+        asperity.terrain(size=33, preview="x.png")
+    with pytest.raises(asperity.InputError, match="--octaves applies only to"):
+        asperity.noise("perlin", np.zeros((2, 2)), octaves=3)
+    with pytest.raises(asperity.InputError, match="recipe"):
+        asperity.detail((positions, triangles), "[[step]]\nop = 'nonsense'\n")
+
+
+def test_the_hierarchy_levels_parametrization_and_refinement(meshes):
+    mesh = asperity.read(meshes / "femur.off")
+    n = len(mesh.positions)
+    h = asperity.Hierarchy(mesh, target_vertices="5%")
+    assert h.levels > 5
+    base_positions, base_triangles = h.level(0)
+    top_positions, top_triangles = h.level(h.levels - 1)
+    np.testing.assert_array_equal(top_positions[np.argsort(h.level_vertex_ids(-1))], mesh.positions)
+    assert len(base_positions) < n and len(top_triangles) == len(mesh.triangles)
+    # Level l holds exactly the vertices that appear at level l or before.
+    levels = h.vertex_level
+    assert levels.shape == (n,) and levels.max() == h.levels - 1
+    for l in (0, h.levels // 2, h.levels - 1):
+        assert set(h.level_vertex_ids(l).tolist()) == set(np.nonzero(levels <= l)[0].tolist())
+    # The parametrization: every removed vertex on a base face, barycentrics summing to 1.
+    face, bary = h.base_face, h.barycentrics
+    removed = levels > 0
+    assert (face[removed] >= 0).all() and (face[~removed] == -1).all()
+    assert face[removed].max() < len(base_triangles)
+    np.testing.assert_allclose(bary[removed].sum(axis=1), 1.0, atol=1e-9)
+    assert np.isnan(bary[~removed]).all()
+    # Refinement gives back the input exactly; a region refines only its vertices.
+    positions, triangles = h.refine()
+    assert faces_as_set(positions, triangles) == faces_as_set(mesh.positions, mesh.triangles)
+    region = np.zeros(n, dtype=bool)
+    region[mesh.positions[:, 0] > np.median(mesh.positions[:, 0])] = True
+    partial, _ = h.refine(region=region)
+    assert len(base_positions) < len(partial) < n
+    wanted = set(np.nonzero(region | ~removed)[0].tolist())
+    got = {tuple(p) for p in partial}
+    assert got <= {tuple(mesh.positions[v]) for v in wanted}
+    same, _ = h.refine(region=np.nonzero(region)[0])
+    np.testing.assert_array_equal(same, partial)
+    assert set(h.stages) >= {"prepare", "ranking"}
+
+
+def test_analyze_gives_every_field(meshes):
+    mesh = asperity.read(meshes / "fandisk.off")
+    result = asperity.analyze(mesh, strong=0.1)
+    n = len(mesh.positions)
+    for name, shape in [("normals", (n, 3)), ("mean_curvature", (n,)), ("gaussian_curvature", (n,)),
+                        ("k1", (n,)), ("k2", (n,)), ("feature_class", (n,)), ("diffusion", (n, 3))]:
+        assert result[name].shape == shape, name
+    np.testing.assert_allclose(np.linalg.norm(result["normals"], axis=1), 1.0, atol=1e-9)
+    counts = np.bincount(result["feature_class"], minlength=4)
+    assert counts[asperity.FEATURE_CLASSES.index("corner")] > 0
+    assert counts[asperity.FEATURE_CLASSES.index("strong_edge")] > 0
+
+
+def test_detail_takes_a_recipe_as_toml_or_dict():
+    positions, triangles = icosphere(3)
+    toml = textwrap.dedent(
+        """
+        seed = 3
+
+        [[step]]
+        op = "noise"
+        level = -1
+        noise = { kind = "fbm", amplitude = 0.05, frequency = 6.0 }
+        """
+    )
+    as_dict = {"seed": 3, "step": [{"op": "noise", "level": -1, "noise": {"kind": "fbm", "amplitude": 0.05, "frequency": 6.0}}]}
+    (a, report), (b, _) = asperity.detail((positions, triangles), toml), asperity.detail((positions, triangles), as_dict)
+    np.testing.assert_array_equal(a.positions, b.positions)
+    assert not np.array_equal(a.positions, positions)
+    assert report["output_vertices"] == len(positions) and report["steps"][0]["op"] == "noise"
+    same, _ = asperity.detail((positions, triangles))
+    assert faces_as_set(same.positions, same.triangles) == faces_as_set(positions, triangles)
+
+
+def test_terrain_noise_render_clouds_compare_repair():
+    heights = asperity.terrain(size=65, seed=3, hurst=0.7)
+    assert heights.shape == (65, 65) and heights.dtype == np.float64
+    tile = asperity.terrain(size=65, seed=3, hurst=0.7, tile=(1, 0), tile_size=33)
+    np.testing.assert_array_equal(tile, heights[0:33, 32:65])
+    eroded = asperity.terrain(size=65, seed=3, erode="thermal", erode_iterations=5)
+    assert not np.array_equal(eroded, asperity.terrain(size=65, seed=3))
+    points = np.random.default_rng(1).random((100, 3))
+    for kind in ("perlin", "fbm", "gabor", "phasor", "wood"):
+        values = asperity.noise(kind, points, seed=2)
+        assert values.shape == (100,) and np.isfinite(values).all(), kind
+    twice = asperity.noise("gabor", points[:, :2], seed=2, k=2.0)
+    np.testing.assert_allclose(twice, 2 * asperity.noise("gabor", points[:, :2], seed=2, k=1.0))
+    positions, triangles = icosphere(2)
+    picture = asperity.render((positions, triangles), size=(80, 60))
+    assert picture.shape == (60, 80, 4) and picture.dtype == np.uint8 and picture[..., 3].max() == 255
+    sky, cover = asperity.clouds(size=65, seed=1)
+    assert sky.shape == (65, 65, 3) and 0 < cover < 1
+    rows = asperity.compare((positions, triangles), target_vertices=40, methods=["asperity", "meshoptimizer"])
+    assert [r["method"] for r in rows] == ["asperity", "meshoptimizer"]
+    assert all(r["vertices"] <= 41 for r in rows) and all(r["hausdorff"] > 0 for r in rows)
+    doubled = np.vstack([triangles, triangles[:5]])
+    repaired, report = asperity.repair((positions, doubled))
+    assert len(repaired.triangles) == len(triangles) and report["duplicate_faces"] == 5
+    assert asperity.hausdorff((positions, triangles), (positions, triangles)) < 1e-12
+
+
+def read_png_rgba(path: Path) -> np.ndarray:
+    """An 8-bit RGBA, non-interlaced PNG (what asperity render writes) as an array."""
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    at, idat, width, height = 8, b"", 0, 0
+    while at < len(data):
+        (length,) = struct.unpack(">I", data[at:at + 4])
+        kind, body = data[at + 4:at + 8], data[at + 8:at + 8 + length]
+        if kind == b"IHDR":
+            width, height, depth, colour = struct.unpack(">IIBB", body[:10])
+            assert (depth, colour) == (8, 6)
+        elif kind == b"IDAT":
+            idat += body
+        at += 12 + length
+    raw = zlib.decompress(idat)
+    stride = 4 * width
+    out = np.zeros((height, stride), dtype=np.uint8)
+    previous = np.zeros(stride, dtype=np.int32)
+    for y in range(height):
+        kind = raw[y * (stride + 1)]
+        row = np.frombuffer(raw, dtype=np.uint8, count=stride, offset=y * (stride + 1) + 1).astype(np.int32)
+        line = np.zeros(stride, dtype=np.int32)
+        for x in range(stride):
+            a = line[x - 4] if x >= 4 else 0
+            b = previous[x]
+            c = previous[x - 4] if x >= 4 else 0
+            if kind == 0:
+                predictor = 0
+            elif kind == 1:
+                predictor = a
+            elif kind == 2:
+                predictor = b
+            elif kind == 3:
+                predictor = (a + b) // 2
+            else:
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                predictor = a if pa <= pb and pa <= pc else (b if pb <= pc else c)
+            line[x] = (row[x] + predictor) & 0xFF
+        out[y] = line
+        previous = line
+    return out.reshape(height, width, 4)
+
+
+def test_results_are_the_command_lines_bit_for_bit(meshes, cli, tmp_path):
+    femur = meshes / "femur.off"
+    mesh = asperity.read(femur)
+    # simplify: the base domain.
+    run_cli(cli, "simplify", str(femur), "--target-vertices", "5%", "-o", "base.ply", cwd=tmp_path)
+    base = asperity.read(tmp_path / "base.ply")
+    positions, triangles = asperity.Hierarchy(mesh, target_vertices="5%").level(0)
+    assert faces_as_set(positions, triangles) == faces_as_set(base.positions, base.triangles)
+    # detail with a recipe.
+    recipe = REPO / "recipes" / "femur-wearing.toml"
+    run_cli(cli, "detail", str(femur), "--recipe", str(recipe), "-o", "d.ply", cwd=tmp_path)
+    cli_detail = asperity.read(tmp_path / "d.ply")
+    ours, _ = asperity.detail(mesh, recipe.read_text())
+    assert faces_as_set(ours.positions, ours.triangles) == faces_as_set(cli_detail.positions, cli_detail.triangles)
+    # analyze: the PLY's scalars.
+    run_cli(cli, "analyze", str(femur), "-o", "a.ply", cwd=tmp_path)
+    analysed = asperity.read(tmp_path / "a.ply")
+    result = asperity.analyze(mesh)
+    np.testing.assert_array_equal(analysed.attributes["mean_curvature"], result["mean_curvature"])
+    # terrain: the f32 heightmap.
+    run_cli(cli, "terrain", "--size", "129", "--seed", "4", "--sea-level=-0.2", "-o", "t.f32", cwd=tmp_path)
+    f32 = np.fromfile(tmp_path / "t.f32", dtype="<f4").reshape(129, 129)
+    np.testing.assert_array_equal(asperity.terrain(size=129, seed=4, sea_level=-0.2).astype(np.float32), f32)
+    # noise: the f32 image is the field on a grid of --scale steps.
+    run_cli(cli, "noise", "--kind", "fbm", "--size", "32", "--seed", "5", "--scale", "0.05", "-o", "n.f32", cwd=tmp_path)
+    image = np.fromfile(tmp_path / "n.f32", dtype="<f4").reshape(32, 32)
+    j, i = np.mgrid[0:32, 0:32]
+    points = np.column_stack([i.ravel() * 0.05, j.ravel() * 0.05])
+    np.testing.assert_array_equal(asperity.noise("fbm", points, seed=5).astype(np.float32).reshape(32, 32), image)
+    # render: the PNG's pixels.
+    run_cli(cli, "render", str(femur), "--size", "96,64", "-o", "r.png", cwd=tmp_path)
+    np.testing.assert_array_equal(asperity.render(mesh, size=(96, 64)), read_png_rgba(tmp_path / "r.png"))
+    # compare: the JSON rows, timings aside.
+    out = run_cli(cli, "compare", str(femur), "--target-vertices", "300", "--methods", "asperity,meshoptimizer", "--json", cwd=tmp_path)
+    strip = lambda rows: [{k: v for k, v in r.items() if "second" not in k} for r in rows]
+    assert strip(json.loads(out)) == strip(asperity.compare(mesh, target_vertices=300, methods=["asperity", "meshoptimizer"]))
+
+
+def big_terrain_mesh(side: int):
+    """A side × side terrain mesh made in numpy."""
+    heights = asperity.terrain(size=side, seed=1)
+    j, i = np.mgrid[0:side, 0:side]
+    positions = np.column_stack([i.ravel() / side, j.ravel() / side, heights.ravel() * 0.02])
+    a = (j[:-1, :-1] * side + i[:-1, :-1]).ravel()
+    triangles = np.concatenate([np.column_stack([a, a + 1, a + side + 1]), np.column_stack([a, a + side + 1, a + side])])
+    return positions, triangles
+
+
+def test_long_calls_release_the_gil():
+    positions, triangles = big_terrain_mesh(129)
+    done = threading.Event()
+    ticks = 0
+
+    def build():
+        asperity.Hierarchy(positions, triangles, target_vertices="2%")
+        done.set()
+
+    worker = threading.Thread(target=build)
+    worker.start()
+    while not done.is_set():
+        ticks += 1
+        time.sleep(0.001)
+    worker.join()
+    assert ticks > 20, f"the main thread ran only {ticks} times while the hierarchy was built"
+
+
+def test_ctrl_c_interrupts_a_long_call():
+    script = textwrap.dedent(
+        """
+        import sys, time
+        sys.path.insert(0, %r)
+        import asperity
+        from test_asperity import big_terrain_mesh
+        positions, triangles = big_terrain_mesh(513)
+        print("building", flush=True)
+        start = time.monotonic()
+        try:
+            asperity.Hierarchy(positions, triangles, target_vertices=100)
+        except KeyboardInterrupt:
+            print(f"interrupted after {time.monotonic() - start:.2f} s", flush=True)
+            sys.exit(7)
+        print("finished", flush=True)
+        """
+        % str(Path(__file__).parent)
+    )
+    child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert child.stdout.readline().strip() == "building"
+    time.sleep(1.0)
+    sent = time.monotonic()
+    child.send_signal(signal.SIGINT)
+    out, err = child.communicate(timeout=60)
+    waited = time.monotonic() - sent
+    assert child.returncode == 7, f"exit {child.returncode}: {out} {err}"
+    assert "interrupted" in out and waited < 10, f"{out} (after {waited:.1f} s)"
+
+
+def test_progress_is_off_unless_asked(capfd):
+    positions, triangles = big_terrain_mesh(65)
+    asperity.Hierarchy(positions, triangles)
+    assert capfd.readouterr().err == ""
+    asperity.Hierarchy(positions, triangles, progress=True)
+    assert "simplify" in capfd.readouterr().err
+
+
+def test_trimesh_agrees_on_areas_and_volumes(meshes):
+    trimesh = pytest.importorskip("trimesh", reason="trimesh did not install (optional: the issue's interop test)")
+    mesh = asperity.read(meshes / "eight.off")
+    reference = trimesh.Trimesh(mesh.positions, mesh.triangles, process=False)
+    h = asperity.Hierarchy(reference, target_vertices="10%")
+    refined = trimesh.Trimesh(*h.refine(), process=False)
+    assert refined.area == pytest.approx(reference.area, rel=1e-12)
+    assert refined.volume == pytest.approx(reference.volume, rel=1e-12)
+    base = trimesh.Trimesh(*h.level(0), process=False)
+    assert base.is_watertight and base.volume == pytest.approx(reference.volume, rel=0.2)
+    detailed, _ = asperity.detail(reference)
+    assert trimesh.Trimesh(detailed.positions, detailed.triangles, process=False).area == pytest.approx(reference.area, rel=1e-12)
+
+
+def test_the_hierarchy_tour_example_runs(tmp_path, meshes):
+    example = REPO / "examples" / "python" / "hierarchy_tour.py"
+    out = subprocess.run(
+        [sys.executable, str(example), str(meshes / "femur.off"), str(tmp_path)],
+        capture_output=True,
+        text=True,
+        env={**os.environ, "MPLBACKEND": "Agg"},
+    )
+    assert out.returncode == 0, out.stderr
+    assert "level" in out.stdout
+    assert (tmp_path / "hierarchy_tour.png").stat().st_size > 1000
+
+
+def test_the_readme_python_example_runs(meshes, tmp_path):
+    readme = (REPO / "README.md").read_text()
+    start = readme.index("```python\nimport asperity")
+    block = readme[start + len("```python\n"):]
+    block = block[: block.index("```")]
+    block = block.replace("../shared/data/meshes/", f"{meshes}/").replace('"recipes/', f'"{REPO}/recipes/')
+    out = subprocess.run([sys.executable, "-c", block], cwd=tmp_path, capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert asperity.read(tmp_path / "femur.ply").positions.shape[1] == 3
