@@ -39,6 +39,7 @@ __all__ = [
     "compare",
     "hausdorff",
     "terrain",
+    "terrain_mesh",
     "noise",
     "render",
     "clouds",
@@ -315,6 +316,20 @@ def terrain(*, progress: bool = False, **options: Any) -> np.ndarray:
     ``method`` ("classic", "smooth"), ``hurst``, ``seed``, ``sea_level``, ``erode``,
     ``tile=(i, j)`` with ``tile_size``, ``preset``… (every heightfield flag)."""
     return _native.terrain(_flags(options), progress)
+
+
+def terrain_mesh(**options: Any) -> Mesh:
+    """``asperity terrain``'s mesh, as it writes ``.ply``: a heightfield's grid (or a
+    ``tile``) with normals and height colours, or with ``method="dual"`` Janeczek's surface
+    over the quadrilateral ``x``, ``y`` (``levels``, ``deterministic``, ``cross_product``,
+    ``no_mean_correction``)."""
+    positions, triangles, normals, colors = _native.terrain_mesh(_flags(options))
+    attributes = {}
+    if normals is not None:
+        attributes["normals"] = normals
+    if colors is not None:
+        attributes["colors"] = colors
+    return Mesh(positions, triangles, attributes)
 
 
 def noise(kind: str, points: Any, **params: Any) -> np.ndarray:

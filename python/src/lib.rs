@@ -417,6 +417,26 @@ fn terrain<'py>(py: Python<'py>, flags: Vec<String>, progress: bool) -> PyResult
     Ok(PyArray2::from_owned_array(py, array))
 }
 
+/// `asperity terrain`'s mesh (a heightfield's, or the dual method's surface): positions,
+/// triangles, normals and colours.
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+fn terrain_mesh<'py>(
+    py: Python<'py>,
+    flags: Vec<String>,
+) -> PyResult<(
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray2<u32>>,
+    Option<Bound<'py, PyArray2<f64>>>,
+    Option<Bound<'py, PyArray2<u8>>>,
+)> {
+    let args: cli::terrain::TerrainArgs = parse("terrain", &["-o", "<array>.ply"], flags, &["--range"])?;
+    let mesh = run(py, false, move || cli::terrain::mesh_of(&args))?;
+    let normals = mesh.normals.map(|n| vectors_array(py, n));
+    let colors = mesh.colors.map(|c| arrays::colors_array(py, c));
+    Ok((positions_array(py, mesh.positions), triangles_array(py, mesh.triangles), normals, colors))
+}
+
 /// `asperity noise`'s field at given points: 2D points (n, 2) sample the plane as the
 /// images do; 3D points (n, 3) sample space with the global frame.
 #[pyfunction]
@@ -484,6 +504,7 @@ fn _asperity(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add_function(wrap_pyfunction!(hausdorff, m)?)?;
     m.add_function(wrap_pyfunction!(terrain, m)?)?;
+    m.add_function(wrap_pyfunction!(terrain_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(noise, m)?)?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(clouds, m)?)?;

@@ -267,6 +267,15 @@ def test_results_are_the_command_lines_bit_for_bit(meshes, cli, tmp_path):
     run_cli(cli, "terrain", "--size", "129", "--seed", "4", "--sea-level=-0.2", "-o", "t.f32", cwd=tmp_path)
     f32 = np.fromfile(tmp_path / "t.f32", dtype="<f4").reshape(129, 129)
     np.testing.assert_array_equal(asperity.terrain(size=129, seed=4, sea_level=-0.2).astype(np.float32), f32)
+    # terrain meshes: the PLY, heightfield and dual.
+    for flags, options in [(["--size", "33", "--seed", "2"], {"size": 33, "seed": 2}),
+                           (["--method", "dual", "--levels", "4", "--seed", "2"], {"method": "dual", "levels": 4, "seed": 2})]:
+        run_cli(cli, "terrain", *flags, "-o", "m.ply", cwd=tmp_path)
+        written = asperity.read(tmp_path / "m.ply")
+        made = asperity.terrain_mesh(**options)
+        np.testing.assert_array_equal(made.positions, written.positions)
+        np.testing.assert_array_equal(made.triangles, written.triangles)
+        np.testing.assert_array_equal(made.attributes["colors"], written.attributes["colors"])
     # noise: the f32 image is the field on a grid of --scale steps.
     run_cli(cli, "noise", "--kind", "fbm", "--size", "32", "--seed", "5", "--scale", "0.05", "-o", "n.f32", cwd=tmp_path)
     image = np.fromfile(tmp_path / "n.f32", dtype="<f4").reshape(32, 32)

@@ -9,15 +9,9 @@ use crate::io::{self, WriteOptions};
 use crate::mesh::Adjacency;
 use crate::terrain::{DualParams, QuadSurface, dual_midpoint_displacement, ramp_color};
 
-/// Janeczek's dual method: a quad surface written as a mesh with normals and a height ramp.
-pub(super) fn run(job: &Job, start: Instant, ctx: crate::cli::Context) -> Result<()> {
-    super::rules::refuse_other_modes_flags(job)?;
-    let g = job.generation;
-    let format = io::Format::from_path(&job.output)?;
-    if !matches!(format, io::Format::Ply | io::Format::Obj) {
-        return Err(Error::InvalidInput(format!("{}: --method dual writes .ply or .obj", job.output.display())));
-    }
-    let params = DualParams {
+/// The dual method's parameters from the flags.
+fn params_of(g: &Generation) -> Result<DualParams> {
+    Ok(DualParams {
         x: g.x.unwrap_or([1.0, 0.0, 0.0]).into(),
         y: g.y.unwrap_or([0.0, 1.0, 0.0]).into(),
         hurst: hurst_of(g, 1.5)?,
@@ -27,7 +21,26 @@ pub(super) fn run(job: &Job, start: Instant, ctx: crate::cli::Context) -> Result
         deterministic: g.deterministic,
         cross_product: g.cross_product,
         mean_correction: !g.no_mean_correction,
-    };
+    })
+}
+
+/// The dual method's final surface as the command writes it (normals, height colours).
+pub(super) fn mesh_of(job: &Job) -> Result<crate::mesh::Mesh> {
+    super::rules::refuse_other_modes_flags(job)?;
+    let params = params_of(job.generation)?;
+    let surface = dual_midpoint_displacement(&params, |_, _| {})?;
+    Ok(dual_mesh(&surface, &params, job.generation))
+}
+
+/// Janeczek's dual method: a quad surface written as a mesh with normals and a height ramp.
+pub(super) fn run(job: &Job, start: Instant, ctx: crate::cli::Context) -> Result<()> {
+    super::rules::refuse_other_modes_flags(job)?;
+    let g = job.generation;
+    let format = io::Format::from_path(&job.output)?;
+    if !matches!(format, io::Format::Ply | io::Format::Obj) {
+        return Err(Error::InvalidInput(format!("{}: --method dual writes .ply or .obj", job.output.display())));
+    }
+    let params = params_of(g)?;
     if let Some(dir) = &g.steps {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     }

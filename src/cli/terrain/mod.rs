@@ -309,6 +309,33 @@ pub fn heights_of(args: &TerrainArgs) -> Result<crate::terrain::Heightfield> {
     crate::terrain::heights(&setup.params, setup.rect)
 }
 
+/// The mesh the flags of `args` describe, as the command writes it to `.ply`: a
+/// heightfield's (positions, normals, height colours; `--tile` for a tile) or the dual
+/// method's surface. The library call behind `asperity.terrain_mesh` in Python.
+///
+/// # Errors
+/// As the command's, for the flags given.
+pub fn mesh_of(args: &TerrainArgs) -> Result<crate::mesh::Mesh> {
+    let job = Job {
+        generation: &args.generation,
+        stream: false,
+        band: None,
+        tile: args.tile,
+        tile_size: args.tile_size,
+        output: args.output.clone().unwrap_or_else(|| PathBuf::from("terrain.ply")),
+        preview: None,
+        format: Some("ply".into()),
+        sidecar: false,
+        plan: None,
+        named: true,
+    };
+    if args.generation.method == MethodArg::Dual {
+        return dual::mesh_of(&job);
+    }
+    let setup = Setup::of(&job)?;
+    mesh(&setup.params, setup.rect)
+}
+
 /// Writes one terrain.
 fn run_job(job: &Job, ctx: crate::cli::Context) -> Result<()> {
     let start = Instant::now();
