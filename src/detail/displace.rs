@@ -153,7 +153,8 @@ pub fn noise_displacements(
     let shift = params.shift.unwrap_or(if variation { 0.5 } else { 0.0 });
     let free = |v: usize| params.accumulate || !noised[v];
     let centres = free_centres(selected, noised, params.accumulate);
-    let reach = view.rings_from(&centres, params.rings.len());
+    let mut reach = view.rings_from(&centres, params.rings.len());
+    close_reach(view, &mut reach);
     let targets: Vec<usize> = (0..reach.len()).filter(|&v| reach[v].is_some() && free(v)).collect();
     if targets.is_empty() {
         return Ok(Vec::new());
@@ -182,6 +183,27 @@ pub fn noise_displacements(
         value * influence * falloff
     });
     Ok(targets.iter().zip(values).map(|(&v, value)| (v, positions[v] + dirs[v] * (amplitude * value))).collect())
+}
+
+/// Closes the rings' reach over single vertices (#26 B7): a vertex the rings missed while
+/// every neighbour of it was reached is in a dent of the reach's front, and takes the
+/// outermost ring and the centre of its first neighbour on it, so the step's displacement
+/// is continuous there instead of leaving the vertex still among moving neighbours.
+pub(super) fn close_reach(view: &LevelView, reach: &mut [Option<(usize, usize)>]) {
+    let missed: Vec<(usize, (usize, usize))> = (0..reach.len())
+        .filter(|&v| reach[v].is_none())
+        .filter_map(|v| {
+            let ring = view.adjacency.neighbours(v);
+            if ring.is_empty() || ring.iter().any(|&u| reach[u as usize].is_none()) {
+                return None;
+            }
+            let outer = ring.iter().filter_map(|&u| reach[u as usize]).max_by_key(|&(k, _)| k)?;
+            Some((v, outer))
+        })
+        .collect();
+    for (v, at) in missed {
+        reach[v] = Some(at);
+    }
 }
 
 /// The selected vertices a noise-family step may move: not noised before, unless the step

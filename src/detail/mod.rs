@@ -304,6 +304,29 @@ fn write_moves(
     touched
 }
 
+/// §4.5's "only where nothing was noised before", read as regions (#26 B7): the vertices
+/// noised by earlier steps, with every vertex whose mark differs from all of its
+/// neighbours' taking theirs. A base vertex noised at a coarse level and now alone among
+/// inserted vertices leaves the noised set (its neighbours move, so does it); a vertex
+/// inserted among noised ones joins it. Each such change turns all of the vertex's edges
+/// from disagreeing to agreeing, so the passes end; the order is fixed, so the result is
+/// deterministic. The marks themselves are left as they are.
+fn noised_regions(view: &LevelView, mut region: Vec<bool>) -> Vec<bool> {
+    loop {
+        let mut changed = false;
+        for v in 0..region.len() {
+            let ring = view.adjacency.neighbours(v);
+            if !ring.is_empty() && ring.iter().all(|&u| region[u as usize] != region[v]) {
+                region[v] = !region[v];
+                changed = true;
+            }
+        }
+        if !changed {
+            return region;
+        }
+    }
+}
+
 /// Runs one step on the refiner's current level.
 fn run_step(step: &Step, refiner: &mut Refiner, state: &mut RunState, steps: usize, seed: u64) -> Result<StepReport> {
     let level = refiner.level();
@@ -332,7 +355,8 @@ fn run_step(step: &Step, refiner: &mut Refiner, state: &mut RunState, steps: usi
         view = LevelView::new(level, depth, refiner.mesh()?);
         selected = view.ids.iter().map(|id| made.centres.binary_search(id).is_ok()).collect();
     }
-    let noised: Vec<bool> = view.ids.iter().map(|&id| state.noised[id as usize]).collect();
+    let marks: Vec<bool> = view.ids.iter().map(|&id| state.noised[id as usize]).collect();
+    let noised = noised_regions(&view, marks);
     let moves: Vec<(usize, DVec3)> = match step.op {
         OperatorKind::Noise | OperatorKind::Variation | OperatorKind::Feature => {
             noise_displacements(step.op, &step.noise, &view, &state.frame, &selected, &noised, seed)?

@@ -45,7 +45,8 @@ pub fn organic_displacements(
         let direction = if bent == DVec3::ZERO { normal } else { bent };
         growth[c] = direction * scale * (0.5 + value.abs());
     }
-    let reach = view.rings_from(&centres, params.rings.len() - 1);
+    let mut reach = view.rings_from(&centres, params.rings.len() - 1);
+    super::displace::close_reach(view, &mut reach);
     Ok((0..n)
         .filter_map(|v| {
             let (ring, centre) = reach[v]?;
