@@ -37,6 +37,18 @@ fn recipe_input(path: &Path) -> Option<Mesh> {
     }
 }
 
+/// The hierarchy options a recipe's `[hierarchy]` table gives for `mesh`.
+fn recipe_simplify_options(recipe: &Recipe, mesh: &Mesh) -> SimplifyOptions {
+    SimplifyOptions {
+        target_vertices: recipe
+            .hierarchy
+            .target_vertices
+            .as_deref()
+            .map(|t| asperity::cli::resolve_target(t, mesh.vertex_count()).unwrap()),
+        ..Default::default()
+    }
+}
+
 fn recipes() -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("recipes"))
         .unwrap()
@@ -342,14 +354,7 @@ fn every_example_recipe_runs_and_keeps_the_surface_valid() {
         let mesh = recipe_input(&path)
             .unwrap_or_else(|| panic!("{}: a shipped recipe names its mesh on its first line", path.display()));
         let r = Recipe::read(&path).unwrap();
-        let simplify = SimplifyOptions {
-            target_vertices: r
-                .hierarchy
-                .target_vertices
-                .as_deref()
-                .map(|t| asperity::cli::resolve_target(t, mesh.vertex_count()).unwrap()),
-            ..Default::default()
-        };
+        let simplify = recipe_simplify_options(&r, &mesh);
         // The defaults: a recipe's result has no self-intersections unless allowed (#26 B8).
         let options = DetailOptions { simplify, ..Default::default() };
         let out = apply(&mesh, &r, &options).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
@@ -617,14 +622,7 @@ fn no_shipped_recipe_leaves_scattered_single_vertices() {
         let full = Recipe::read(&path).unwrap();
         let mut shorter = full.clone();
         shorter.steps.pop();
-        let simplify = SimplifyOptions {
-            target_vertices: full
-                .hierarchy
-                .target_vertices
-                .as_deref()
-                .map(|t| asperity::cli::resolve_target(t, mesh.vertex_count()).unwrap()),
-            ..Default::default()
-        };
+        let simplify = recipe_simplify_options(&full, &mesh);
         // Damping of self-intersections runs after every step and would blur which
         // vertices the last step itself moved.
         let options = DetailOptions { simplify, no_self_intersections: false, ..Default::default() };

@@ -292,21 +292,26 @@ pub fn heights_of(args: &TerrainArgs) -> Result<crate::terrain::Heightfield> {
             "--method dual makes a 3D surface, not a heightfield: use the command line's terrain --method dual".into(),
         ));
     }
-    let job = Job {
+    let job = in_memory_job(args, "f32");
+    let setup = Setup::of(&job)?;
+    crate::terrain::heights(&setup.params, setup.rect)
+}
+
+/// The job of `args` made in memory rather than written: checked as if written as `format`.
+fn in_memory_job<'a>(args: &'a TerrainArgs, format: &str) -> Job<'a> {
+    Job {
         generation: &args.generation,
         stream: false,
         band: None,
         tile: args.tile,
         tile_size: args.tile_size,
-        output: args.output.clone().unwrap_or_else(|| PathBuf::from("heights.f32")),
+        output: args.output.clone().unwrap_or_else(|| PathBuf::from(format!("terrain.{format}"))),
         preview: None,
-        format: Some("f32".into()),
+        format: Some(format.into()),
         sidecar: false,
         plan: None,
         named: true,
-    };
-    let setup = Setup::of(&job)?;
-    crate::terrain::heights(&setup.params, setup.rect)
+    }
 }
 
 /// The mesh the flags of `args` describe, as the command writes it to `.ply`: a
@@ -316,19 +321,7 @@ pub fn heights_of(args: &TerrainArgs) -> Result<crate::terrain::Heightfield> {
 /// # Errors
 /// As the command's, for the flags given.
 pub fn mesh_of(args: &TerrainArgs) -> Result<crate::mesh::Mesh> {
-    let job = Job {
-        generation: &args.generation,
-        stream: false,
-        band: None,
-        tile: args.tile,
-        tile_size: args.tile_size,
-        output: args.output.clone().unwrap_or_else(|| PathBuf::from("terrain.ply")),
-        preview: None,
-        format: Some("ply".into()),
-        sidecar: false,
-        plan: None,
-        named: true,
-    };
+    let job = in_memory_job(args, "ply");
     if args.generation.method == MethodArg::Dual {
         return dual::mesh_of(&job);
     }
