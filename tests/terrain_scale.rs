@@ -314,6 +314,10 @@ fn presets_refuse_sizes_their_engine_cannot_import_and_name_tiles() {
     );
     refused(&["terrain", "--preset", "unity", "--size", "65", "-o", "u.png"], ".raw");
     refused(&["terrain", "--preset", "unity", "--size", "65", "--grid", "triangle", "-o", "u.raw"], "square grids");
+    refused(
+        &["terrain", "--size", "65", "--sidecar", "--format", "raw16", "-o", "/dev/null"],
+        "is written beside a file",
+    );
     // Unity: RAW16 little-endian, tiles named _x{X}_y{Y}, a sidecar that maps back.
     asperity(
         &[

@@ -476,6 +476,12 @@ impl Setup {
         let scale = params.height_scale();
         let range = g.range.unwrap_or((-scale, scale));
         let sidecar = job.sidecar || g.preset.is_some();
+        if sidecar && std::fs::metadata(&output).is_ok_and(|m| !m.is_file()) {
+            return Err(Error::InvalidInput(format!(
+                "{}: a sidecar (--sidecar, --preset) is written beside a file, and this is not one",
+                output.display()
+            )));
+        }
         Ok(Setup { params, rect, extent, output, format, whole_mesh, range, hurst, sidecar })
     }
 }
