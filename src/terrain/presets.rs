@@ -6,8 +6,8 @@
 //!   127, 253, 505, 1009, 2017, 4033 and 8129 points a side (Unreal Engine documentation,
 //!   "Landscape Technical Guide: Recommended Landscape Sizes"), which are not 2ⁿ + 1: the
 //!   terrain is generated on the next 2ⁿ + 1 grid and its first N × N points are written.
-//! - Tiles of both are named `{name}_x{X}_y{Y}`, the pattern of Unreal's tiled landscape
-//!   import (World Partition), which Unity's tile importers read too.
+//! - Tiles of both are named `{name}_x{X}_y{Y}`: the pattern of Unreal's tiled landscape
+//!   import (World Partition); Unity has no tile naming of its own, and gets the same.
 
 use serde::{Deserialize, Serialize};
 
