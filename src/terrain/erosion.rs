@@ -1,5 +1,5 @@
 //! Talus-angle thermal erosion (Musgrave, Kolb & Mace 1989, "The synthesis and rendering of
-//! eroded fractal terrains", §4.1 thermal weathering): wherever the height difference to a
+//! eroded fractal terrains", SIGGRAPH 1989, thermal weathering): wherever the height difference to a
 //! neighbour exceeds the talus difference T = tan(talus)·distance, material slides
 //! downhill, c·(d − T) per iteration.
 //!
