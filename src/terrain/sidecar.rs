@@ -65,6 +65,21 @@ pub struct WorldPlacement {
     pub spacing_y: f64,
 }
 
+impl WorldPlacement {
+    /// Grid point (x, y)'s world position and the grid's spacing along rows and between
+    /// rows (on a triangular lattice, rows are √3/2 of a step apart).
+    pub fn of(params: &TerrainParams, x: u64, y: u64) -> Self {
+        let origin = params.position(x, y, 0.0);
+        let zero = params.position(0, 0, 0.0);
+        WorldPlacement {
+            x: origin.x,
+            y: origin.y,
+            spacing_x: params.position(1, 0, 0.0).x - zero.x,
+            spacing_y: params.position(0, 1, 0.0).y - zero.y,
+        }
+    }
+}
+
 /// A range of heights.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct HeightRange {
@@ -104,8 +119,6 @@ impl Sidecar {
         range: (f64, f64),
         heights: HeightRange,
     ) -> Self {
-        let origin = params.position(rect.x0, rect.y0, 0.0);
-        let step = params.position(1, 1, 0.0) - params.position(0, 0, 0.0);
         let triangle = params.grid != Grid::Square;
         Sidecar {
             file: String::new(),
@@ -121,12 +134,7 @@ impl Sidecar {
                 y1: rect.y1,
                 lattice: if triangle { "triangle" } else { "square" }.into(),
             },
-            world: WorldPlacement {
-                x: origin.x,
-                y: origin.y,
-                spacing_x: params.position(1, 0, 0.0).x - params.position(0, 0, 0.0).x,
-                spacing_y: step.y,
-            },
+            world: WorldPlacement::of(params, rect.x0, rect.y0),
             heights,
             encoding: format.is_16_bit().then(|| Quantisation::of(range)),
             byte_order: matches!(format, StreamFormat::Raw16 | StreamFormat::F32).then(|| "little-endian".into()),

@@ -238,7 +238,7 @@ pub fn write_terrain_observed(
             for_each_band(params, rect, rows, false, observe, |field, _, _| {
                 let values: Vec<f32> = field.heights.iter().map(|&h| h as f32).collect();
                 encoded = Some(match format {
-                    StreamFormat::Exr => super::whole_file::exr(&values, width, height),
+                    StreamFormat::Exr => super::whole_file::exr(values, width, height),
                     _ => super::whole_file::tiff(&values, width, height),
                 });
                 Ok(())

@@ -9,10 +9,10 @@ use std::io::Cursor;
 ///
 /// # Errors
 /// The encoder's error, as an I/O error.
-pub fn exr(values: &[f32], width: u32, height: u32) -> std::io::Result<Vec<u8>> {
+pub fn exr(values: Vec<f32>, width: u32, height: u32) -> std::io::Result<Vec<u8>> {
     use exr::prelude::*;
     let size = (width as usize, height as usize);
-    let channel = AnyChannel::new("Y", FlatSamples::F32(values.to_vec()));
+    let channel = AnyChannel::new("Y", FlatSamples::F32(values));
     let encoding =
         Encoding { compression: Compression::ZIP16, blocks: Blocks::ScanLines, line_order: LineOrder::Increasing };
     let layer =

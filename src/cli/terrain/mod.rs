@@ -237,7 +237,31 @@ pub(super) struct Job<'a> {
     named: bool,
 }
 
-impl Job<'_> {
+impl<'a> Job<'a> {
+    /// A job writing `generation`'s terrain (or its tile) to `output` under exactly that
+    /// name, as `format`, whole, with nothing beside it.
+    fn named(
+        generation: &'a Generation,
+        output: PathBuf,
+        format: &str,
+        tile: Option<(u64, u64)>,
+        tile_size: Option<u64>,
+    ) -> Self {
+        Job {
+            generation,
+            stream: false,
+            band: None,
+            tile,
+            tile_size,
+            output,
+            preview: None,
+            format: Some(format.to_string()),
+            sidecar: false,
+            plan: None,
+            named: true,
+        }
+    }
+
     /// The output's extension (lower case): --format's, the preset's or the file name's.
     fn extension(&self) -> String {
         match (&self.format, self.generation.preset) {
@@ -299,19 +323,8 @@ pub fn heights_of(args: &TerrainArgs) -> Result<crate::terrain::Heightfield> {
 
 /// The job of `args` made in memory rather than written: checked as if written as `format`.
 fn in_memory_job<'a>(args: &'a TerrainArgs, format: &str) -> Job<'a> {
-    Job {
-        generation: &args.generation,
-        stream: false,
-        band: None,
-        tile: args.tile,
-        tile_size: args.tile_size,
-        output: args.output.clone().unwrap_or_else(|| PathBuf::from(format!("terrain.{format}"))),
-        preview: None,
-        format: Some(format.into()),
-        sidecar: false,
-        plan: None,
-        named: true,
-    }
+    let output = args.output.clone().unwrap_or_else(|| PathBuf::from(format!("terrain.{format}")));
+    Job::named(&args.generation, output, format, args.tile, args.tile_size)
 }
 
 /// The mesh the flags of `args` describe, as the command writes it to `.ply`: a

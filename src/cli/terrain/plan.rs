@@ -92,9 +92,12 @@ fn plan_fingerprint(parameters: &Generation, size: u64, tile_size: u64, format: 
     Ok(fingerprint(&format!("asperity terrain plan v{PLAN_VERSION} {text}")))
 }
 
-/// Tile (x, y)'s file in the plan's folder.
+/// Tile (x, y)'s file in the plan's folder: `tiles/terrain_x{x}_y{y}.{format}`, the
+/// presets' tile naming.
 fn tile_output(x: u64, y: u64, format: &str) -> String {
-    format!("tiles/terrain_x{x}_y{y}.{format}")
+    crate::terrain::presets::tile_path(Path::new(&format!("tiles/terrain.{format}")), x, y)
+        .to_string_lossy()
+        .into_owned()
 }
 
 /// The job of tile (i, j) of a plan in `dir`.
@@ -105,19 +108,7 @@ fn tile_job<'a>(
     output: PathBuf,
     format: &str,
 ) -> Job<'a> {
-    Job {
-        generation,
-        stream: false,
-        band: None,
-        tile: Some(tile),
-        tile_size: Some(tile_size),
-        output,
-        preview: None,
-        format: Some(format.to_string()),
-        sidecar: true,
-        plan: None,
-        named: true,
-    }
+    Job { sidecar: true, ..Job::named(generation, output, format, Some(tile), Some(tile_size)) }
 }
 
 /// `asperity terrain plan`: checks the parameters as a tile's process will, then writes
@@ -161,13 +152,7 @@ pub(super) fn run(args: PlanArgs, ctx: crate::cli::Context) -> Result<()> {
         })
         .collect();
     std::fs::create_dir_all(args.output.join("tiles")).map_err(|e| Error::io(&args.output, e))?;
-    let origin = setup.params.position(0, 0, 0.0);
-    let world = WorldPlacement {
-        x: origin.x,
-        y: origin.y,
-        spacing_x: setup.params.position(1, 0, 0.0).x - origin.x,
-        spacing_y: setup.params.position(0, 1, 0.0).y - origin.y,
-    };
+    let world = WorldPlacement::of(&setup.params, 0, 0);
     let mosaic_tiles: Vec<MosaicTile> = planned
         .iter()
         .map(|t| MosaicTile {
