@@ -207,6 +207,7 @@ class Hierarchy:
         p, t = _arrays(positions, triangles)
         flags = _flags({"target_vertices": target_vertices, **options})
         self._native = _native.Hierarchy(p, t, flags, progress)
+        self._parametrization: Optional[Tuple[np.ndarray, np.ndarray]] = None
 
     @property
     def levels(self) -> int:
@@ -236,13 +237,18 @@ class Hierarchy:
     def base_face(self) -> np.ndarray:
         """For each input vertex, the index of the base face (in ``level(0)``'s triangles)
         its parametrization puts it on; -1 for the base domain's own vertices."""
-        return self._native.parametrization()[0]
+        return self._parametrized()[0].copy()
 
     @property
     def barycentrics(self) -> np.ndarray:
         """Each input vertex's barycentric coordinates on its base face (n, 3), in the
         order of that triangle's corners; NaN for the base domain's own vertices."""
-        return self._native.parametrization()[1]
+        return self._parametrized()[1].copy()
+
+    def _parametrized(self) -> Tuple[np.ndarray, np.ndarray]:
+        if self._parametrization is None:
+            self._parametrization = self._native.parametrization()
+        return self._parametrization
 
     def refine(self, region: Any = None) -> Tuple[np.ndarray, np.ndarray]:
         """Refines the base domain back to full resolution — or, with ``region`` (a

@@ -173,6 +173,14 @@ struct Hierarchy {
     inner: asperity::hierarchy::Hierarchy,
 }
 
+impl Hierarchy {
+    /// The base domain, its triangles in the order of `base_triangles` (which
+    /// `parametrization`'s face indices count in).
+    fn base(&self) -> asperity::hierarchy::LevelMesh {
+        asperity::hierarchy::LevelMesh::compact(&self.inner.positions, &self.inner.base_triangles)
+    }
+}
+
 #[pymethods]
 impl Hierarchy {
     #[new]
@@ -217,11 +225,7 @@ impl Hierarchy {
                 count - 1
             )));
         }
-        let level = if l == 0 {
-            asperity::hierarchy::LevelMesh::compact(&self.inner.positions, &self.inner.base_triangles)
-        } else {
-            self.inner.levels[count - 1 - l].clone()
-        };
+        let level = if l == 0 { self.base() } else { self.inner.levels[count - 1 - l].clone() };
         Ok((
             positions_array(py, level.mesh.positions),
             triangles_array(py, level.mesh.triangles),
@@ -247,13 +251,9 @@ impl Hierarchy {
         &self,
         py: Python<'py>,
     ) -> PyResult<(Bound<'py, PyArray1<i64>>, Bound<'py, PyArray2<f64>>)> {
-        let base = asperity::hierarchy::LevelMesh::compact(&self.inner.positions, &self.inner.base_triangles);
-        let faces: std::collections::HashMap<[u32; 3], i64> = base
-            .triangles_in_ids()
-            .iter()
-            .enumerate()
-            .map(|(k, &t)| (asperity::hierarchy::face_key(t), k as i64))
-            .collect();
+        let base = self.base().triangles_in_ids();
+        let faces: std::collections::HashMap<[u32; 3], i64> =
+            base.iter().enumerate().map(|(k, &t)| (asperity::hierarchy::face_key(t), k as i64)).collect();
         let n = self.inner.positions.len();
         let mut face = vec![-1i64; n];
         let mut bary = vec![0.0f64; 3 * n];
@@ -264,7 +264,7 @@ impl Hierarchy {
                         InternalError::new_err(format!("vertex {v}'s base face {:?} is not a base face", p.face))
                     })?;
                     // Barycentrics in the order of the base triangle's corners.
-                    let t = base.triangles_in_ids()[face[v] as usize];
+                    let t = base[face[v] as usize];
                     for (corner, id) in t.iter().enumerate() {
                         let k = p.face.iter().position(|f| f == id).expect("the same face");
                         bary[3 * v + corner] = p.bary[k];
