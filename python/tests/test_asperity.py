@@ -393,3 +393,19 @@ def test_the_readme_python_example_runs(meshes, tmp_path):
     out = subprocess.run([sys.executable, "-c", block], cwd=tmp_path, capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     assert asperity.read(tmp_path / "femur.ply").positions.shape[1] == 3
+
+
+def test_write_ascii_and_repair_options_do_what_they_say(tmp_path):
+    positions, triangles = icosphere(1)
+    asperity.write(tmp_path / "binary.ply", positions, triangles)
+    asperity.write(tmp_path / "text.ply", positions, triangles, ascii=True)
+    assert b"format binary_little_endian" in (tmp_path / "binary.ply").read_bytes()[:200]
+    assert b"format ascii" in (tmp_path / "text.ply").read_bytes()[:200]
+    np.testing.assert_array_equal(asperity.read(tmp_path / "text.ply").positions, positions)
+    # A non-manifold edge: refused without repair=True, repaired with it.
+    broken = asperity.read(REPO / "tests/data/bad/nonmanifold-edge.off")
+    for call in (lambda **o: asperity.Hierarchy(broken, target_vertices=4, **o),
+                 lambda **o: asperity.compare(broken, target_vertices=4, methods=["asperity"], **o)):
+        with pytest.raises(asperity.InputError, match="--repair"):
+            call()
+        call(repair=True)
