@@ -21,6 +21,7 @@ pub mod mesh;
 pub mod noise;
 pub mod progress;
 pub mod render;
+pub mod scene;
 pub mod terrain;
 
 pub use error::{Error, Location, Result};

@@ -50,10 +50,15 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     let fandisk = meshes.join("fandisk.off").display().to_string();
     let broken = broken.display().to_string();
     let mut cases = Vec::new();
+    // A flag the base already gives has its value replaced (given twice, clap would refuse
+    // it, and the case would pass without testing anything).
     let mut add = |sub: &'static str, flag: &'static str, base: &[&str], extra: &[&str]| {
         let base = owned(base);
         let mut with = base.clone();
-        with.extend(owned(extra));
+        match (extra, base.iter().position(|a| a == extra[0])) {
+            ([_, value], Some(at)) if at + 1 < base.len() => with[at + 1] = value.to_string(),
+            _ => with.extend(owned(extra)),
+        }
         cases.push(Case { sub, flag, base, with, may_fix: false });
     };
     // analyze
@@ -125,6 +130,69 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     add("render", "--samples", &r, &["--samples", "1"]);
     add("render", "--crease", &r, &["--crease", "1"]);
     add("render", "--edges", &r, &["--edges"]);
+    add("render", "--water-level", &r, &["--water-level", "0"]);
+    let rw = ["render", &eight, "-o", "r.png", "--size", "64,48", "--water-level", "0"];
+    add("render", "--water-clarity", &rw, &["--water-clarity", "0.5"]);
+    // seed 002's generators
+    let rules = |name: &str| Path::new(env!("CARGO_MANIFEST_DIR")).join("src/scene/flora").join(name).display().to_string();
+    let (palm_rules, flower_rules) = (rules("palm.toml"), rules("flower.toml"));
+    let b = ["butterflies", "--count", "2", "--steps", "20", "-o", "b.glb"];
+    add("butterflies", "--count", &b, &["--count", "3"]);
+    add("butterflies", "--steps", &b, &["--steps", "21"]);
+    add("butterflies", "--seed", &b, &["--seed", "1"]);
+    add("butterflies", "--speed", &b, &["--speed", "0.02"]);
+    add("butterflies", "--wander", &b, &["--wander", "0.05"]);
+    add("butterflies", "--catch-radius", &["butterflies", "--count", "2", "--steps", "400", "-o", "b.glb"], &["--catch-radius", "0.1"]);
+    add("butterflies", "--flap", &b, &["--flap", "5"]);
+    add("butterflies", "--flap-limit", &b, &["--flap-limit", "30"]);
+    add("butterflies", "--fps", &b, &["--fps", "24"]);
+    let f = ["flora", "--preset", "palm", "-o", "f.ply"];
+    add("flora", "--preset", &f, &["--preset", "flower"]);
+    add("flora", "--rules", &["flora", "--rules", &flower_rules, "-o", "f.ply"], &["--rules", &palm_rules]);
+    add("flora", "--seed", &f, &["--seed", "1"]);
+    add("flora", "--sides", &f, &["--sides", "5"]);
+    add("flora", "--ascii", &f, &["--ascii"]);
+    let m = ["menger", "--level", "1", "-o", "m.ply"];
+    add("menger", "--level", &m, &["--level", "2"]);
+    add("menger", "--edge", &m, &["--edge", "3"]);
+    add("menger", "--ascii", &m, &["--ascii"]);
+    let sc = ["scene", "--size", "33", "--frames", "2", "--trees", "4", "--butterflies", "1", "-o", "sc.glb"];
+    add("scene", "--seed", &sc, &["--seed", "1"]);
+    add("scene", "--size", &sc, &["--size", "65"]);
+    add("scene", "--sea-fraction", &sc, &["--sea-fraction", "0.1"]);
+    add("scene", "--trees", &sc, &["--trees", "2"]);
+    add("scene", "--max-slope", &sc, &["--max-slope", "5"]);
+    add("scene", "--butterflies", &sc, &["--butterflies", "2"]);
+    add("scene", "--frames", &sc, &["--frames", "3"]);
+    add("scene", "--fps", &sc, &["--fps", "24"]);
+    add("scene", "--preview", &sc, &["--preview", "sc.png"]);
+    let k = ["smoke", "--frames", "1", "--resolution", "24", "-o", "k.glb"];
+    add("smoke", "--seed", &k, &["--seed", "1"]);
+    add("smoke", "--frames", &k, &["--frames", "2"]);
+    add("smoke", "--warmup", &k, &["--warmup", "30"]);
+    add("smoke", "--steps-per-frame", &["smoke", "--frames", "2", "--resolution", "24", "-o", "k.glb"], &["--steps-per-frame", "3"]);
+    add("smoke", "--fps", &["smoke", "--frames", "2", "--resolution", "24", "-o", "k.glb"], &["--fps", "24"]);
+    add("smoke", "--batch", &k, &["--batch", "3"]);
+    add("smoke", "--emit-every", &k, &["--emit-every", "3"]);
+    add("smoke", "--dt", &k, &["--dt", "0.04"]);
+    add("smoke", "--field-cells", &k, &["--field-cells", "3"]);
+    add("smoke", "--swirl", &k, &["--swirl", "2"]);
+    add("smoke", "--rise", &k, &["--rise", "1.5"]);
+    add("smoke", "--spread", &k, &["--spread", "0.1"]);
+    add("smoke", "--radius", &k, &["--radius", "0.06"]);
+    add("smoke", "--blobbiness", &k, &["--blobbiness", "1.5"]);
+    add("smoke", "--resolution", &k, &["--resolution", "32"]);
+    add("smoke", "--ascii", &["smoke", "--frames", "1", "--resolution", "24", "-o", "k.ply"], &["--ascii"]);
+    // Just above the eight (its top is at z = 0.5), so the water has depth everywhere.
+    let w = ["water", &eight, "--level", "0.6", "--frames", "2", "--cells", "16", "-o", "w.glb"];
+    add("water", "--level", &w, &["--level", "0.7"]);
+    add("water", "--cells", &w, &["--cells", "20"]);
+    add("water", "--waves", &w, &["--waves", "2"]);
+    add("water", "--seed", &w, &["--seed", "1"]);
+    add("water", "--clarity", &w, &["--clarity", "0.5"]);
+    add("water", "--frames", &w, &["--frames", "3"]);
+    add("water", "--fps", &w, &["--fps", "30"]);
+    add("water", "--ascii", &["water", &eight, "--level", "0", "--frames", "1", "--cells", "16", "-o", "w.ply"], &["--ascii"]);
     // simplify
     let s = ["simplify", &eight, "-o", "s.ply"];
     add("simplify", "--target-vertices", &s, &["--target-vertices", "100"]);
@@ -212,7 +280,14 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
         .map(|c| {
             if c.base.iter().any(|a| a == "dual") {
                 // A plan tiles heightfields: dual's flags are tried alone on a classic plan.
-                (c.flag, Vec::new(), c.with[c.base.len()..].to_vec())
+                let added = if c.with.len() > c.base.len() {
+                    c.with[c.base.len()..].to_vec()
+                } else {
+                    // The flag's value replaced in place: the flag and its new value.
+                    let at = c.with.iter().zip(&c.base).position(|(a, b)| a != b).expect("a changed value");
+                    c.with[at - 1..=at].to_vec()
+                };
+                (c.flag, Vec::new(), added)
             } else {
                 (c.flag, without_output(&c.base), without_output(&c.with))
             }

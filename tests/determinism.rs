@@ -38,6 +38,12 @@ fn run_everything(threads: &str) -> BTreeMap<String, Vec<u8>> {
         vec!["terrain", "--size", "129", "--grid", "hex", "-o", "hex.obj"],
         vec!["terrain", "--size", "129", "--method", "smooth", "-o", "smooth.raw16"],
         vec!["terrain", "--method", "dual", "--levels", "5", "--steps", "dual-steps", "-o", "dual.ply"],
+        vec!["menger", "--level", "2", "-o", "sponge.ply"],
+        vec!["flora", "--preset", "cottonwood", "--seed", "3", "-o", "tree.glb"],
+        vec!["smoke", "--frames", "3", "--resolution", "40", "-o", "smoke.glb"],
+        vec!["water", "classic.ply", "--level", "0", "--frames", "2", "--cells", "32", "-o", "water.ply"],
+        vec!["butterflies", "--count", "3", "--steps", "40", "-o", "butterflies.glb"],
+        vec!["scene", "--size", "65", "--frames", "3", "--trees", "8", "-o", "scene.glb", "--preview", "scene.png"],
         vec![
             "simplify",
             "torus.off",

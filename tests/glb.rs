@@ -18,7 +18,7 @@ fn coloured_torus() -> asperity::Mesh {
 }
 
 /// Runs the Khronos validator on `files` when it is installed; says so when it is not.
-fn khronos_validate(files: &[PathBuf]) {
+pub fn khronos_validate(files: &[PathBuf]) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     if !root.join("target/gltf-validator/node_modules/gltf-validator/package.json").is_file() {
         eprintln!("gltf-validator not installed (scripts/install-gltf-validator.sh): Khronos validation skipped");

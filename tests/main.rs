@@ -17,6 +17,7 @@ mod io_roundtrip;
 mod noise;
 mod readme;
 mod render;
+mod scene;
 mod repair;
 mod terrain;
 mod terrain_scale;

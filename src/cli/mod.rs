@@ -13,6 +13,7 @@ pub mod noise;
 mod parse;
 pub mod render;
 mod report;
+pub mod scene;
 pub mod simplify;
 pub mod terrain;
 
@@ -43,6 +44,8 @@ pub struct Cli {
 enum Command {
     /// Curvatures and feature classes of a mesh, written as PLY properties and colours.
     Analyze(analyze::AnalyzeArgs),
+    /// Butterflies chasing targets on pursuit curves, as a glTF animation (seed 002).
+    Butterflies(scene::butterflies::ButterflyArgs),
     /// A cloud image from a midpoint-displacement plasma, thresholded and coloured.
     Clouds(clouds::CloudArgs),
     /// Print a mesh's validation report (counts, boundaries, manifoldness, genus).
@@ -55,14 +58,25 @@ enum Command {
     Detail(detail::DetailArgs),
     /// Run the built-in demonstration, writing results under an output folder.
     Demo(demo::DemoArgs),
+    /// A plant from a stochastic L-system: tapered branches and leaf clusters (seed 002).
+    Flora(scene::flora::FloraArgs),
+    /// The Menger sponge as one closed mesh of its outer and tunnel faces (seed 002).
+    Menger(scene::menger::MengerArgs),
     /// Write a noise image (Perlin family or Gabor) as 16-bit PNG or raw f32.
     Noise(noise::NoiseArgs),
     /// Draw a mesh as a PNG: shaded faces, wireframe or points (software rasteriser).
     Render(render::RenderArgs),
+    /// Seed 002's environment — terrain, water, trees, cabin, smoke, butterflies — as one
+    /// animated glTF scene.
+    Scene(scene::whole::SceneArgs),
     /// Simplify to the 4-k hierarchy's base domain (feature-sensitive four-face clusters).
     Simplify(simplify::SimplifyArgs),
+    /// Smoke: particles, Blinn's metaballs and marching tetrahedra, one mesh per frame.
+    Smoke(scene::smoke::SmokeArgs),
     /// Generate a fractal terrain: mesh or heightmap, whole, tiled or streamed.
     Terrain(Box<terrain::TerrainArgs>),
+    /// A water surface with waves and a depth attribute over a terrain mesh, per frame.
+    Water(scene::water::WaterArgs),
     /// Print this command-line reference as Markdown (docs/cli.md is its output).
     #[command(hide = true)]
     Reference,
@@ -155,7 +169,13 @@ fn dispatch(cli: Cli) -> Result<()> {
     let ctx = Context { json: cli.json, quiet: cli.quiet };
     match cli.command {
         Command::Analyze(args) => analyze::run(args, ctx),
+        Command::Butterflies(args) => scene::butterflies::run(args, ctx),
         Command::Clouds(args) => clouds::run(args, ctx),
+        Command::Flora(args) => scene::flora::run(args, ctx),
+        Command::Menger(args) => scene::menger::run(args, ctx),
+        Command::Scene(args) => scene::whole::run(args, ctx),
+        Command::Smoke(args) => scene::smoke::run(args, ctx),
+        Command::Water(args) => scene::water::run(args, ctx),
         Command::Info(args) => info::run(args, ctx),
         Command::Compare(args) => compare::run(args, ctx),
         Command::Convert(args) => convert::run(args, ctx),

@@ -76,6 +76,7 @@ impl ViewArgs {
             samples: self.samples,
             crease_deg: self.crease.unwrap_or(40.0),
             edges: self.edges,
+            water: None,
         })
     }
 }
@@ -90,6 +91,14 @@ pub struct RenderArgs {
     output: PathBuf,
     #[command(flatten)]
     view: ViewArgs,
+    /// Draw water at this height along the up axis (mesh units) over the mesh's extent: a
+    /// Fresnel mix of sky and what lies below (faces mode).
+    #[arg(long, allow_negative_numbers = true)]
+    water_level: Option<f64>,
+    /// How far one sees into the water, as a fraction of the bounding-box diagonal
+    /// (with --water-level) [default: 0.02].
+    #[arg(long)]
+    water_clarity: Option<f64>,
     #[command(flatten)]
     repair: super::input::RepairArg,
 }
@@ -98,9 +107,16 @@ impl RenderArgs {
     /// The library options the flags give.
     ///
     /// # Errors
-    /// Invalid flags.
+    /// Invalid flags; `--water-clarity` without `--water-level`.
     pub fn options(&self) -> Result<crate::render::RenderOptions> {
-        self.view.options()
+        let mut options = self.view.options()?;
+        if self.water_clarity.is_some() && self.water_level.is_none() {
+            return Err(Error::InvalidInput("--water-clarity applies only with --water-level".into()));
+        }
+        options.water = self
+            .water_level
+            .map(|level| crate::render::WaterView { level, clarity: self.water_clarity.unwrap_or(0.02) });
+        Ok(options)
     }
 
     /// Whether `--repair` was given.
@@ -113,7 +129,7 @@ impl RenderArgs {
 pub fn run(args: RenderArgs, ctx: Context) -> Result<()> {
     let start = Instant::now();
     super::require_extension(&args.output, &["png"])?;
-    let options = args.view.options()?;
+    let options = args.options()?;
     let input = super::input::read_input(&args.input, args.repair, ctx)?;
     let mesh = &input.read.mesh;
     let picture = ctx.spin("render", &args.input.display().to_string(), || render(mesh, &options))?;

@@ -87,16 +87,19 @@ pub fn glb_bytes(parts: &[GlbPart]) -> Result<Vec<u8>> {
     builder.finish()
 }
 
+/// A glTF document and its binary chunk under construction (also used by
+/// [`super::glb_scene`]).
 #[derive(Default)]
-struct Builder {
-    root: gj::Root,
+pub(crate) struct Builder {
+    pub(crate) root: gj::Root,
     bin: Vec<u8>,
     material: Option<Index<gj::Material>>,
+    translucent: Option<Index<gj::Material>>,
 }
 
 impl Builder {
-    /// Appends `bytes` (4-byte aligned) as a buffer view.
-    fn view(&mut self, bytes: &[u8], target: gj::buffer::Target) -> Index<gj::buffer::View> {
+    /// Appends `bytes` (4-byte aligned) as a buffer view; animation data has no target.
+    fn view(&mut self, bytes: &[u8], target: Option<gj::buffer::Target>) -> Index<gj::buffer::View> {
         while self.bin.len() % 4 != 0 {
             self.bin.push(0);
         }
@@ -108,17 +111,17 @@ impl Builder {
             byte_offset: Some(USize64::from(offset)),
             byte_stride: None,
             name: None,
-            target: Some(Valid(target)),
+            target: target.map(Valid),
             extensions: None,
             extras: None,
         })
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn accessor(
+    pub(crate) fn accessor(
         &mut self,
         bytes: &[u8],
-        target: gj::buffer::Target,
+        target: Option<gj::buffer::Target>,
         count: usize,
         component: gj::accessor::ComponentType,
         kind: gj::accessor::Type,
@@ -142,6 +145,33 @@ impl Builder {
         })
     }
 
+    /// An f32 accessor without a buffer-view target (animation data) with explicit
+    /// bounds, as glTF requires of animation inputs.
+    pub(crate) fn accessor_with_bounds(
+        &mut self,
+        bytes: &[u8],
+        count: usize,
+        kind: gj::accessor::Type,
+        min: Vec<f32>,
+        max: Vec<f32>,
+    ) -> Index<gj::Accessor> {
+        let view = self.view(bytes, None);
+        self.root.push(gj::Accessor {
+            buffer_view: Some(view),
+            byte_offset: None,
+            count: USize64::from(count),
+            component_type: Valid(gj::accessor::GenericComponentType(gj::accessor::ComponentType::F32)),
+            extensions: None,
+            extras: None,
+            type_: Valid(kind),
+            min: Some(serde_json::json!(min)),
+            max: Some(serde_json::json!(max)),
+            name: None,
+            normalized: false,
+            sparse: None,
+        })
+    }
+
     fn vec3(&mut self, values: &[[f32; 3]], with_bounds: bool) -> Index<gj::Accessor> {
         let bounds = with_bounds.then(|| {
             values.iter().fold(([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]), |(lo, hi), v| {
@@ -150,7 +180,7 @@ impl Builder {
         });
         self.accessor(
             bytemuck::cast_slice(values),
-            gj::buffer::Target::ArrayBuffer,
+            Some(gj::buffer::Target::ArrayBuffer),
             values.len(),
             gj::accessor::ComponentType::F32,
             gj::accessor::Type::Vec3,
@@ -178,8 +208,33 @@ impl Builder {
         m
     }
 
+    /// A glossy material blending by the vertex colours' alpha (water).
+    fn translucent(&mut self) -> Index<gj::Material> {
+        if let Some(m) = self.translucent {
+            return m;
+        }
+        let m = self.root.push(gj::Material {
+            name: Some("translucent".into()),
+            double_sided: true,
+            alpha_mode: Valid(gj::material::AlphaMode::Blend),
+            pbr_metallic_roughness: gj::material::PbrMetallicRoughness {
+                metallic_factor: gj::material::StrengthFactor(0.0),
+                roughness_factor: gj::material::StrengthFactor(0.15),
+                ..Default::default()
+            },
+            ..Default::default()
+        });
+        self.translucent = Some(m);
+        m
+    }
+
     fn mesh(&mut self, part: &GlbPart) -> Result<Index<gj::Mesh>> {
-        let mesh = part.mesh;
+        self.mesh_with_alpha(part.mesh, &part.name, None)
+    }
+
+    /// A glTF mesh of `mesh`; with `alpha` (one per vertex), colours carry it and the
+    /// material blends.
+    pub(crate) fn mesh_with_alpha(&mut self, mesh: &Mesh, name: &str, alpha: Option<&[f32]>) -> Result<Index<gj::Mesh>> {
         let mut attributes = BTreeMap::new();
         let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.as_vec3().to_array()).collect();
         attributes.insert(Valid(gj::mesh::Semantic::Positions), self.vec3(&positions, true));
@@ -189,10 +244,11 @@ impl Builder {
         };
         attributes.insert(Valid(gj::mesh::Semantic::Normals), self.vec3(&normals, false));
         if let Some(colors) = &mesh.colors {
-            let rgba: Vec<u8> = colors.iter().flat_map(|c| [c[0], c[1], c[2], 255]).collect();
+            let opacity = |v: usize| alpha.map_or(255, |a| (a[v].clamp(0.0, 1.0) * 255.0).round() as u8);
+            let rgba: Vec<u8> = colors.iter().enumerate().flat_map(|(v, c)| [c[0], c[1], c[2], opacity(v)]).collect();
             let colors = self.accessor(
                 &rgba,
-                gj::buffer::Target::ArrayBuffer,
+                Some(gj::buffer::Target::ArrayBuffer),
                 mesh.vertex_count(),
                 gj::accessor::ComponentType::U8,
                 gj::accessor::Type::Vec4,
@@ -205,7 +261,7 @@ impl Builder {
             let floats: Vec<f32> = values.iter().map(|&v| v as f32).collect();
             let accessor = self.accessor(
                 bytemuck::cast_slice(&floats),
-                gj::buffer::Target::ArrayBuffer,
+                Some(gj::buffer::Target::ArrayBuffer),
                 floats.len(),
                 gj::accessor::ComponentType::F32,
                 gj::accessor::Type::Scalar,
@@ -216,16 +272,16 @@ impl Builder {
         }
         let indices = self.accessor(
             bytemuck::cast_slice(&mesh.triangles),
-            gj::buffer::Target::ElementArrayBuffer,
+            Some(gj::buffer::Target::ElementArrayBuffer),
             mesh.triangles.len() * 3,
             gj::accessor::ComponentType::U32,
             gj::accessor::Type::Scalar,
             false,
             None,
         );
-        let material = self.material();
+        let material = if alpha.is_some() { self.translucent() } else { self.material() };
         Ok(self.root.push(gj::Mesh {
-            name: Some(part.name.clone()),
+            name: Some(name.to_string()),
             primitives: vec![gj::mesh::Primitive {
                 attributes,
                 indices: Some(indices),
@@ -241,7 +297,8 @@ impl Builder {
         }))
     }
 
-    fn finish(mut self) -> Result<Vec<u8>> {
+    /// The GLB bytes of the document.
+    pub(crate) fn finish(mut self) -> Result<Vec<u8>> {
         while self.bin.len() % 4 != 0 {
             self.bin.push(0);
         }

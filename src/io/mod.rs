@@ -4,6 +4,7 @@
 
 mod atomic;
 pub mod glb;
+pub mod glb_scene;
 pub mod image;
 pub mod obj;
 mod off;

@@ -67,6 +67,32 @@ impl Mesh {
         self.triangles.len()
     }
 
+    /// Appends `other`'s vertices and faces. Colours are kept when both meshes have them
+    /// (or this one is empty), normals likewise; scalars only where both have the name.
+    pub fn append(&mut self, other: &Mesh) {
+        let empty = self.positions.is_empty();
+        let offset = self.positions.len() as u32;
+        fn join<T: Clone>(mine: &mut Option<Vec<T>>, theirs: &Option<Vec<T>>, empty: bool) {
+            match (mine.as_mut(), theirs) {
+                (Some(a), Some(b)) => a.extend_from_slice(b),
+                (None, Some(b)) if empty => *mine = Some(b.clone()),
+                _ => *mine = None,
+            }
+        }
+        join(&mut self.colors, &other.colors, empty);
+        join(&mut self.normals, &other.normals, empty);
+        if empty {
+            self.scalars = other.scalars.clone();
+        } else {
+            self.scalars.retain(|name, _| other.scalars.contains_key(name));
+            for (name, values) in &mut self.scalars {
+                values.extend_from_slice(&other.scalars[name]);
+            }
+        }
+        self.positions.extend_from_slice(&other.positions);
+        self.triangles.extend(other.triangles.iter().map(|t| t.map(|v| v + offset)));
+    }
+
     /// Axis-aligned bounding box `(min, max)`; `None` for a mesh without vertices.
     pub fn bounding_box(&self) -> Option<(DVec3, DVec3)> {
         let first = *self.positions.first()?;

@@ -114,6 +114,13 @@ impl Camera {
         Some(Vec3::new(x as f32, y as f32, (1.0 / z) as f32))
     }
 
+    /// The eye and the (unnormalised) direction through pixel position (x, y), scaled so
+    /// that `eye + t·direction` lies at view depth t.
+    pub fn ray(&self, x: f64, y: f64) -> (DVec3, DVec3) {
+        let (cx, cy) = self.centre;
+        (self.eye, self.forward + self.right * ((x - cx) / self.focal) - self.up * ((y - cy) / self.focal))
+    }
+
     /// A world direction expressed in the camera frame (x right, y up, z towards the eye).
     pub fn to_view(&self, direction: DVec3) -> Vec3 {
         Vec3::new(direction.dot(self.right) as f32, direction.dot(self.up) as f32, -direction.dot(self.forward) as f32)

@@ -7,6 +7,7 @@ mod camera;
 pub mod hillshade;
 mod raster;
 mod shade;
+pub mod water;
 
 use std::path::Path;
 
@@ -73,6 +74,19 @@ pub struct RenderOptions {
     pub crease_deg: f64,
     /// Also draw the edges over shaded faces.
     pub edges: bool,
+    /// A water plane drawn over the mesh (faces mode).
+    pub water: Option<WaterView>,
+}
+
+/// A water plane of the picture: perpendicular to the up axis at `level` over the mesh's
+/// extent, drawn by [`water::blend`]'s Fresnel mix of sky and what lies below.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WaterView {
+    /// Height along the up axis, in the mesh's units.
+    pub level: f64,
+    /// Depth (along the view ray) over which the water's colour covers 1 − 1/e of what
+    /// lies below, as a fraction of the mesh's bounding-box diagonal.
+    pub clarity: f64,
 }
 
 impl Default for RenderOptions {
@@ -89,6 +103,7 @@ impl Default for RenderOptions {
             samples: 2,
             crease_deg: 40.0,
             edges: false,
+            water: None,
         }
     }
 }
@@ -158,6 +173,13 @@ impl Picture {
     }
 }
 
+impl WaterView {
+    /// A point on the plane, in the mesh's coordinates.
+    fn up_point(&self, up: UpAxis) -> DVec3 {
+        up.vector() * self.level
+    }
+}
+
 /// The largest picture side.
 pub const MAX_SIDE: usize = 16384;
 
@@ -188,6 +210,10 @@ pub fn render(mesh: &Mesh, options: &RenderOptions) -> Result<Picture> {
             frame.triangles(&shaded_triangles(mesh, &camera, &projected, &base, &lighting, options), Fill::Shaded);
             if options.edges {
                 frame.segments(&edge_segments(mesh, &projected, |_| Vec3::splat(0.08)), 2e-3);
+            }
+            if let Some(view) = options.water {
+                let level = unit.to_unit(view.up_point(options.up)).dot(options.up.vector());
+                water::blend(&mut frame, &camera, bbox, options.up, level, view.clarity);
             }
         }
         Mode::Wireframe => {
@@ -234,6 +260,14 @@ fn check(mesh: &Mesh, options: &RenderOptions) -> Result<()> {
     }
     if !(1..=4).contains(&options.samples) {
         return Err(Error::InvalidInput(format!("{} samples per pixel: use 1 to 4", options.samples)));
+    }
+    if let Some(w) = options.water {
+        if options.mode != Mode::Faces {
+            return Err(Error::InvalidInput("a water plane is drawn only in faces mode".into()));
+        }
+        if !(w.level.is_finite() && w.clarity.is_finite() && w.clarity > 0.0) {
+            return Err(Error::InvalidInput("the water level must be finite and its clarity positive".into()));
+        }
     }
     if !options.yaw_deg.is_finite() || !options.pitch_deg.is_finite() {
         return Err(Error::InvalidInput("camera angles must be finite".into()));
