@@ -7,7 +7,7 @@ cargo build --release -q
 mkdir -p docs/gallery
 for picture in noise-panel terrain-map terrain terrain-views terrain-dual terrain-smooth-map clouds \
   fandisk-features fandisk-hierarchy detail-torus-variation detail-sphere-marble detail-mushroom-planet \
-  detail-sphere-virus; do
+  detail-sphere-virus scene scene-generators; do
   cp "target/gallery-demo/$picture.png" docs/gallery/
 done
 du -ch docs/gallery/*.png | tail -1

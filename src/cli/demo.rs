@@ -72,6 +72,7 @@ pub fn run(args: DemoArgs, ctx: Context) -> Result<()> {
         None => demo.features("torus", &torus)?,
     }
     demo.detail_recipes()?;
+    demo.environment()?;
     let ctx = demo.ctx;
     ctx.report(
         || format!("demo: {} files in {} in {} ms", demo.written.len(), demo.out.display(), super::millis(start)),
@@ -306,6 +307,50 @@ impl Demo {
             format!(
                 "clouds: 257x257 => {:.0}% cover => {}/clouds.png in {} ms",
                 cover * 100.0,
+                self.out.display(),
+                super::millis(start)
+            )
+        });
+        Ok(())
+    }
+
+    /// Seed 002's environment: the animated scene (seed 7) and its still, and the
+    /// generators one by one — a cottonwood, a palm, a flower, a smoke frame and a level-3
+    /// Menger sponge — side by side.
+    fn environment(&mut self) -> Result<()> {
+        use crate::scene::{compose, flora, menger, smoke};
+        let start = Instant::now();
+        let scene = compose::compose(&compose::SceneParams { seed: 7, ..Default::default() })?;
+        let glb = self.path("scene.glb");
+        crate::io::glb_scene::write_scene_glb(&scene.glb(), &glb)?;
+        self.written.push(glb);
+        self.picture(&render(&scene.still(), &scene.preview_options(VIEW.0 * 2, VIEW.1 * 2))?, "scene.png")?;
+        let mut parts = Vec::new();
+        for (preset, name) in [
+            (flora::FloraPreset::Cottonwood, "flora-cottonwood.ply"),
+            (flora::FloraPreset::Palm, "flora-palm.ply"),
+            (flora::FloraPreset::Flower, "flora-flower.ply"),
+        ] {
+            let plant = flora::plant(&preset.rules(), 3, 8)?.mesh();
+            self.mesh(&plant, name)?;
+            parts.push(plant);
+        }
+        let puff = smoke::smoke_frames(smoke::SmokeParams::default(), 40, 1, 1)?.remove(0);
+        self.mesh(&puff, "smoke.ply")?;
+        parts.push(puff);
+        let sponge = menger::menger_sponge(3, 1.0)?;
+        self.mesh(&sponge, "menger-3.ply")?;
+        parts.push(sponge);
+        let views = parts
+            .iter()
+            .map(|m| view(m, (PANEL.0 * 3 / 4, PANEL.1), UpAxis::Z, ColorSource::Attribute, Mode::Faces, false))
+            .collect::<Result<Vec<_>>>()?;
+        self.picture(&Picture::side_by_side(&views, 8, WHITE)?, "scene-generators.png")?;
+        self.line(|| {
+            format!(
+                "scene: seed 7 => {} plants, {} frames => {}/scene.glb, scene.png, scene-generators.png in {} ms",
+                scene.placements.len(),
+                scene.params.frames,
                 self.out.display(),
                 super::millis(start)
             )

@@ -162,7 +162,7 @@ pub fn compose(params: &SceneParams) -> Result<Scene> {
                         .map(|&(preset, k)| plant(&preset.rules(), params.seed.wrapping_add(k), 8).map(|p| p.mesh()))
                         .collect::<Result<Vec<_>>>()
                 },
-                || smoke_frames(SmokeParams { seed: params.seed, resolution: 56, ..SmokeParams::default() }, 40, 1, frames),
+                || smoke_frames(SmokeParams { seed: params.seed, resolution: 40, ..SmokeParams::default() }, 40, 1, frames),
             )
         },
         || {
@@ -377,6 +377,19 @@ impl Scene {
         let rate = fps * self.butterfly_steps_per_frame as f64;
         add_butterflies(&mut doc, &self.flights, self.butterfly_box, rate, None);
         doc
+    }
+
+    /// How a still of the scene is drawn: a high three-quarter view with the water at sea
+    /// level (see [`crate::render::water`]).
+    pub fn preview_options(&self, width: usize, height: usize) -> crate::render::RenderOptions {
+        crate::render::RenderOptions {
+            width,
+            height,
+            yaw_deg: 30.0,
+            pitch_deg: 28.0,
+            water: Some(crate::render::WaterView { level: self.sea_level, clarity: 0.01 }),
+            ..Default::default()
+        }
     }
 
     /// Frame 0 as one coloured mesh in world coordinates, without the water (the renderer

@@ -66,15 +66,7 @@ pub fn run(args: SceneArgs, ctx: super::super::Context) -> Result<()> {
     let doc = scene.glb();
     crate::io::glb_scene::write_scene_glb(&doc, &args.output)?;
     if let Some(preview) = &args.preview {
-        let options = crate::render::RenderOptions {
-            width: 1200,
-            height: 800,
-            yaw_deg: 30.0,
-            pitch_deg: 28.0,
-            water: Some(crate::render::WaterView { level: scene.sea_level, clarity: 0.01 }),
-            ..Default::default()
-        };
-        crate::render::render(&scene.still(), &options)?.write_png(preview)?;
+        crate::render::render(&scene.still(), &scene.preview_options(1200, 800))?.write_png(preview)?;
     }
     let triangles: usize = doc.meshes.iter().map(|m| m.mesh.face_count()).sum();
     ctx.report(

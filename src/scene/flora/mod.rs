@@ -65,6 +65,9 @@ pub enum Arrangement {
 pub struct LeafStyle {
     /// Leaf length.
     pub size: f64,
+    /// Half the leaf's width, relative to its length.
+    #[serde(default = "default_leaf_width")]
+    pub width: f64,
     /// Leaves per leaf node.
     pub count: u32,
     /// Leaf colour.
@@ -73,6 +76,10 @@ pub struct LeafStyle {
     pub droop: f64,
     /// Placement.
     pub arrangement: Arrangement,
+}
+
+fn default_leaf_width() -> f64 {
+    0.18
 }
 
 /// One child a production makes: its symbol, and ranges its annotations are drawn from.
@@ -159,8 +166,8 @@ impl FloraRules {
             return Err("length, radius and taper must be positive".into());
         }
         let leaf = &self.leaf;
-        if !positive(leaf.size) || leaf.count > 1000 || !(0.0..=180.0).contains(&leaf.droop) {
-            return Err("leaf: size must be positive, count at most 1000, droop 0 to 180 degrees".into());
+        if !positive(leaf.size) || !positive(leaf.width) || leaf.count > 1000 || !(0.0..=180.0).contains(&leaf.droop) {
+            return Err("leaf: size and width must be positive, count at most 1000, droop 0 to 180 degrees".into());
         }
         for (symbol, productions) in &self.rules {
             if productions.is_empty() || productions.iter().any(|p| !positive(p.weight)) {
@@ -343,7 +350,7 @@ fn leaves(nodes: &[Node], rules: &FloraRules, seed: u64) -> Mesh {
                 * DQuat::from_rotation_x((style.droop + draw.uniform(-8.0, 8.0)).to_radians());
             let (axis, side) = (frame * DVec3::Z, frame * DVec3::X);
             let base = node.base + node.axis() * node.length * along;
-            let half_width = 0.18 * style.size;
+            let half_width = style.width * style.size;
             let start = mesh.positions.len() as u32;
             mesh.positions.extend([
                 base,
