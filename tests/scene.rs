@@ -83,7 +83,16 @@ fn flags_outside_their_mode_and_bad_rules_are_refused() {
     refused(dir, &["flora", "--rules", "bad.toml", "-o", "p.ply"], "bad.toml");
     refused(dir, &["flora", "--rules", "bad.toml", "-o", "p.ply"], "line 3");
     refused(dir, &["render", "x.ply", "-o", "x.png", "--water-clarity", "0.1"], "--water-level");
-    assert!(!dir.join("p.ply").exists() && !dir.join("s.ply").exists(), "no output file on refusal");
+    // Sizes that would exhaust memory are refused before any work.
+    refused(dir, &["butterflies", "--count", "10000", "--steps", "1000000", "-o", "b.glb"], "keyframes");
+    refused(dir, &["smoke", "--resolution", "512", "--radius", "0.5", "-o", "s.glb"], "at most");
+    let greedy = asperity::scene::flora::FloraPreset::Cottonwood.text().replace("count = 7", "count = 1000").replace("depth = 6", "depth = 14");
+    std::fs::write(dir.join("greedy.toml"), greedy).unwrap();
+    refused(dir, &["flora", "--rules", "greedy.toml", "-o", "g.ply"], "leaves");
+    refused(dir, &["scene", "--frames", "100000", "-o", "s.glb"], "frames");
+    for never in ["p.ply", "s.ply", "s.glb", "b.glb", "g.ply"] {
+        assert!(!dir.join(never).exists(), "no output file on refusal: {never}");
+    }
 }
 
 #[test]

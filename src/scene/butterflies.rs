@@ -55,6 +55,12 @@ impl ButterflyParams {
         if !(1..=10_000).contains(&self.count) || !(1..=1_000_000).contains(&self.steps) {
             return Err(Error::InvalidInput("butterflies: 1 to 10000 butterflies and 1 to 10⁶ steps".into()));
         }
+        if self.count * self.steps > 10_000_000 {
+            return Err(Error::InvalidInput(format!(
+                "butterflies: {} butterflies × {} steps exceed 10⁷ keyframes",
+                self.count, self.steps
+            )));
+        }
         if !(positive(self.speed) && positive(self.catch_radius) && self.wander.is_finite() && self.wander >= 0.0) {
             return Err(Error::InvalidInput("butterflies: speed and catch radius positive, wander at least 0".into()));
         }

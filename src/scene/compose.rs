@@ -74,8 +74,8 @@ impl SceneParams {
         if self.trees > 10_000 || !(0.0..=90.0).contains(&self.max_slope_deg) {
             return bad("at most 10000 trees, maximum slope 0 to 90 degrees");
         }
-        if !((1..=1000).contains(&self.frames) && self.fps.is_finite() && self.fps > 0.0) {
-            return bad("1 to 1000 frames at a positive frame rate");
+        if !((1..=240).contains(&self.frames) && self.fps.is_finite() && self.fps > 0.0) {
+            return bad("1 to 240 frames at a positive frame rate");
         }
         if self.butterflies > 1000 {
             return bad("at most 1000 butterflies");

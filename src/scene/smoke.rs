@@ -104,6 +104,14 @@ impl SmokeParams {
         if !(8..=512).contains(&self.resolution) {
             return bad("resolution", "8 to 512 grid points per unit");
         }
+        // Particles stay in the unit cube: the grid spans it plus every blob's reach.
+        let side = ((1.0 + 2.0 * self.reach()) * self.resolution as f64).ceil() + 6.0;
+        if side.powi(3) > MAX_GRID_POINTS as f64 {
+            return Err(Error::InvalidInput(format!(
+                "smoke grid of {side}³ points (radius {}, blobbiness {}, resolution {}): at most {MAX_GRID_POINTS}; lower the resolution or the radius",
+                self.radius, self.blobbiness, self.resolution
+            )));
+        }
         Ok(())
     }
 
@@ -113,6 +121,9 @@ impl SmokeParams {
         self.radius * (1.0 + 1000f64.ln() / self.blobbiness).sqrt()
     }
 }
+
+/// The most grid points a metaball surface is sampled on (2²⁶: half a gigabyte of values).
+pub const MAX_GRID_POINTS: usize = 1 << 26;
 
 /// One smoke particle.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -188,7 +199,10 @@ impl ParticleSystem {
     }
 
     /// The metaball surface of the particles now.
-    pub fn surface(&self) -> (Mesh, Visited) {
+    ///
+    /// # Errors
+    /// As [`metaball_surface`] (not for particles in the unit cube with checked parameters).
+    pub fn surface(&self) -> Result<(Mesh, Visited)> {
         metaball_surface(&self.particles.iter().map(|q| q.position).collect::<Vec<_>>(), &self.params)
     }
 }
@@ -196,16 +210,30 @@ impl ParticleSystem {
 /// Blinn's metaball surface of blobs at `centres` (radius and blobbiness from `params`),
 /// on a grid of `params.resolution` points per unit that covers every blob's reach, so the
 /// surface is closed. Only the cubes within some blob's reach are visited.
-pub fn metaball_surface(centres: &[DVec3], params: &SmokeParams) -> (Mesh, Visited) {
+///
+/// # Errors
+/// [`Error::InvalidInput`] for non-finite centres or a grid of more than
+/// [`MAX_GRID_POINTS`].
+pub fn metaball_surface(centres: &[DVec3], params: &SmokeParams) -> Result<(Mesh, Visited)> {
     if centres.is_empty() {
-        return (Mesh::default(), Visited::default());
+        return Ok((Mesh::default(), Visited::default()));
+    }
+    if !centres.iter().all(|c| c.is_finite()) {
+        return Err(Error::InvalidInput("metaball centres must be finite".into()));
     }
     let reach = params.reach();
     let spacing = 1.0 / params.resolution as f64;
     let (lo, hi) = centres.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), &c| (a.min(c), b.max(c)));
     let origin = lo - DVec3::splat(reach + 2.0 * spacing);
     let far = hi + DVec3::splat(reach + 2.0 * spacing);
-    let dims = ((far - origin) / spacing).ceil().as_uvec3().to_array().map(|d| d as usize + 1);
+    let extent = ((far - origin) / spacing).ceil();
+    if extent.x * extent.y * extent.z > MAX_GRID_POINTS as f64 {
+        return Err(Error::InvalidInput(format!(
+            "the metaballs span {}×{}×{} grid points: at most {MAX_GRID_POINTS}",
+            extent.x, extent.y, extent.z
+        )));
+    }
+    let dims = extent.as_uvec3().to_array().map(|d| d as usize + 1);
     let mut grid = ScalarGrid::zeros(origin, spacing, dims);
     let mut near = vec![false; grid.values.len()];
     let (b, inverse_r2) = (params.blobbiness, 1.0 / (params.radius * params.radius));
@@ -238,7 +266,7 @@ pub fn metaball_surface(centres: &[DVec3], params: &SmokeParams) -> (Mesh, Visit
         }
     }
     let cubes: Vec<usize> = (0..cube.len()).filter(|&i| cube[i]).collect();
-    marching_tetrahedra(&grid, 1.0, &cubes)
+    Ok(marching_tetrahedra(&grid, 1.0, &cubes))
 }
 
 /// Runs the system for `warmup` steps, then returns one surface every `steps_per_frame`
@@ -261,7 +289,7 @@ pub fn smoke_frames(params: SmokeParams, warmup: usize, steps_per_frame: usize, 
                 system.step();
             }
         }
-        out.push(system.surface().0);
+        out.push(system.surface()?.0);
     }
     Ok(out)
 }
@@ -313,7 +341,7 @@ mod tests {
     fn one_metaball_is_a_closed_sphere_of_its_radius_within_one_percent() {
         let params = SmokeParams { radius: 0.2, resolution: 64, ..SmokeParams::default() };
         let centre = DVec3::new(0.5, 0.5, 0.3);
-        let (mesh, visited) = metaball_surface(&[centre], &params);
+        let (mesh, visited) = metaball_surface(&[centre], &params).unwrap();
         let report = mesh.validate();
         assert!(report.is_closed_manifold(), "{report:?}");
         assert_eq!(report.genus, Some(0));
@@ -350,6 +378,7 @@ mod tests {
             SmokeParams { rise: 0.0, ..SmokeParams::default() },
             SmokeParams { dt: f64::NAN, ..SmokeParams::default() },
             SmokeParams { resolution: 2, ..SmokeParams::default() },
+            SmokeParams { resolution: 512, radius: 0.5, ..SmokeParams::default() },
         ] {
             assert!(ParticleSystem::new(bad).is_err(), "{bad:?}");
         }

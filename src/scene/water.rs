@@ -108,6 +108,11 @@ impl Floor {
         self.heights[y * self.cols + x]
     }
 
+    /// Grid points.
+    pub fn point_count(&self) -> usize {
+        self.heights.len()
+    }
+
     /// The grid point's position in the plane.
     pub fn point(&self, x: usize, y: usize) -> DVec2 {
         self.lo + DVec2::new(x as f64, y as f64) * self.step

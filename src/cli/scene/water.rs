@@ -9,6 +9,9 @@ use clap::Args;
 use crate::error::{Error, Result};
 use crate::scene::water::{WaterParams, opacity, surface_on, water_floor, waves_from_seed};
 
+/// The most water vertices written over all frames.
+const MAX_VERTICES: usize = 1 << 25;
+
 /// The subcommand's flags.
 #[derive(Debug, Args)]
 pub struct WaterArgs {
@@ -64,6 +67,14 @@ pub fn run(args: WaterArgs, ctx: super::super::Context) -> Result<()> {
         clarity: args.clarity * extent,
     };
     let floor = water_floor(&terrain, &params).map_err(|e| e.about_file(&args.input))?;
+    let vertices = floor.point_count() * args.frames;
+    if vertices > MAX_VERTICES {
+        return Err(Error::InvalidInput(format!(
+            "water: {} frames of {} vertices exceed {MAX_VERTICES} vertices: lower --cells or --frames",
+            args.frames,
+            floor.point_count()
+        )));
+    }
     let frames: Vec<_> = (0..args.frames).map(|k| surface_on(&floor, &params, k as f64 / fps)).collect();
     let clarity = params.clarity;
     let opacity = |m: &crate::mesh::Mesh| m.scalars["depth"].iter().map(|&d| opacity(d, clarity) as f32).collect();

@@ -21,6 +21,9 @@ use crate::noise::hash::{Stream, derive_seed};
 /// The most nodes a plant may have (rules that grow past it are refused).
 pub const MAX_NODES: usize = 200_000;
 
+/// The most leaves a plant may have.
+pub const MAX_LEAVES: usize = 4_000_000;
+
 /// A named preset: the seed's cottonwood, palm and flower.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -321,6 +324,13 @@ pub fn plant(rules: &FloraRules, seed: u64, sides: u32) -> Result<Plant> {
         return Err(Error::InvalidInput(format!("{sides} sides per branch ring: use 3 to 64")));
     }
     let nodes = grow(rules, seed)?;
+    let leaf_nodes = nodes.iter().filter(|n| n.children.is_empty()).count();
+    if leaf_nodes * rules.leaf.count as usize > MAX_LEAVES {
+        return Err(Error::InvalidInput(format!(
+            "{leaf_nodes} leaf nodes × {} leaves exceed {MAX_LEAVES} leaves: lower the depth or the leaf count",
+            rules.leaf.count
+        )));
+    }
     let branches = tube::branches(&nodes, rules, sides);
     let leaves = leaves(&nodes, rules, seed);
     if branches.triangles.is_empty() && leaves.triangles.is_empty() {
