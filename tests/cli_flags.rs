@@ -133,6 +133,22 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     add("render", "--water-level", &r, &["--water-level", "0"]);
     let rw = ["render", &eight, "-o", "r.png", "--size", "64,48", "--water-level", "0"];
     add("render", "--water-clarity", &rw, &["--water-clarity", "0.5"]);
+    // refine: the eight's upper half at full resolution
+    let half = "half_space = { axis = \"z\", above = 0.5 }";
+    let rf = ["refine", &eight, "--region", half, "-o", "rf.ply"];
+    add("refine", "--region", &rf, &["--region", "half_space = { axis = \"z\", above = 0.7 }"]);
+    add("refine", "--base-level", &rf, &["--base-level", "12"]);
+    let independent = "independent = { exclusion = 3, shuffle = true }";
+    add("refine", "--seed", &["refine", &eight, "--region", independent, "-o", "rf.ply"], &["--seed", "5"]);
+    add("refine", "--target-vertices", &rf, &["--target-vertices", "150"]);
+    add("refine", "--levels", &rf, &["--levels", "2"]);
+    add("refine", "--max-error", &rf, &["--max-error", "0.001"]);
+    add("refine", "--removal-weight", &rf, &["--removal-weight", "0.1"]);
+    add("refine", "--swap-weight", &rf, &["--swap-weight", "3"]);
+    add("refine", "--no-intersection-guard", &rf, &["--no-intersection-guard"]);
+    let rff = ["refine", &fandisk, "--region", half, "-o", "rf.ply", "--target-vertices", "400"];
+    add("refine", "--keep-features", &rff, &["--keep-features", "none"]);
+    add("refine", "--feature-vertices", &rff, &["--feature-vertices", "keep"]);
     // seed 002's generators
     let rules = |name: &str| Path::new(env!("CARGO_MANIFEST_DIR")).join("src/scene/flora").join(name).display().to_string();
     let (palm_rules, flower_rules) = (rules("palm.toml"), rules("flower.toml"));
@@ -317,6 +333,7 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
         ("convert", owned(&["convert", &broken, "v.off"])),
         ("detail", owned(&["detail", &broken, "-o", "d.ply"])),
         ("info", owned(&["info", &broken, "--json"])),
+        ("refine", owned(&["refine", &broken, "--region", "box = { min = [0, 0, 0], max = [1, 1, 1] }", "-o", "rf.ply"])),
         // The picture of a repaired mesh can look the same: the report says what changed.
         ("render", owned(&["render", &broken, "-o", "r.png", "--size", "64,48", "--json"])),
         ("simplify", owned(&["simplify", &broken, "-o", "s.ply"])),
@@ -327,6 +344,7 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
         ("analyze", owned(&["analyze", "in.ply", "-o", "in.ply"])),
         ("convert", owned(&["convert", "in.ply", "in.ply"])),
         ("detail", owned(&["detail", "in.ply", "-o", "in.ply"])),
+        ("refine", owned(&["refine", "in.ply", "--region", "box = { min = [0, 0, 0], max = [1, 1, 1] }", "-o", "in.ply"])),
         ("simplify", owned(&["simplify", "in.ply", "-o", "in.ply"])),
     ] {
         fixes(sub, "--force", base);

@@ -16,6 +16,7 @@ mod interrupt;
 mod io_roundtrip;
 mod noise;
 mod readme;
+mod region;
 mod render;
 mod scene;
 mod repair;

@@ -11,6 +11,7 @@ mod info;
 pub mod input;
 pub mod noise;
 mod parse;
+pub mod refine;
 pub mod render;
 mod report;
 pub mod scene;
@@ -64,6 +65,8 @@ enum Command {
     Menger(scene::menger::MengerArgs),
     /// Write a noise image (Perlin family or Gabor) as 16-bit PNG or raw f32.
     Noise(noise::NoiseArgs),
+    /// Refine a region to full resolution and leave the rest at a coarser level (§4.6).
+    Refine(refine::RefineArgs),
     /// Draw a mesh as a PNG: shaded faces, wireframe or points (software rasteriser).
     Render(render::RenderArgs),
     /// Seed 002's environment — terrain, water, trees, cabin, smoke, butterflies — as one
@@ -181,6 +184,7 @@ fn dispatch(cli: Cli) -> Result<()> {
         Command::Convert(args) => convert::run(args, ctx),
         Command::Demo(args) => demo::run(args, ctx),
         Command::Detail(args) => detail::run(args, ctx),
+        Command::Refine(args) => refine::run(args, ctx),
         Command::Render(args) => render::run(args, ctx),
         Command::Simplify(args) => simplify::run(args, ctx),
         Command::Noise(args) => noise::run(args, ctx),

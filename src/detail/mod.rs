@@ -130,6 +130,22 @@ struct RunState {
     frozen: Vec<bool>,
 }
 
+/// The input vertices a selection picks, evaluated on the input itself (its own frame,
+/// curvatures and feature classes): the region of [`crate::hierarchy::region::refine_region`].
+///
+/// # Errors
+/// As [`select`]; analysis errors when the selection asks for feature classes.
+pub fn input_selection(input: &Mesh, selection: &Selection, seed: u64) -> Result<Vec<bool>> {
+    let classes = if selection.features.is_some() {
+        analyze(input, &AnalysisOptions::default())?.classes
+    } else {
+        Vec::new()
+    };
+    let ids = (0..input.vertex_count() as u32).collect();
+    let view = LevelView::new(0, 0, LevelMesh { mesh: input.clone(), ids });
+    select(selection, &view, &BoxFrame::of(input), &classes, seed)
+}
+
 /// Applies `recipe` to an already built hierarchy of `input`.
 ///
 /// # Errors

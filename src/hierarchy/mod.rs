@@ -18,6 +18,7 @@ mod lines;
 mod param;
 mod record;
 mod refine;
+pub mod region;
 mod rings;
 mod simplify;
 

@@ -70,14 +70,32 @@ pub struct LevelReport {
     pub level: usize,
     /// Vertices inserted.
     pub inserted: usize,
-    /// Of those, inserted through the neighbour search (their face was gone).
+    /// Of those, inserted through the neighbour search (their face was gone): Algorithm 2
+    /// over the edges around their parameter face.
     pub relocated: usize,
+    /// Of those, placed farther out because the nearest edge overlapped (Fig. 4.10): the
+    /// nearest edge one ring further whose split does not overlap.
+    pub widened: usize,
     /// Vertices left out (not selected, or no face near them).
     pub skipped: usize,
     /// Degree-fix flips.
     pub flips: usize,
+    /// Of those, Algorithm 3's: the link edge opposite the widest angle (the others flip
+    /// back the recorded ring).
+    pub widest_flips: usize,
     /// Inserted vertices whose level degree could not be restored.
     pub degree_misses: usize,
+}
+
+/// How an inserted vertex's edge was found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Placement {
+    /// The recorded weld diagonal (the exact replay).
+    Recorded,
+    /// Algorithm 2: the nearest interior edge around the parameter face.
+    Searched,
+    /// The nearest edge one ring further, the nearest one overlapping (Fig. 4.10).
+    Widened,
 }
 
 /// Walks a hierarchy from its base domain towards the input, one level at a time.
@@ -235,10 +253,12 @@ impl<'h> Refiner<'h> {
                 continue;
             }
             let point = self.insertion_point(r);
-            let Some((edge, relocated)) = self.insertion_edge(r, point) else {
+            let Some((edge, placement)) = self.insertion_edge(r, point) else {
                 report.skipped += 1;
                 continue;
             };
+            let relocated = placement != Placement::Recorded;
+            report.widened += usize::from(placement == Placement::Widened);
             match r.boundary {
                 true => self.rings.split_boundary(edge[0], edge[1], r.vertex)?,
                 false => self.rings.split(edge[0], edge[1], r.vertex)?,
@@ -285,20 +305,38 @@ impl<'h> Refiner<'h> {
         if shift == DVec3::ZERO { original } else { original + shift }
     }
 
-    /// The edge to split and whether the neighbour search chose it: the weld's diagonal
-    /// while the recorded face exists, else the nearest interior edge around it
-    /// (Algorithm 2 over the neighbouring faces, with the overlap check of Fig. 4.10).
-    fn insertion_edge(&self, r: &Removal, point: DVec3) -> Option<([u32; 2], bool)> {
+    /// The edge to split and how it was found: the weld's diagonal while the recorded face
+    /// exists, else the nearest interior edge around it (Algorithm 2 over the neighbouring
+    /// faces); when that split would overlap (Fig. 4.10), the nearest edge one ring
+    /// further out whose split does not.
+    fn insertion_edge(&self, r: &Removal, point: DVec3) -> Option<([u32; 2], Placement)> {
         let f = r.local.face;
         if self.rings.has_face(f[0], f[1], f[2]) && self.rings.has_edge(r.diagonal[0], r.diagonal[1]) {
-            return Some((r.diagonal, false));
+            return Some((r.diagonal, Placement::Recorded));
         }
         if r.boundary {
             // Moved inside, a boundary vertex would change the boundary: it waits.
             return None;
         }
-        let edge = self.nearest_interior_edge(&f, point)?;
-        (!self.overlaps(edge, point)).then_some((edge, true))
+        if self.rings.has_face(f[0], f[1], f[2]) {
+            // Algorithm 2 in its own words: the parameter face's edge nearest the point.
+            let i = super::cluster::nearest_edge(f.map(|v| self.positions[v as usize]), point);
+            let (a, b) = (f[i], f[(i + 1) % 3]);
+            let interior = self.rings.left_of(a, b).is_some() && self.rings.right_of(a, b).is_some();
+            if interior && !self.overlaps([a, b], point) {
+                return Some(([a.min(b), a.max(b)], Placement::Searched));
+            }
+        }
+        let around: Vec<u32> = f.iter().copied().filter(|&u| self.present[u as usize]).collect();
+        let edge = self.nearest_interior_edge(&around, point, |_| true)?;
+        if !self.overlaps(edge, point) {
+            return Some((edge, Placement::Searched));
+        }
+        let mut wider: Vec<u32> = around.iter().flat_map(|&u| self.rings.ring(u).iter().copied()).collect();
+        wider.extend(&around);
+        wider.sort_unstable();
+        wider.dedup();
+        self.nearest_interior_edge(&wider, point, |e| !self.overlaps(e, point)).map(|e| (e, Placement::Widened))
     }
 
     /// Fig. 4.10: the insertion overlaps when the point is farther from the split edge's
@@ -314,17 +352,20 @@ impl<'h> Refiner<'h> {
         point.distance((p(a) + p(b)) * 0.5) > longest
     }
 
-    /// The interior edge nearest `point` among the edges around the present vertices of
-    /// `face` (ties by vertex ids).
-    fn nearest_interior_edge(&self, face: &[u32; 3], point: DVec3) -> Option<[u32; 2]> {
+    /// The interior edge nearest `point` among the edges around the (present) vertices
+    /// `around` that `fits` accepts (ties by vertex ids).
+    fn nearest_interior_edge(&self, around: &[u32], point: DVec3, fits: impl Fn([u32; 2]) -> bool) -> Option<[u32; 2]> {
         let mut best: Option<(f64, [u32; 2])> = None;
-        for &u in face.iter().filter(|&&u| self.present[u as usize]) {
+        for &u in around {
             for &x in self.rings.ring(u) {
                 if self.rings.left_of(u, x).is_none() || self.rings.right_of(u, x).is_none() {
                     continue;
                 }
-                let d = point_segment_distance_squared(point, self.positions[u as usize], self.positions[x as usize]);
                 let key = [u.min(x), u.max(x)];
+                if !fits(key) {
+                    continue;
+                }
+                let d = point_segment_distance_squared(point, self.positions[u as usize], self.positions[x as usize]);
                 if best.is_none_or(|(bd, bk)| d < bd || (d == bd && key < bk)) {
                     best = Some((d, key));
                 }
@@ -352,6 +393,7 @@ impl<'h> Refiner<'h> {
                 let wanted = recorded.next().and_then(|&[a, x]| {
                     (0..links).find(|&j| ring[j] == a && self.rings.right_of(a, link(j).1) == Some(x))
                 });
+                let widest = wanted.is_none();
                 let chosen = wanted.or_else(|| {
                     (!r.boundary)
                         .then(|| {
@@ -370,6 +412,7 @@ impl<'h> Refiner<'h> {
                 };
                 self.rings.flip(a, b)?;
                 flips.push([a, b]);
+                report.widest_flips += usize::from(widest);
             }
         }
         Ok(flips)
