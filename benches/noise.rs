@@ -1,6 +1,8 @@
 //! Noise throughput measured side by side with the `noise` crate in one run, printing
 //! ratios (issue #3's targets: Perlin and 8-octave fBm ≥ 4× faster than `noise`, 2D Gabor
-//! at 64 impulses per kernel ≥ 2 M samples/s per core, batches ≥ 1.8× faster on 2 threads).
+//! at 64 impulses per kernel ≥ 2 M samples/s per core, batches ≥ 1.8× faster on 2 threads;
+//! issue #26's: the batch paths ≥ 10× `noise::Perlin` and ≥ 5× `noise::Fbm`, each row
+//! naming the path it times, and the surface Gabor noise the operators evaluate).
 //!
 //! `cargo bench --bench noise`
 
@@ -46,10 +48,23 @@ fn main() {
         black_box(s);
     });
     println!(
-        "perlin 3d: {:.1} ns/sample | noise::Perlin {:.1} ns ({:.1}x)",
+        "perlin 3d, scalar (Perlin::sample3): {:.1} ns/sample | noise::Perlin {:.1} ns ({:.1}x)",
         t_ours / n * 1e9,
         t_theirs / n * 1e9,
         t_theirs / t_ours
+    );
+    let mut out = vec![0.0; distinct.len()];
+    let t_batch = best_of(|| {
+        for _ in 0..sweeps {
+            ours.sample3_batch(black_box(&distinct), &mut out);
+        }
+        black_box(&out);
+    });
+    println!(
+        "perlin 3d, batch (Perlin::sample3_batch, one core): {:.1} ns/sample | noise::Perlin {:.1} ns ({:.1}x; target >= 10x)",
+        t_batch / n * 1e9,
+        t_theirs / n * 1e9,
+        t_theirs / t_batch
     );
 
     let fbm = Fractal { kind: FractalKind::Fbm, octaves: 8, ..Fractal::default() };
@@ -72,19 +87,50 @@ fn main() {
     });
     let m = few.len() as f64;
     println!(
-        "fbm 3d, 8 octaves: {:.1} ns/sample | noise::Fbm<Perlin> {:.1} ns ({:.1}x)",
+        "fbm 3d, 8 octaves, scalar (Fractal::eval): {:.1} ns/sample | noise::Fbm<Perlin> {:.1} ns ({:.1}x)",
         t_ours / m * 1e9,
         t_theirs / m * 1e9,
         t_theirs / t_ours
+    );
+    let mut fbm_out = vec![0.0; few.len()];
+    let t_batch = best_of(|| {
+        fbm.fbm_batch(&ours, black_box(&few), &mut fbm_out);
+        black_box(&fbm_out);
+    });
+    println!(
+        "fbm 3d, 8 octaves, batch (Fractal::fbm_batch, one core): {:.1} ns/sample | noise::Fbm<Perlin> {:.1} ns ({:.1}x; target >= 5x)",
+        t_batch / m * 1e9,
+        t_theirs / m * 1e9,
+        t_theirs / t_batch
     );
 
     let gabor = NoiseField::new(&NoiseSpec { kind: NoiseKind::Gabor, ..NoiseSpec::default() }).expect("gabor");
     let side = 1024;
     let t = single_thread(|| best_of(|| drop(black_box(gabor.grid2(0.0, 0.0, 1.0, side, side)))));
     println!(
-        "gabor 2d, 64 impulses/kernel, one core: {:.2} M samples/s ({:.0} ns/sample)",
+        "gabor 2d grid (NoiseField::grid2 -> Gabor::fill_grid2), 64 impulses/kernel, one core: {:.2} M samples/s ({:.0} ns/sample)",
         (side * side) as f64 / t / 1e6,
         t / (side * side) as f64 * 1e9
+    );
+
+    // The path the detail operators take: surface Gabor noise at mesh vertices, each with
+    // its tangent frame (NoiseField::sample3_batch -> Gabor::sample3).
+    let sphere = asperity::mesh::primitives::icosphere(1.0, 5);
+    let frames: Vec<asperity::noise::Frame> = sphere
+        .positions
+        .iter()
+        .map(|p| {
+            let n = p.normalize();
+            let tangent = n.any_orthonormal_vector();
+            asperity::noise::Frame { tangent, bitangent: n.cross(tangent) }
+        })
+        .collect();
+    let scaled: Vec<DVec3> = sphere.positions.iter().map(|p| *p * 20.0).collect();
+    let t = single_thread(|| best_of(|| drop(black_box(gabor.sample3_batch(&scaled, &frames)))));
+    println!(
+        "gabor surface (NoiseField::sample3_batch -> Gabor::sample3, the operators' path), one core: {:.2} M samples/s ({:.0} ns/sample)",
+        scaled.len() as f64 / t / 1e6,
+        t / scaled.len() as f64 * 1e9
     );
 
     let turbulence =

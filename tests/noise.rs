@@ -447,3 +447,30 @@ fn phasor_profiles_and_k() {
         assert!((b - 0.5 * a).abs() < 1e-12, "K scales phasor noise: {b} vs {a}");
     }
 }
+
+#[test]
+fn batch_perlin_and_fbm_equal_the_scalar_path_bit_for_bit() {
+    let mut rng = Stream::new(9);
+    // 1027 points: whole batches and a remainder; coordinates near and far from 0.
+    let points: Vec<DVec3> = (0..1027)
+        .map(|i| {
+            let r = if i % 3 == 0 { 1e5 } else { 50.0 };
+            DVec3::new(rng.uniform(-r, r), rng.uniform(-r, r), rng.uniform(-r, r))
+        })
+        .collect();
+    for perlin in [Perlin::new(4), Perlin::reference()] {
+        let mut out = vec![0.0; points.len()];
+        perlin.sample3_batch(&points, &mut out);
+        for (p, v) in points.iter().zip(&out) {
+            assert_eq!(v.to_bits(), perlin.sample3(*p).to_bits(), "{perlin:?} at {p}");
+        }
+        for octaves in [1, 7, 8] {
+            let fbm = Fractal { kind: FractalKind::Fbm, octaves, ..Fractal::default() };
+            fbm.fbm_batch(&perlin, &points, &mut out);
+            for (p, v) in points.iter().zip(&out) {
+                let scalar = fbm.eval(p.x, ScaledPerlin { perlin: &perlin, point: *p });
+                assert_eq!(v.to_bits(), scalar.to_bits(), "{octaves} octaves at {p}");
+            }
+        }
+    }
+}

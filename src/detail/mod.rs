@@ -134,7 +134,7 @@ struct RunState {
 /// curvatures and feature classes): the region of [`crate::hierarchy::region::refine_region`].
 ///
 /// # Errors
-/// As [`select`]; analysis errors when the selection asks for feature classes.
+/// As [`select()`]; analysis errors when the selection asks for feature classes.
 pub fn input_selection(input: &Mesh, selection: &Selection, seed: u64) -> Result<Vec<bool>> {
     let classes = if selection.features.is_some() {
         analyze(input, &AnalysisOptions::default())?.classes

@@ -90,6 +90,52 @@ impl Fractal {
         }
     }
 
+    /// fBm of 3D Perlin noise (the [`FractalKind::Fbm`] sum whatever `self.kind`) at every
+    /// point of `points` into `out`: each octave evaluated on four points at a time through
+    /// [`Perlin::sample3_lanes`], frequencies and sums formed in the order [`Fractal::eval`]
+    /// forms them, so every value equals `eval` with a [`ScaledPerlin`] bit for bit.
+    ///
+    /// # Panics
+    /// If `out` and `points` differ in length.
+    pub fn fbm_batch(&self, perlin: &Perlin, points: &[DVec3], out: &mut [f64]) {
+        assert_eq!(points.len(), out.len(), "one output per point");
+        let octaves = self.octaves.max(1);
+        let frequencies = self.frequencies(octaves, 1.0);
+        const L: usize = super::perlin::BATCH_LANES;
+        let mut chunks = points.chunks_exact(L);
+        let mut outs = out.chunks_exact_mut(L);
+        for (p, o) in (&mut chunks).zip(&mut outs) {
+            let (mut sum, mut amplitude) = ([0.0; L], 1.0);
+            for &s in &frequencies {
+                let n = perlin.sample3_lanes::<L>(std::array::from_fn(|l| p[l] * s));
+                for l in 0..L {
+                    sum[l] += amplitude * n[l];
+                }
+                amplitude *= self.gain;
+            }
+            o.copy_from_slice(&sum);
+        }
+        for (p, o) in chunks.remainder().iter().zip(outs.into_remainder()) {
+            *o = self.fbm(octaves, 1.0, &ScaledPerlin { perlin, point: *p });
+        }
+    }
+
+    /// The frequencies [`Fractal::octave_values`] visits, in order (the same running
+    /// product).
+    fn frequencies(&self, octaves: u32, base: f64) -> Vec<f64> {
+        let mut out = Vec::with_capacity(octaves as usize);
+        let mut frequency = base;
+        for _ in 0..octaves / 2 {
+            let pair = [frequency, frequency * self.lacunarity];
+            frequency = pair[1] * self.lacunarity;
+            out.extend(pair);
+        }
+        if octaves % 2 == 1 {
+            out.push(frequency);
+        }
+        out
+    }
+
     /// Calls `consume` with the basis at frequencies base·λⁱ, i = 0..octaves, in order.
     /// The frequencies are the running product (as a plain loop would compute them) and
     /// the basis is asked two octaves at a time, so the two evaluations overlap.

@@ -79,7 +79,7 @@ pub struct RenderOptions {
 }
 
 /// A water plane of the picture: perpendicular to the up axis at `level` over the mesh's
-/// extent, drawn by [`water::blend`]'s Fresnel mix of sky and what lies below.
+/// extent, drawn as a Fresnel mix of sky and what lies below ([`water::fresnel`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WaterView {
     /// Height along the up axis, in the mesh's units.
