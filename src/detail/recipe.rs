@@ -7,7 +7,7 @@ use std::path::Path;
 use serde::Deserialize;
 
 use crate::analysis::FeatureClass;
-use crate::error::{Error, Location, Result};
+use crate::error::Result;
 use crate::noise::NoiseKind;
 
 /// A parsed recipe.
@@ -515,24 +515,12 @@ impl Recipe {
     /// [`Error::Parse`] naming the file and line for malformed TOML, unknown keys or
     /// invalid values; [`Error::Io`] if the file cannot be read.
     pub fn read(path: &Path) -> Result<Recipe> {
-        let bytes = crate::io::read_regular_file(path)?;
-        let text = String::from_utf8(bytes)
-            .map_err(|e| Error::io(path, std::io::Error::new(std::io::ErrorKind::InvalidData, e.utf8_error())))?;
-        Recipe::parse(&text).map_err(|(line, msg)| Error::Parse {
-            path: path.to_path_buf(),
-            at: line.map_or(Location::File, Location::Line),
-            msg,
-        })
+        crate::io::text::read_toml_file(path, Recipe::parse)
     }
 
     /// Parses and checks recipe text; errors carry the 1-based line when known.
     pub fn parse(text: &str) -> std::result::Result<Recipe, (Option<usize>, String)> {
-        let recipe: Recipe = toml::from_str(text).map_err(|e| {
-            let line = e.span().map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
-            (line, e.message().to_string())
-        })?;
-        recipe.check().map_err(|msg| (None, msg))?;
-        Ok(recipe)
+        crate::io::text::parse_toml(text, Recipe::check)
     }
 
     fn check(&self) -> std::result::Result<(), String> {

@@ -10,7 +10,7 @@ pub mod obj;
 mod off;
 pub mod ply;
 mod stl;
-mod text;
+pub(crate) mod text;
 
 use std::path::Path;
 

@@ -64,3 +64,36 @@ pub fn shorten(token: &str) -> String {
         token.to_string()
     }
 }
+
+/// A TOML document checked by `check`; errors carry the 1-based line when known (recipes,
+/// flora rules).
+pub fn parse_toml<T: serde::de::DeserializeOwned>(
+    text: &str,
+    check: impl FnOnce(&T) -> std::result::Result<(), String>,
+) -> std::result::Result<T, (Option<usize>, String)> {
+    let value: T = toml::from_str(text).map_err(|e| {
+        let line = e.span().map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
+        (line, e.message().to_string())
+    })?;
+    check(&value).map_err(|msg| (None, msg))?;
+    Ok(value)
+}
+
+/// Reads a TOML file with `parse` (such as [`parse_toml`]); errors name the file and line.
+///
+/// # Errors
+/// [`Error::Io`] if the file cannot be read or is not UTF-8; [`Error::Parse`] naming the
+/// file and line.
+pub fn read_toml_file<T>(
+    path: &Path,
+    parse: impl FnOnce(&str) -> std::result::Result<T, (Option<usize>, String)>,
+) -> Result<T> {
+    let bytes = super::read_regular_file(path)?;
+    let text = String::from_utf8(bytes)
+        .map_err(|e| Error::io(path, std::io::Error::new(std::io::ErrorKind::InvalidData, e.utf8_error())))?;
+    parse(&text).map_err(|(line, msg)| Error::Parse {
+        path: path.to_path_buf(),
+        at: line.map_or(Location::File, Location::Line),
+        msg,
+    })
+}

@@ -67,6 +67,19 @@ impl Mesh {
         self.triangles.len()
     }
 
+    /// The volume enclosed, by the divergence theorem: the sum of the signed volumes of the
+    /// tetrahedra joining the origin to each face. Positive for a closed mesh whose faces
+    /// face outwards.
+    pub fn signed_volume(&self) -> f64 {
+        self.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| self.positions[v as usize]);
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum()
+    }
+
     /// Appends `other`'s vertices and faces. Colours are kept when both meshes have them
     /// (or this one is empty), normals likewise; scalars only where both have the name.
     pub fn append(&mut self, other: &Mesh) {

@@ -67,16 +67,7 @@ mod tests {
         assert!(report.is_closed_manifold(), "{report:?}");
         assert_eq!(report.components, 3);
         assert_eq!(report.inconsistently_oriented_edges, 0);
-        let volume: f64 = c
-            .mesh
-            .triangles
-            .iter()
-            .map(|t| {
-                let [a, b, cc] = t.map(|v| c.mesh.positions[v as usize]);
-                a.dot(b.cross(cc)) / 6.0
-            })
-            .sum();
-        assert!(volume > 0.0);
+        assert!(c.mesh.signed_volume() > 0.0);
         let top = c.mesh.positions.iter().map(|p| p.z).fold(f64::MIN, f64::max);
         assert!((c.chimney_top.z - top).abs() < 1e-12, "the chimney is the highest point");
     }

@@ -133,14 +133,7 @@ mod tests {
             assert!(report.is_closed_manifold(), "level {level}: {report:?}");
             assert_eq!(sponge.face_count() as u64, 2 * square_count(level), "level {level}");
             // Outward: the signed volume is the sponge's, (20/27)ⁿ of the cube's.
-            let volume: f64 = sponge
-                .triangles
-                .iter()
-                .map(|t| {
-                    let [a, b, c] = t.map(|v| sponge.positions[v as usize]);
-                    a.dot(b.cross(c)) / 6.0
-                })
-                .sum();
+            let volume = sponge.signed_volume();
             let expected = 8.0 * (20.0f64 / 27.0).powi(level as i32);
             assert!((volume - expected).abs() < 1e-9, "level {level}: volume {volume}, expected {expected}");
         }

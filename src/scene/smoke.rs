@@ -235,8 +235,10 @@ pub fn metaball_surface(centres: &[DVec3], params: &SmokeParams) -> Result<(Mesh
     }
     let dims = extent.as_uvec3().to_array().map(|d| d as usize + 1);
     let mut grid = ScalarGrid::zeros(origin, spacing, dims);
-    let mut near = vec![false; grid.values.len()];
     let (b, inverse_r2) = (params.blobbiness, 1.0 / (params.radius * params.radius));
+    // The cubes with a corner within some blob's reach, listed from the blobs' boxes (every
+    // other cube has eight zero corners and no surface): the grid is never swept.
+    let mut cubes = Vec::new();
     for &c in centres {
         let first = ((c - reach - origin) / spacing).floor().max(DVec3::ZERO).as_uvec3();
         let last = ((c + reach - origin) / spacing).ceil().as_uvec3().min(glam::UVec3::from_array(dims.map(|d| d as u32 - 1)));
@@ -246,26 +248,23 @@ pub fn metaball_surface(centres: &[DVec3], params: &SmokeParams) -> Result<(Mesh
                     let i = grid.index(x as usize, y as usize, z as usize);
                     let r2 = (grid.position(i) - c).length_squared();
                     grid.values[i] += (b - b * r2 * inverse_r2).exp();
-                    near[i] = true;
+                }
+            }
+        }
+        // Every cube with a corner in the box: lowest corners from one below the box to its
+        // last point (the grid's last cube at most).
+        let lowest = first.saturating_sub(glam::UVec3::ONE);
+        let highest = last.min(glam::UVec3::from_array(dims.map(|d| d as u32 - 2)));
+        for z in lowest.z..=highest.z {
+            for y in lowest.y..=highest.y {
+                for x in lowest.x..=highest.x {
+                    cubes.push(grid.index(x as usize, y as usize, z as usize));
                 }
             }
         }
     }
-    // The cubes with a corner within some blob's reach; every other cube has eight zero
-    // corners and no surface.
-    let mut cube = vec![false; grid.values.len()];
-    let [nx, ny, nz] = dims;
-    for z in 0..nz - 1 {
-        for y in 0..ny - 1 {
-            for x in 0..nx - 1 {
-                let any = (0..8).any(|k| {
-                    near[grid.index(x + (k & 1), y + ((k >> 1) & 1), z + ((k >> 2) & 1))]
-                });
-                cube[grid.index(x, y, z)] = any;
-            }
-        }
-    }
-    let cubes: Vec<usize> = (0..cube.len()).filter(|&i| cube[i]).collect();
+    cubes.sort_unstable();
+    cubes.dedup();
     Ok(marching_tetrahedra(&grid, 1.0, &cubes))
 }
 

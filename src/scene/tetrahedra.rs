@@ -178,14 +178,7 @@ mod tests {
         assert_eq!(report.inconsistently_oriented_edges, 0);
         assert_eq!(visited.cubes, 20 * 20 * 20);
         assert!(visited.crossed > 0);
-        let volume: f64 = mesh
-            .triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
-                a.dot(b.cross(c)) / 6.0
-            })
-            .sum();
+        let volume = mesh.signed_volume();
         assert!(volume > 0.0, "outward faces give a positive volume, got {volume}");
         // Normals point away from the centre.
         let normals = mesh.normals.as_ref().unwrap();

@@ -14,7 +14,7 @@ use std::path::Path;
 use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Error, Location, Result};
+use crate::error::{Error, Result};
 use crate::mesh::{Mesh, Rgb};
 use crate::noise::hash::{Stream, derive_seed};
 
@@ -139,22 +139,12 @@ impl FloraRules {
     /// # Errors
     /// [`Error::Io`] or [`Error::Parse`].
     pub fn read(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        Self::parse(&text).map_err(|(line, msg)| Error::Parse {
-            path: path.to_path_buf(),
-            at: line.map_or(Location::File, Location::Line),
-            msg,
-        })
+        crate::io::text::read_toml_file(path, Self::parse)
     }
 
     /// Parses and checks rules; errors carry the 1-based line when known.
     pub fn parse(text: &str) -> std::result::Result<Self, (Option<usize>, String)> {
-        let rules: FloraRules = toml::from_str(text).map_err(|e| {
-            let line = e.span().map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
-            (line, e.message().to_string())
-        })?;
-        rules.check().map_err(|m| (None, m))?;
-        Ok(rules)
+        crate::io::text::parse_toml(text, Self::check)
     }
 
     fn check(&self) -> std::result::Result<(), String> {
