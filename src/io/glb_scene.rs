@@ -112,13 +112,14 @@ impl<'a> GlbScene<'a> {
         index
     }
 
-    /// A group node holding one child per mesh of `frames`, shown one at a time at `fps`
-    /// frames per second (the first when the animation is not played).
-    pub fn add_frames(&mut self, name: &str, frames: &[usize], fps: f64, parent: Option<usize>) -> usize {
+    /// A group node holding one child per mesh of `frames` (`None`: an empty frame), shown
+    /// one at a time at `fps` frames per second (the first when the animation is not
+    /// played).
+    pub fn add_frames(&mut self, name: &str, frames: &[Option<usize>], fps: f64, parent: Option<usize>) -> usize {
         let group = self.add_node(SceneNode::new(name, None), parent);
         let count = frames.len();
         for (k, &mesh) in frames.iter().enumerate() {
-            let mut node = SceneNode::new(format!("{name}_frame_{k:03}"), Some(mesh));
+            let mut node = SceneNode::new(format!("{name}_frame_{k:03}"), mesh);
             if k > 0 {
                 node.scale = DVec3::ZERO;
             }
@@ -273,4 +274,40 @@ fn animation(builder: &mut Builder, tracks: &[Track], node_count: usize) -> Resu
         });
     }
     Ok(gj::Animation { name: Some("scene".into()), channels, samplers, extensions: None, extras: None })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_show_one_at_a_time_and_empty_frames_have_no_mesh() {
+        let cube = crate::mesh::primitives::cube(DVec3::ZERO, DVec3::ONE, 1);
+        let mut doc = GlbScene::default();
+        let mesh = doc.add_mesh(&cube, "cube", None);
+        let group = doc.add_frames("f", &[Some(mesh), None, Some(mesh)], 10.0, None);
+        assert_eq!(doc.nodes[group].children.len(), 3);
+        let frames: Vec<&SceneNode> = doc.nodes[group].children.iter().map(|&c| &doc.nodes[c]).collect();
+        assert_eq!(frames.iter().map(|n| n.mesh).collect::<Vec<_>>(), [Some(mesh), None, Some(mesh)]);
+        assert_eq!(frames[0].scale, DVec3::ONE, "the first frame shows without the animation");
+        assert!(frames[1..].iter().all(|n| n.scale == DVec3::ZERO));
+        // Frame k is scaled 1 from k/fps and 0 again from (k+1)/fps, in steps.
+        let middle = doc.tracks.iter().find(|t| t.node == doc.nodes[group].children[1]).unwrap();
+        assert_eq!(middle.times, [0.0, 0.1, 0.2]);
+        assert_eq!(middle.keys, Keys::Scale(vec![DVec3::ZERO, DVec3::ONE, DVec3::ZERO]));
+        assert!(middle.step);
+        let bytes = scene_glb_bytes(&doc).unwrap();
+        let gltf = gltf::Gltf::from_slice(&bytes).unwrap();
+        assert_eq!(gltf.animations().next().unwrap().channels().count(), 3);
+    }
+
+    #[test]
+    fn tracks_with_bad_times_are_refused() {
+        let mut doc = GlbScene::default();
+        let node = doc.add_node(SceneNode::new("n", None), None);
+        doc.tracks.push(Track { node, times: vec![0.0, 0.0], keys: Keys::Translation(vec![DVec3::ZERO; 2]), step: false });
+        assert!(scene_glb_bytes(&doc).unwrap_err().to_string().contains("strictly increasing"));
+        doc.tracks[0] = Track { node: 7, times: vec![0.0], keys: Keys::Translation(vec![DVec3::ZERO]), step: false };
+        assert!(scene_glb_bytes(&doc).is_err());
+    }
 }

@@ -348,14 +348,14 @@ impl Scene {
             node.scale = DVec3::splat(p.scale);
             doc.add_node(node, Some(flora));
         }
-        let water: Vec<usize> = self
+        let water: Vec<Option<usize>> = self
             .water
             .iter()
             .enumerate()
             .map(|(k, m)| {
                 let clarity = 0.08 * self.params.relief;
                 let alpha = m.scalars["depth"].iter().map(|&d| opacity(d, clarity) as f32).collect();
-                doc.add_mesh(m, format!("water_{k:03}"), Some(alpha))
+                Some(doc.add_mesh(m, format!("water_{k:03}"), Some(alpha)))
             })
             .collect();
         doc.add_frames("water", &water, fps, None);
@@ -364,16 +364,14 @@ impl Scene {
         holder.translation = origin;
         holder.scale = DVec3::splat(scale);
         let holder = doc.add_node(holder, None);
-        let smoke: Vec<usize> = self
+        // A frame without particles is a frame node without a mesh.
+        let smoke: Vec<Option<usize>> = self
             .smoke
             .iter()
             .enumerate()
-            .filter(|(_, m)| !m.triangles.is_empty())
-            .map(|(k, m)| doc.add_mesh(m, format!("smoke_{k:03}"), None))
+            .map(|(k, m)| (!m.triangles.is_empty()).then(|| doc.add_mesh(m, format!("smoke_{k:03}"), None)))
             .collect();
-        if smoke.len() == self.smoke.len() {
-            doc.add_frames("plume", &smoke, fps, Some(holder));
-        }
+        doc.add_frames("plume", &smoke, fps, Some(holder));
         let rate = fps * self.butterfly_steps_per_frame as f64;
         add_butterflies(&mut doc, &self.flights, self.butterfly_box, rate, None);
         doc

@@ -56,10 +56,10 @@ fn write_frames(
 ) -> Result<Vec<PathBuf>> {
     if is_glb(output)? {
         let mut doc = GlbScene::default();
-        let meshes: Vec<usize> = frames
+        let meshes: Vec<Option<usize>> = frames
             .iter()
             .enumerate()
-            .map(|(k, m)| doc.add_mesh(m, format!("{name}_{k:03}"), opacity.map(|f| f(m))))
+            .map(|(k, m)| Some(doc.add_mesh(m, format!("{name}_{k:03}"), opacity.map(|f| f(m)))))
             .collect();
         doc.add_frames(name, &meshes, fps, None);
         write_scene_glb(&doc, output)?;
