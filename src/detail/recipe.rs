@@ -512,8 +512,8 @@ impl Recipe {
     /// Reads and checks a recipe file.
     ///
     /// # Errors
-    /// [`Error::Parse`] naming the file and line for malformed TOML, unknown keys or
-    /// invalid values; [`Error::Io`] if the file cannot be read.
+    /// [`crate::Error::Parse`] naming the file and line for malformed TOML, unknown keys or
+    /// invalid values; [`crate::Error::Io`] if the file cannot be read.
     pub fn read(path: &Path) -> Result<Recipe> {
         crate::io::text::read_toml_file(path, Recipe::parse)
     }
