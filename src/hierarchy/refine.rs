@@ -2,9 +2,11 @@
 //! are re-inserted in removal order by splitting the edge of their parameter face nearest
 //! to their parameter point (Algorithm 2), then each inserted vertex's degree is restored
 //! to its degree on that level by flipping the link edge opposite its widest angle
-//! (Algorithm 3). Insertions whose face no longer exists — after a deformation, or when
-//! only a region is refined — search the neighbouring faces for the edge nearest to the
-//! vertex (the overlap check of Fig. 4.10).
+//! (Algorithm 3). Insertions whose recorded diagonal no longer exists — after operators
+//! that change connectivity, or when only a region is refined — split the parameter
+//! face's edge nearest the vertex, or else the nearest edge around that face (Algorithm 2);
+//! where that split would overlap (Fig. 4.10), the nearest edge one ring further whose
+//! split does not.
 //!
 //! A vertex is placed at its input position plus the displacement of its parameter point
 //! (the interpolated face moved from where it was at simplification): without deformation
@@ -94,7 +96,7 @@ enum Placement {
     Recorded,
     /// Algorithm 2: the nearest interior edge around the parameter face.
     Searched,
-    /// The nearest edge one ring further, the nearest one overlapping (Fig. 4.10).
+    /// The nearest edge one ring further, because the nearest one overlapped (Fig. 4.10).
     Widened,
 }
 
