@@ -73,13 +73,7 @@ pub fn run(args: DetailArgs, ctx: super::Context) -> Result<()> {
         Some(path) => Recipe::read(path)?,
         None => Recipe::default(),
     };
-    let (mesh, repair) = match builtin_mesh(&args.input)? {
-        Some(mesh) => (mesh, None),
-        None => {
-            let input = super::input::read_input(&args.input, args.repair, ctx)?;
-            (input.read.mesh, input.repair)
-        }
-    };
+    let (mesh, repair) = mesh_or_builtin(&args.input, args.repair, ctx)?;
     let simplify = args.hierarchy.options_over(mesh.vertex_count(), false, &recipe.hierarchy)?;
     let hierarchy = ctx
         .spin("simplify", "building the 4-k hierarchy", || build(&mesh, &simplify))
@@ -151,6 +145,25 @@ pub fn run(args: DetailArgs, ctx: super::Context) -> Result<()> {
         super::millis(start)
     );
     Ok(())
+}
+
+/// The input of `detail` and `refine`: a built-in surface, or the file read (and repaired
+/// when asked), with what the repair did.
+///
+/// # Errors
+/// As [`builtin_mesh`] and [`super::input::read_input`].
+pub fn mesh_or_builtin(
+    input: &std::path::Path,
+    repair: super::input::RepairArg,
+    ctx: super::Context,
+) -> Result<(Mesh, Option<crate::mesh::RepairReport>)> {
+    match builtin_mesh(input)? {
+        Some(mesh) => Ok((mesh, None)),
+        None => {
+            let read = super::input::read_input(input, repair, ctx)?;
+            Ok((read.read.mesh, read.repair))
+        }
+    }
 }
 
 /// The surfaces made in code that recipes can run on (`builtin:NAME`), `None` for a path.

@@ -54,13 +54,7 @@ pub fn run(args: RefineArgs, ctx: super::Context) -> Result<()> {
     io::Format::from_path(&args.output)?;
     super::guard_overwrite(&args.input, &args.output, args.force)?;
     let selection = parse_region(&args.region)?;
-    let (mesh, repair) = match super::detail::builtin_mesh(&args.input)? {
-        Some(mesh) => (mesh, None),
-        None => {
-            let input = super::input::read_input(&args.input, args.repair, ctx)?;
-            (input.read.mesh, input.repair)
-        }
-    };
+    let (mesh, repair) = super::detail::mesh_or_builtin(&args.input, args.repair, ctx)?;
     let inside = input_selection(&mesh, &selection, args.seed).map_err(|e| e.about_file(&args.input))?;
     let options = args.hierarchy.options_over(mesh.vertex_count(), false, &HierarchySection::default())?;
     let hierarchy = ctx

@@ -126,7 +126,7 @@ impl Builder {
         component: gj::accessor::ComponentType,
         kind: gj::accessor::Type,
         normalized: bool,
-        bounds: Option<([f32; 3], [f32; 3])>,
+        bounds: Option<(Vec<f32>, Vec<f32>)>,
     ) -> Index<gj::Accessor> {
         let view = self.view(bytes, target);
         self.root.push(gj::Accessor {
@@ -137,37 +137,10 @@ impl Builder {
             extensions: None,
             extras: None,
             type_: Valid(kind),
-            min: bounds.map(|(lo, _)| serde_json::json!(lo)),
+            min: bounds.as_ref().map(|(lo, _)| serde_json::json!(lo)),
             max: bounds.map(|(_, hi)| serde_json::json!(hi)),
             name: None,
             normalized,
-            sparse: None,
-        })
-    }
-
-    /// An f32 accessor without a buffer-view target (animation data) with explicit
-    /// bounds, as glTF requires of animation inputs.
-    pub(crate) fn accessor_with_bounds(
-        &mut self,
-        bytes: &[u8],
-        count: usize,
-        kind: gj::accessor::Type,
-        min: Vec<f32>,
-        max: Vec<f32>,
-    ) -> Index<gj::Accessor> {
-        let view = self.view(bytes, None);
-        self.root.push(gj::Accessor {
-            buffer_view: Some(view),
-            byte_offset: None,
-            count: USize64::from(count),
-            component_type: Valid(gj::accessor::GenericComponentType(gj::accessor::ComponentType::F32)),
-            extensions: None,
-            extras: None,
-            type_: Valid(kind),
-            min: Some(serde_json::json!(min)),
-            max: Some(serde_json::json!(max)),
-            name: None,
-            normalized: false,
             sparse: None,
         })
     }
@@ -178,6 +151,7 @@ impl Builder {
                 ([0, 1, 2].map(|k| lo[k].min(v[k])), [0, 1, 2].map(|k| hi[k].max(v[k])))
             })
         });
+        let bounds = bounds.map(|(lo, hi): ([f32; 3], [f32; 3])| (lo.to_vec(), hi.to_vec()));
         self.accessor(
             bytemuck::cast_slice(values),
             Some(gj::buffer::Target::ArrayBuffer),

@@ -233,7 +233,9 @@ fn animation(builder: &mut Builder, tracks: &[Track], node_count: usize) -> Resu
             Some(&a) => a,
             None => {
                 let (lo, hi) = (times[0], times[times.len() - 1]);
-                let a = builder.accessor_with_bounds(bytemuck::cast_slice(&times), times.len(), Type::Scalar, vec![lo], vec![hi]);
+                // Animation inputs need their bounds; animation data has no buffer target.
+                let bounds = Some((vec![lo], vec![hi]));
+                let a = builder.accessor(bytemuck::cast_slice(&times), None, times.len(), ComponentType::F32, Type::Scalar, false, bounds);
                 time_accessors.insert(key, a);
                 a
             }

@@ -60,6 +60,11 @@ impl Default for SceneParams {
 }
 
 impl SceneParams {
+    /// Depth at which the water's opacity has risen by 1 − 1/e: 8 % of the relief.
+    pub fn water_clarity(&self) -> f64 {
+        0.08 * self.relief
+    }
+
     fn check(&self) -> Result<()> {
         let bad = |msg: &str| Err(Error::InvalidInput(format!("scene: {msg}")));
         if !(17..=1025).contains(&self.terrain_size) || !(self.terrain_size - 1).is_power_of_two() {
@@ -172,7 +177,7 @@ pub fn compose(params: &SceneParams) -> Result<Scene> {
                         level: sea_level,
                         cells: 96,
                         waves: waves_from_seed(params.seed, 4, params.extent),
-                        clarity: 0.08 * params.relief,
+                        clarity: params.water_clarity(),
                     };
                     let floor = water_floor(&terrain, &water)?;
                     Ok((0..frames).map(|k| surface_on(&floor, &water, k as f64 / params.fps)).collect())
@@ -348,15 +353,16 @@ impl Scene {
             node.scale = DVec3::splat(p.scale);
             doc.add_node(node, Some(flora));
         }
+        // The floor is the same under every frame, so is each vertex's depth and opacity.
+        let clarity = self.params.water_clarity();
+        let alpha: Vec<f32> = self.water.first().map_or_else(Vec::new, |m| {
+            m.scalars["depth"].iter().map(|&d| opacity(d, clarity) as f32).collect()
+        });
         let water: Vec<Option<usize>> = self
             .water
             .iter()
             .enumerate()
-            .map(|(k, m)| {
-                let clarity = 0.08 * self.params.relief;
-                let alpha = m.scalars["depth"].iter().map(|&d| opacity(d, clarity) as f32).collect();
-                Some(doc.add_mesh(m, format!("water_{k:03}"), Some(alpha)))
-            })
+            .map(|(k, m)| Some(doc.add_mesh(m, format!("water_{k:03}"), Some(alpha.clone()))))
             .collect();
         doc.add_frames("water", &water, fps, None);
         let (origin, scale) = smoke_transform(self.smoke_frame);
