@@ -267,13 +267,14 @@ fn noise_gabor_k_scales_and_wood_defaults_show_rings() {
         assert!((b - 5.0 * a).abs() <= 1e-4 * (1.0 + b.abs()), "--k 5 gave {b}, not 5 × {a}");
     }
     // Wood (eq. 4.13) is the contour bands of one noise: at its defaults neighbouring
-    // pixels mostly differ little (rings a few pixels wide), where white static would
-    // differ by a third of the range on average.
+    // pixels mostly differ little (rings a few pixels wide, each rising over three
+    // quarters and falling over the last), where white static would differ by a third of
+    // the range on average.
     let wood = values(&["--kind", "wood"], "wood.f32");
     let mut steps: Vec<f32> = wood.chunks(128).flat_map(|row| row.windows(2).map(|w| (w[1] - w[0]).abs())).collect();
     steps.sort_by(f32::total_cmp);
     let median = steps[steps.len() / 2];
-    assert!(median < 0.05, "median step between neighbouring wood pixels {median}: static, not rings");
+    assert!(median < 0.08, "median step between neighbouring wood pixels {median}: static, not rings");
 }
 
 #[test]

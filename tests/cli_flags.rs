@@ -365,7 +365,7 @@ struct Outcome {
 fn run(args: &[String], meshes: &Path) -> Outcome {
     let dir = temp_dir();
     let relief = "seed = 3\n\n[[step]]\nop = \"noise\"\nlevel = -1\n\
-                  noise = { kind = \"fbm\", amplitude = 0.2, frequency = 12.0, attenuate = false }\n";
+                  noise = { kind = \"fbm\", amplitude = 0.4, frequency = 12.0, attenuate = false }\n";
     std::fs::write(dir.path().join("relief.toml"), relief).unwrap();
     std::fs::copy(meshes.join("eight.off"), dir.path().join("in.ply.off")).unwrap();
     let eight = asperity::io::read(&meshes.join("eight.off")).unwrap().mesh;

@@ -333,7 +333,7 @@ fn refining_after_a_deformation_follows_the_deformed_surface() {
     let mesh = torus(1.0, 0.35, 64, 32);
     let hierarchy = build(&mesh, &SimplifyOptions { target_vertices: Some(150), ..Default::default() }).unwrap();
     let r = recipe(
-        "[[step]]\nop = \"noise\"\nlevel = 0\nnoise = { kind = \"fbm\", amplitude = 0.1, frequency = 3.0, attenuate = false }\n",
+        "[[step]]\nop = \"noise\"\nlevel = 0\nnoise = { kind = \"fbm\", amplitude = 0.2, frequency = 3.0, attenuate = false }\n",
     );
     let run = |follow: bool| {
         let options = DetailOptions { follow_deformation: follow, ..Default::default() };
@@ -541,7 +541,7 @@ fn level_modulation_attenuates_lacunarity_towards_coarser_levels() {
             ..Default::default()
         };
         let field = asperity::noise::NoiseField::new(&spec).unwrap();
-        field.sample3((p - frame.min) * (params.frequency / frame.diagonal), frame3)
+        field.unit(field.sample3((p - frame.min) * (params.frequency / frame.diagonal), frame3))
     };
     assert_eq!(at(0), by_hand(asperity::noise::Fractal::default().for_level(0)));
     assert_eq!(at(5), by_hand(asperity::noise::Fractal::default().for_level(5)));
@@ -567,6 +567,70 @@ fn a_phasor_step_displaces_by_at_most_its_amplitude_with_constant_contrast() {
         Recipe::parse("[[step]]\nop = \"noise\"\nnoise = { kind = \"gabor\", profile = \"square\" }\n").is_err(),
         "profile is phasor's"
     );
+}
+
+#[test]
+fn amplitude_is_the_peak_displacement_of_every_kind() {
+    // #26 A4: `amplitude` (× diagonal, × K for Gabor and phasor noise) is the peak
+    // displacement: no vertex moves further, and a sphere's worth of vertices comes near.
+    use clap::ValueEnum;
+    let mesh = icosphere(1.0, 5);
+    let frame = BoxFrame::of(&mesh);
+    let view = level_view(&mesh, 0);
+    let all = vec![true; mesh.vertex_count()];
+    for &kind in asperity::noise::NoiseKind::value_variants() {
+        for k in [1.0, 3.0] {
+            let params = NoiseParams { kind, amplitude: 0.02, k, attenuate: false, frequency: 8.0, ..Default::default() };
+            let moves =
+                noise_displacements(OperatorKind::Noise, &params, &view, &frame, &all, &all.map_false(), 4).unwrap();
+            let peak = 0.02 * frame.diagonal * if kind.is_spectral() { k } else { 1.0 };
+            let largest = moves.iter().map(|(v, p)| (*p - mesh.positions[*v]).length()).fold(0.0, f64::max);
+            assert!(largest <= peak * (1.0 + 1e-12), "{kind:?} K {k}: moved {largest} past the peak {peak}");
+            assert!(largest >= 0.3 * peak, "{kind:?} K {k}: largest move {largest} far below the peak {peak}");
+        }
+    }
+}
+
+#[test]
+fn wood_rings_never_jump_across_an_edge() {
+    // #26 B9: eq. 4.13's fractional part made every ring a one-edge cliff. Each ring now
+    // falls over a quarter of it, and rings denser than the mesh fade to their mean, so
+    // no edge's ends differ by most of the amplitude at any frequency, while rings the
+    // mesh can show keep their whole depth.
+    let mesh = icosphere(1.0, 5);
+    let frame = BoxFrame::of(&mesh);
+    let view = level_view(&mesh, 0);
+    let all = vec![true; mesh.vertex_count()];
+    let edges = asperity::mesh::Adjacency::of(&mesh);
+    for frequency in [1.0, 2.0, 4.0, 8.0, 16.0] {
+        let params = NoiseParams {
+            kind: asperity::noise::NoiseKind::Wood,
+            amplitude: 0.02,
+            octaves: 1,
+            frequency,
+            attenuate: false,
+            ..Default::default()
+        };
+        let moves =
+            noise_displacements(OperatorKind::Noise, &params, &view, &frame, &all, &all.map_false(), 2).unwrap();
+        let mut offset = vec![0.0; mesh.vertex_count()];
+        for (v, p) in moves {
+            offset[v] = (p - mesh.positions[v]).dot(view.normals[v]);
+        }
+        let peak = 0.02 * frame.diagonal;
+        let mut jump: f64 = 0.0;
+        for v in 0..mesh.vertex_count() {
+            for &u in edges.neighbours(v) {
+                jump = jump.max((offset[v] - offset[u as usize]).abs());
+            }
+        }
+        let range = offset.iter().copied().fold(f64::MIN, f64::max) - offset.iter().copied().fold(f64::MAX, f64::min);
+        eprintln!("wood at frequency {frequency}: largest edge jump {:.2}, range {:.2} of the peak", jump / peak, range / peak);
+        assert!(jump <= 0.7 * peak, "frequency {frequency}: an edge jumps by {:.2} of the peak", jump / peak);
+        if frequency <= 2.0 {
+            assert!(range >= 0.9 * peak, "frequency {frequency}: rings lost their depth ({:.2})", range / peak);
+        }
+    }
 }
 
 /// Vertices a step leaves still while their whole 1-ring moves, and moved while their

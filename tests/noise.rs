@@ -474,3 +474,68 @@ fn batch_perlin_and_fbm_equal_the_scalar_path_bit_for_bit() {
         }
     }
 }
+
+/// Every kind's [`NoiseField::unit`] value over many points and parameter sets: within
+/// [−1, 1] ([0, 1] for one-sided kinds; × K for Gabor and phasor noise), so an amplitude is
+/// a peak displacement (#26 A4), and the bound is not loose: the largest value met reaches
+/// `reach` of it.
+#[test]
+fn unit_values_stay_within_the_peak_and_come_near_it() {
+    use clap::ValueEnum;
+    let points = random_points(40_000, 40.0, 17);
+    let frame = Frame { tangent: DVec3::X, bitangent: DVec3::Y };
+    for &kind in NoiseKind::value_variants() {
+        for (octaves, gain, offset) in [(1, 0.5, 1.0), (3, 0.5, 1.0), (6, 0.3, 0.5), (8, 0.8, 2.0)] {
+            for k in [1.0, 2.5] {
+                let spec = NoiseSpec {
+                    kind,
+                    fractal: Fractal { octaves, gain, offset, ..Fractal::default() },
+                    gabor: GaborParams { k, ..GaborParams::default() },
+                    seed: 3,
+                    ..NoiseSpec::default()
+                };
+                let field = NoiseField::new(&spec).unwrap();
+                let magnitude = if kind.is_spectral() { k } else { 1.0 };
+                let one_sided = matches!(
+                    kind,
+                    NoiseKind::Turbulence | NoiseKind::Marble | NoiseKind::Multifractal | NoiseKind::Wood
+                );
+                let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+                for p in &points {
+                    let u = field.unit(field.sample3(*p, frame)) / magnitude;
+                    low = low.min(u);
+                    high = high.max(u);
+                }
+                let what = format!("{kind:?} octaves {octaves} gain {gain} offset {offset} K {k}");
+                assert!(high <= 1.0 && low >= if one_sided { 0.0 } else { -1.0 }, "{what}: range {low}..{high}");
+                // The Perlin bound is reached only where all eight gradients line up, and a
+                // fractal sum's only where every octave peaks at once: a quarter of it is met.
+                let reach = match kind {
+                    NoiseKind::Marble | NoiseKind::Wood | NoiseKind::Phasor => 0.95,
+                    NoiseKind::Perlin | NoiseKind::Gabor => 0.6,
+                    _ => 0.25,
+                };
+                assert!(high.max(-low) >= reach, "{what}: peak met {} below {reach}", high.max(-low));
+            }
+        }
+    }
+}
+
+#[test]
+fn soft_limit_is_the_identity_to_the_knee_then_bounded_and_smooth() {
+    use asperity::noise::soft_limit;
+    for x in [-0.5, -0.2, 0.0, 0.3, 0.5] {
+        assert_eq!(soft_limit(x), x);
+    }
+    assert_eq!(soft_limit(1e9), 1.0, "bounded by 1");
+    let mut previous = soft_limit(-5.0);
+    for i in -499..=500 {
+        let x = f64::from(i) / 100.0;
+        let y = soft_limit(x);
+        assert!(y > previous && y.abs() < 1.0, "increasing and below 1 at {x}");
+        assert_eq!(soft_limit(-x), -y, "odd");
+        previous = y;
+    }
+    let slope = (soft_limit(0.5 + 1e-7) - soft_limit(0.5)) / 1e-7;
+    assert!((slope - 1.0).abs() < 1e-5, "slope at the knee {slope}");
+}

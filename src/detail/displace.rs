@@ -65,9 +65,10 @@ impl LevelNoise {
         Ok(LevelNoise { field, origin: frame.min, scale })
     }
 
-    /// The noise value at `p` with the tangent frame `frame` (Gabor orientation).
+    /// The noise value at `p` with the tangent frame `frame` (Gabor orientation), as a
+    /// fraction of the kind's peak ([`NoiseField::unit`]).
     pub fn at(&self, p: DVec3, frame: Frame) -> f64 {
-        self.field.sample3((p - self.origin) * self.scale, frame)
+        self.field.unit(self.field.sample3((p - self.origin) * self.scale, frame))
     }
 
     /// The fractal value at `p` with a shifted lacunarity (variation operator); plain
@@ -77,10 +78,36 @@ impl LevelNoise {
             NoiseField::Perlin { basis, fractal: Some(f) } if lacunarity_shift != 0.0 => {
                 let q = (p - self.origin) * self.scale;
                 let shifted = Fractal { lacunarity: (f.lacunarity + lacunarity_shift).max(1.0), ..*f };
-                shifted.eval(q.x, ScaledPerlin { perlin: basis, point: q })
+                self.field.unit(shifted.eval(q.x, ScaledPerlin { perlin: basis, point: q }))
             }
             _ => self.at(p, frame),
         }
+    }
+}
+
+impl LevelNoise {
+    /// `value` (this field's unit value at `p`) with wood's rings faded to their mean where
+    /// they are denser than a mesh with edges of `edge` can show: kept whole where a ring
+    /// spans eight edges or more (its fall, two), replaced by the mean ½ where it spans four or fewer, a
+    /// smoothstep between. Rings finer than the mesh alias into serrated cliffs (#26 B9);
+    /// this is clamping (Norton, Rockwood & Skolmoski 1982, as Lagae et al. 2009 §6 filter
+    /// Gabor noise): the ring density is |∇(10·|F|)| from central differences of F. Other
+    /// kinds are returned unchanged.
+    pub fn clamped(&self, value: f64, p: DVec3, edge: f64) -> f64 {
+        let NoiseField::Perlin { basis, fractal: Some(f) } = &self.field else { return value };
+        if f.kind != FractalKind::Wood || !(edge > 0.0) {
+            return value;
+        }
+        let fbm = Fractal { kind: FractalKind::Fbm, ..*f };
+        let rings = |q: DVec3| 10.0 * fbm.eval(q.x, ScaledPerlin { perlin: basis, point: q }).abs();
+        let q = (p - self.origin) * self.scale;
+        let h = 1e-4;
+        let slope = |axis: DVec3| (rings(q + axis * h) - rings(q - axis * h)) / (2.0 * h);
+        let gradient = DVec3::new(slope(DVec3::X), slope(DVec3::Y), slope(DVec3::Z));
+        let rings_per_edge = gradient.length() * self.scale * edge;
+        let t = ((rings_per_edge - 1.0 / 8.0) * 8.0).clamp(0.0, 1.0);
+        let shown = 1.0 - t * t * (3.0 - 2.0 * t);
+        shown * value + (1.0 - shown) * 0.5
     }
 }
 
@@ -172,7 +199,8 @@ pub fn noise_displacements(
         let (ring, centre) = reach[v].expect("targets are reached");
         let tangent = tangent_frame(view.normals[v], diffusion.as_ref().map(|d| d[v]), params.follow_diffusion);
         let u = if shift != 0.0 { centre_shift(seed, view.ids[centre]) } else { 0.0 };
-        let value = ring_noise[ring].at_shifted(positions[v], tangent, shift * u) * (1.0 + shift * u);
+        let field = &ring_noise[ring];
+        let value = field.clamped(field.at_shifted(positions[v], tangent, shift * u), positions[v], edge) * (1.0 + shift * u);
         let influence = if ring == 0 { 1.0 } else { params.rings[ring - 1].influence };
         let falloff = match params.attenuation {
             Attenuation::InverseDistance if ring > 0 => {

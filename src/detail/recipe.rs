@@ -335,7 +335,8 @@ pub struct RingParams {
 pub struct NoiseParams {
     /// Noise kind.
     pub kind: NoiseKind,
-    /// Peak displacement, fraction of the bounding-box diagonal.
+    /// Peak displacement, fraction of the bounding-box diagonal (× K for Gabor and phasor
+    /// noise): the bound no vertex of the step exceeds ([`crate::noise::NoiseField::unit`]).
     pub amplitude: f64,
     /// Features per bounding-box diagonal (Perlin lattice cells, Gabor cycles).
     pub frequency: f64,

@@ -19,8 +19,23 @@ pub enum FractalKind {
     Marble,
     /// Weighted sum of (offset − |n|)² terms, each weighted by the previous one (eq. 4.12).
     Multifractal,
-    /// frac(10·|F(p)|) with F the fBm sum: rings of wood (eq. 4.13).
+    /// frac(10·|F(p)|) with F the fBm sum: rings of wood (eq. 4.13), each ring's drop
+    /// spread over the last [`WOOD_RING_FALL`] of it ([`wood_ring`]).
     Wood,
+}
+
+/// The share of a wood ring over which eq. 4.13's fractional part falls back from 1 to 0.
+pub const WOOD_RING_FALL: f64 = 0.25;
+
+/// Eq. 4.13's ring profile frac(v), made continuous: it rises from 0 to 1 over the first
+/// 1 − [`WOOD_RING_FALL`] of each unit of `v` and falls back to 0 over the rest. A
+/// displacement by the bare fractional part jumps by its whole amplitude at every ring, and
+/// a mesh samples each jump as a one-edge cliff whose outline follows the edges (the
+/// "staircase of cliffs" of #26 B9); the fall keeps the rings' asymmetric grain.
+pub fn wood_ring(v: f64) -> f64 {
+    let t = v - v.trunc();
+    let rise = 1.0 - WOOD_RING_FALL;
+    if t < rise { t / rise } else { (1.0 - t) / WOOD_RING_FALL }
 }
 
 /// Octave parameters. Thesis defaults: lacunarity 2.0, gain 0.5 (its inverse), offset 1.0.
@@ -63,6 +78,20 @@ impl Fractal {
         Fractal { lacunarity: 1.1 + (l + 1.0) / 10.0, gain: 0.8 / (l + 1.0), ..self }
     }
 
+    /// The largest |value| the sum can reach over a basis bounded by `basis_peak` (#26 A4:
+    /// an amplitude is the peak displacement, so values are divided by this): fBm and
+    /// turbulence Σ|g|ⁱ·B over the octaves; the multifractal (|d| + B)²·Σ|g|ⁱ, since each
+    /// term is (d − n)² times the octave's amplitude times a weight clamped to [0, 1];
+    /// marble and wood 1 (a sine mapped to [0, 1], a fractional part).
+    pub fn peak(&self, basis_peak: f64) -> f64 {
+        let weights: f64 = (0..self.octaves.max(1)).map(|i| self.gain.abs().powi(i as i32)).sum();
+        match self.kind {
+            FractalKind::Fbm | FractalKind::Turbulence => basis_peak * weights,
+            FractalKind::Multifractal => (self.offset.abs() + basis_peak).powi(2) * weights,
+            FractalKind::Marble | FractalKind::Wood => 1.0,
+        }
+    }
+
     /// Evaluates the sum. `basis.at(s)` must return the basis noise at the point scaled by
     /// `s` (a closure `|s| …` will do); `x` is the point's first coordinate (used by marble).
     #[inline(always)]
@@ -83,10 +112,7 @@ impl Fractal {
                 });
                 sum
             }
-            FractalKind::Wood => {
-                let v = self.fbm(octaves, 1.0, &basis).abs() * 10.0;
-                v - v.trunc()
-            }
+            FractalKind::Wood => wood_ring(self.fbm(octaves, 1.0, &basis).abs() * 10.0),
         }
     }
 

@@ -13,9 +13,9 @@ use glam::DVec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-pub use fractal::{Basis, Fractal, FractalKind, ScaledPerlin};
+pub use fractal::{Basis, Fractal, FractalKind, ScaledPerlin, WOOD_RING_FALL, wood_ring};
 pub use gabor::{Frame, Gabor, GaborParams};
-pub use perlin::{Perlin, plane_point};
+pub use perlin::{PERLIN_PEAK, Perlin, plane_point};
 pub use phasor::{Phasor, Profile};
 
 use crate::error::Result;
@@ -146,6 +146,25 @@ impl NoiseField {
         }
     }
 
+    /// `value` (this field's) as a fraction of the largest value the kind can reach, so an
+    /// amplitude times it is a peak displacement (#26 A4): in [−1, 1], and in [0, 1] for
+    /// the one-sided kinds (turbulence, marble, multifractal, wood). Perlin and its fractal
+    /// sums are divided by their bound ([`PERLIN_PEAK`], [`Fractal::peak`]). Gabor and
+    /// phasor noise keep K as their magnitude, in [−K, K]: phasor noise is bounded by K
+    /// already, and Gabor noise, a Gaussian sum with standard deviation K and no bound,
+    /// goes through [`soft_limit`] at four standard deviations (unchanged up to two).
+    pub fn unit(&self, value: f64) -> f64 {
+        match self {
+            NoiseField::Perlin { fractal: None, .. } => value / PERLIN_PEAK,
+            NoiseField::Perlin { fractal: Some(f), .. } => value / f.peak(PERLIN_PEAK),
+            NoiseField::Gabor(g) => {
+                let k = g.params().k;
+                k * soft_limit(value / (GABOR_PEAK_SIGMAS * k))
+            }
+            NoiseField::Phasor(_) => value,
+        }
+    }
+
     /// A row-major `width`×`height` grid of 2D values, sample (i, j) at
     /// (x0 + i·step, y0 + j·step); parallel, bit-identical to [`NoiseField::sample2`].
     pub fn grid2(&self, x0: f64, y0: f64, step: f64, width: usize, height: usize) -> Vec<f64> {
@@ -168,6 +187,20 @@ impl NoiseField {
             self.sample3(points[k], frame)
         });
         out
+    }
+}
+
+/// Standard deviations of Gabor noise that [`NoiseField::unit`] maps to its peak.
+pub const GABOR_PEAK_SIGMAS: f64 = 4.0;
+
+/// The identity on [−½, ½], and beyond it ½ + ½·tanh(2(|x| − ½)) with x's sign: continuous
+/// with its first derivative, odd, increasing, and bounded by 1.
+pub fn soft_limit(x: f64) -> f64 {
+    const KNEE: f64 = 0.5;
+    if x.abs() <= KNEE {
+        x
+    } else {
+        x.signum() * (KNEE + (1.0 - KNEE) * ((x.abs() - KNEE) / (1.0 - KNEE)).tanh())
     }
 }
 

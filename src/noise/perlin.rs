@@ -44,7 +44,18 @@ enum Lattice {
     Hashed(u64),
 }
 
-/// Perlin improved noise in 2D and 3D; values lie in about [−1, 1].
+/// The largest |value| Perlin's improved noise can reach in 3D (and so on the 2D plane it
+/// samples): 1.03636 rounded up.
+///
+/// Each corner's contribution is its fade weight times g·d, and the corners' gradients are
+/// drawn independently, so the noise's supremum at a point of the cell is
+/// Σ_c w_c · max_g g·d_c, where max over the 12 cube-edge gradients of g·d is the sum of
+/// d's two largest absolute components. Maximised over the cell that sum is 1.036354
+/// (near (0.355, 0.5, 0.519)); the unit test `peak_is_the_cell_supremum` computes it. It
+/// is what an amplitude is divided by (#26 A4: amplitude is the peak displacement).
+pub const PERLIN_PEAK: f64 = 1.03636;
+
+/// Perlin improved noise in 2D and 3D; values lie in [−`PERLIN_PEAK`, `PERLIN_PEAK`].
 #[derive(Clone)]
 pub struct Perlin {
     lattice: Lattice,
@@ -263,5 +274,66 @@ impl Perlin {
     #[inline(always)]
     pub fn sample2(&self, x: f64, y: f64) -> f64 {
         self.sample3(plane_point(x, y))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{PERLIN_PEAK, fade};
+
+    /// The supremum of Σ_c w_c · (sum of d_c's two largest |components|) over the cell.
+    fn corner_bound(p: [f64; 3]) -> f64 {
+        let mut total = 0.0;
+        for corner in 0..8 {
+            let mut weight = 1.0;
+            let mut d = [0.0; 3];
+            for axis in 0..3 {
+                let c = f64::from((corner >> axis) & 1);
+                let f = fade(p[axis]);
+                weight *= if c > 0.0 { f } else { 1.0 - f };
+                d[axis] = (p[axis] - c).abs();
+            }
+            d.sort_by(f64::total_cmp);
+            total += weight * (d[1] + d[2]);
+        }
+        total
+    }
+
+    #[test]
+    fn peak_is_the_cell_supremum() {
+        let n = 48;
+        let mut best = (0.0, [0.0; 3]);
+        for i in 0..=n {
+            for j in 0..=n {
+                for k in 0..=n {
+                    let p = [i, j, k].map(|c| f64::from(c) / f64::from(n));
+                    let b = corner_bound(p);
+                    if b > best.0 {
+                        best = (b, p);
+                    }
+                }
+            }
+        }
+        // Coordinate refinement around the grid's best point.
+        let mut step = 1.0 / f64::from(n);
+        while step > 1e-7 {
+            let mut improved = false;
+            for axis in 0..3 {
+                for sign in [-1.0, 1.0] {
+                    let mut q = best.1;
+                    q[axis] = (q[axis] + sign * step).clamp(0.0, 1.0);
+                    let b = corner_bound(q);
+                    if b > best.0 {
+                        best = (b, q);
+                        improved = true;
+                    }
+                }
+            }
+            if !improved {
+                step /= 2.0;
+            }
+        }
+        assert!(best.0 <= PERLIN_PEAK, "supremum {} above PERLIN_PEAK", best.0);
+        assert!(best.0 > PERLIN_PEAK - 1e-4, "supremum {} well below PERLIN_PEAK", best.0);
     }
 }
