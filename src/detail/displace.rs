@@ -95,7 +95,7 @@ impl LevelNoise {
     /// kinds are returned unchanged.
     pub fn clamped(&self, value: f64, p: DVec3, edge: f64) -> f64 {
         let NoiseField::Perlin { basis, fractal: Some(f) } = &self.field else { return value };
-        if f.kind != FractalKind::Wood || !(edge > 0.0) {
+        if f.kind != FractalKind::Wood || edge.is_nan() || edge <= 0.0 {
             return value;
         }
         let fbm = Fractal { kind: FractalKind::Fbm, ..*f };
