@@ -6,7 +6,7 @@ use std::process::Command;
 
 use asperity::analysis::FeatureClass;
 use asperity::detail::{
-    BoxFrame, DetailOptions, FunctionStep, GeometricParams, LevelNoise, LevelView, NoiseParams, OperatorKind, Recipe,
+    Attenuate, BoxFrame, DetailOptions, FunctionStep, GeometricParams, LevelNoise, LevelView, NoiseParams, OperatorKind, Recipe,
     apply, apply_to, apply_with, laplacian_energy, loop_smooth, noise_displacements, select, subdivide_around,
     tangent_frame, taper, twist,
 };
@@ -499,7 +499,7 @@ fn surface_gabor_noise_has_no_seam_at_the_equator() {
             amplitude: 0.02,
             isotropic,
             follow_diffusion: false,
-            attenuate: false,
+            attenuate: Attenuate::None,
             ..Default::default()
         };
         let moves =
@@ -580,7 +580,7 @@ fn amplitude_is_the_peak_displacement_of_every_kind() {
     let all = vec![true; mesh.vertex_count()];
     for &kind in asperity::noise::NoiseKind::value_variants() {
         for k in [1.0, 3.0] {
-            let params = NoiseParams { kind, amplitude: 0.02, k, attenuate: false, frequency: 8.0, ..Default::default() };
+            let params = NoiseParams { kind, amplitude: 0.02, k, attenuate: Attenuate::None, frequency: 8.0, ..Default::default() };
             let moves =
                 noise_displacements(OperatorKind::Noise, &params, &view, &frame, &all, &all.map_false(), 4).unwrap();
             let peak = 0.02 * frame.diagonal * if kind.is_spectral() { k } else { 1.0 };
@@ -608,7 +608,7 @@ fn wood_rings_never_jump_across_an_edge() {
             amplitude: 0.02,
             octaves: 1,
             frequency,
-            attenuate: false,
+            attenuate: Attenuate::None,
             ..Default::default()
         };
         let moves =
@@ -699,4 +699,43 @@ fn no_shipped_recipe_leaves_scattered_single_vertices() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn vertex_attenuation_divides_each_vertex_by_its_own_level() {
+    // #26 A6: eq. 4.5 with l "the level of detail of the vertex" (eq. 4.4, §4.2): with
+    // `attenuate = "vertex"` each vertex moves 1/l(v) as far as without attenuation, l(v)
+    // = 1 for vertices of the input's level only and L + 1 for base vertices; with
+    // "step" (the default, `true`) every vertex of a step at the input's level moves 1/1.
+    let mesh = torus(1.0, 0.35, 48, 24);
+    let hierarchy = build(&mesh, &SimplifyOptions { target_vertices: Some(120), ..Default::default() }).unwrap();
+    let steps = hierarchy.steps() as f64;
+    let offsets = |attenuate: &str| -> Vec<DVec3> {
+        let text = format!(
+            "[[step]]\nop = \"noise\"\nlevel = -1\nnoise = {{ kind = \"fbm\", amplitude = 0.004, frequency = 6.0, attenuate = {attenuate} }}\n"
+        );
+        let options = DetailOptions { no_self_intersections: false, ..Default::default() };
+        let out = apply_to(&hierarchy, &mesh, &recipe(&text), &options).unwrap().result;
+        let mut moved = vec![DVec3::ZERO; mesh.vertex_count()];
+        for (local, &id) in out.ids.iter().enumerate() {
+            moved[id as usize] = out.mesh.positions[local] - mesh.positions[id as usize];
+        }
+        moved
+    };
+    let (none, step, vertex) = (offsets("\"none\""), offsets("true"), offsets("\"vertex\""));
+    assert_eq!(none, offsets("false"), "false means none");
+    assert_eq!(step, none, "a step at the input's level divides by 1");
+    let levels = hierarchy.base_parametrization();
+    let mut seen = std::collections::BTreeSet::new();
+    for v in 0..mesh.vertex_count() {
+        let appear = f64::from(levels[v].expect("every vertex is on the base domain").level);
+        let l = steps - appear + 1.0;
+        seen.insert(l as u32);
+        let expected = none[v] / l;
+        assert!((vertex[v] - expected).length() <= 1e-12, "vertex {v} of level {l}: {:?} vs {expected:?}", vertex[v]);
+    }
+    assert!(seen.len() > 3 && seen.contains(&1) && seen.contains(&(steps as u32 + 1)), "levels {seen:?}");
+    let bad = "[[step]]\nop = \"noise\"\nnoise = { attenuate = \"pixel\" }\n";
+    let err = Recipe::parse(bad).unwrap_err();
+    assert!(err.1.contains("attenuate") && err.1.contains("vertex"), "{err:?}");
 }

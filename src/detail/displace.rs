@@ -190,7 +190,7 @@ pub fn noise_displacements(
     let dirs = directions(view, params.direction)?;
     let diffusion =
         if params.kind.is_spectral() && params.follow_diffusion { Some(view.analysis()?.diffusion()) } else { None };
-    let amplitude = params.amplitude * frame.diagonal / if params.attenuate { view.thesis_level() } else { 1.0 };
+    let amplitude = params.amplitude * frame.diagonal;
     let edge = view.mean_edge_length();
     let positions = &view.mesh.positions;
     let mut values = vec![0.0; targets.len()];
@@ -210,7 +210,14 @@ pub fn noise_displacements(
         };
         value * influence * falloff
     });
-    Ok(targets.iter().zip(values).map(|(&v, value)| (v, positions[v] + dirs[v] * (amplitude * value))).collect())
+    Ok(targets
+        .iter()
+        .zip(values)
+        .map(|(&v, value)| {
+            let level = view.attenuation_level(v, params.attenuate);
+            (v, positions[v] + dirs[v] * (amplitude / level * value))
+        })
+        .collect())
 }
 
 /// Closes the rings' reach over single vertices (#26 B7): a vertex the rings missed while

@@ -8,6 +8,7 @@ use glam::DVec3;
 
 use crate::analysis::{AnalysisOptions, FaceGeometry, NormalWeighting, SurfaceAnalysis, analyze, vertex_normals};
 use crate::error::Result;
+use super::recipe::Attenuate;
 use crate::hierarchy::LevelMesh;
 use crate::mesh::{Adjacency, Mesh};
 
@@ -66,6 +67,10 @@ pub struct LevelView {
     pub adjacency: Adjacency,
     /// Unit vertex normals (angle-weighted).
     pub normals: Vec<DVec3>,
+    /// The refinement level each vertex of `mesh` first belongs to in the hierarchy (0: a
+    /// base vertex; `level` for vertices made at this level by subdivision); every vertex
+    /// is taken to belong to `level` until [`LevelView::with_appearance`] says otherwise.
+    pub appear: Vec<u32>,
     analysis: OnceLock<SurfaceAnalysis>,
 }
 
@@ -82,7 +87,28 @@ impl LevelView {
         let adjacency = Adjacency::of(&mesh);
         let faces = FaceGeometry::of(&mesh);
         let normals = vertex_normals(&mesh, &adjacency, &faces, NormalWeighting::Angle);
-        LevelView { level, depth, mesh, ids, adjacency, normals, analysis: OnceLock::new() }
+        let appear = vec![level as u32; mesh.vertex_count()];
+        LevelView { level, depth, mesh, ids, adjacency, normals, appear, analysis: OnceLock::new() }
+    }
+
+    /// This view with each vertex's level of appearance read from `by_id` (indexed by id).
+    pub fn with_appearance(mut self, by_id: &[u32]) -> Self {
+        self.appear = self.ids.iter().map(|&id| by_id.get(id as usize).copied().unwrap_or(self.level as u32)).collect();
+        self
+    }
+
+    /// The level number l of eq. 4.5 for vertex `v` under `attenuate`: the step's
+    /// ([`LevelView::thesis_level`]), the vertex's own (1 for a vertex of the input's level
+    /// only, one more per coarser level it belongs to), or 1.
+    pub fn attenuation_level(&self, v: usize, attenuate: Attenuate) -> f64 {
+        match attenuate {
+            Attenuate::None => 1.0,
+            Attenuate::Step => self.thesis_level(),
+            Attenuate::Vertex => {
+                let steps = (self.level + self.depth) as f64;
+                steps - f64::from(self.appear[v]) + 1.0
+            }
+        }
     }
 
     /// The level number l of eq. 4.5: 1 at the input's level, one more per coarser level.

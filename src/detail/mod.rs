@@ -128,6 +128,8 @@ struct RunState {
     noised: Vec<bool>,
     /// Closed 1-rings changed by local subdivision (see [`subdivide_around`]).
     frozen: Vec<bool>,
+    /// The refinement level each vertex id first belongs to (eq. 4.5's per-vertex l).
+    appear: Vec<u32>,
 }
 
 /// The input vertices a selection picks, evaluated on the input itself (its own frame,
@@ -196,6 +198,11 @@ pub fn apply_with(
         rest: hierarchy.positions.clone(),
         noised: vec![false; hierarchy.positions.len()],
         frozen: vec![false; hierarchy.positions.len()],
+        appear: hierarchy
+            .base_parametrization()
+            .iter()
+            .map(|p| p.map_or(hierarchy.steps() as u32, |p| p.level))
+            .collect(),
     };
     let steps = hierarchy.steps();
     let levels = recipe.steps.iter().map(|s| s.level).chain(functions.iter().map(|f| f.level));
@@ -279,7 +286,7 @@ fn run_function(
     seed: u64,
 ) -> Result<StepReport> {
     let level = refiner.level();
-    let view = LevelView::new(level, steps - level, refiner.mesh()?);
+    let view = LevelView::new(level, steps - level, refiner.mesh()?).with_appearance(&state.appear);
     let selected = select(&step.select, &view, &state.frame, &state.classes, seed)?;
     let chosen: Vec<usize> = (0..selected.len()).filter(|&v| selected[v]).collect();
     let moved: Vec<DVec3> = {
@@ -347,7 +354,7 @@ fn noised_regions(view: &LevelView, mut region: Vec<bool>) -> Vec<bool> {
 fn run_step(step: &Step, refiner: &mut Refiner, state: &mut RunState, steps: usize, seed: u64) -> Result<StepReport> {
     let level = refiner.level();
     let depth = steps - level;
-    let mut view = LevelView::new(level, depth, refiner.mesh()?);
+    let mut view = LevelView::new(level, depth, refiner.mesh()?).with_appearance(&state.appear);
     let mut selected = select(&step.select, &view, &state.frame, &state.classes, seed)?;
     let mut touched = 0;
     let subdivide_steps = match step.op {
@@ -363,12 +370,13 @@ fn run_step(step: &Step, refiner: &mut Refiner, state: &mut RunState, steps: usi
             state.rest.push((state.rest[a as usize] + state.rest[b as usize]) * 0.5);
             state.noised.push(false);
             state.frozen.push(true);
+            state.appear.push(level as u32);
         }
         for &v in &made.region {
             state.frozen[v as usize] = true;
         }
         touched += made.splits.len();
-        view = LevelView::new(level, depth, refiner.mesh()?);
+        view = LevelView::new(level, depth, refiner.mesh()?).with_appearance(&state.appear);
         selected = view.ids.iter().map(|id| made.centres.binary_search(id).is_ok()).collect();
     }
     let marks: Vec<bool> = view.ids.iter().map(|&id| state.noised[id as usize]).collect();

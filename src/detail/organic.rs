@@ -34,7 +34,7 @@ pub fn organic_displacements(
         return Ok(Vec::new());
     }
     let field = LevelNoise::new(noise, false, view.level, view.depth, frame, seed)?;
-    let scale = params.height * frame.diagonal / if noise.attenuate { view.thesis_level() } else { 1.0 };
+    let height = params.height * frame.diagonal;
     let pick = derive_seed(seed, "organic direction");
     let mut growth = vec![DVec3::ZERO; n];
     for &c in &centres {
@@ -43,6 +43,7 @@ pub fn organic_displacements(
         let other = (hash_coords(pick, &[i64::from(view.ids[c])]) % n as u64) as usize;
         let bent = (normal + params.bend * view.normals[other]).normalize_or_zero();
         let direction = if bent == DVec3::ZERO { normal } else { bent };
+        let scale = height / view.attenuation_level(c, noise.attenuate);
         growth[c] = direction * scale * (0.5 + value.abs());
     }
     let mut reach = view.rings_from(&centres, params.rings.len() - 1);

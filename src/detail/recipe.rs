@@ -304,6 +304,52 @@ pub enum Direction {
     NormalCrossDiffusion,
 }
 
+/// Which level number l divides a step's displacement (eq. 4.5, p ← p + (nl/l)·n(p)).
+///
+/// Eq. 4.4 calls l "the level of detail of the vertex in the variable resolution
+/// representation", and §4.2 gives each vertex its own ("Each vertex v belongs to a level of
+/// detail given by an integer number l"): that is [`Attenuate::Vertex`]. It makes a step's
+/// displacement vary between neighbours of different levels — a base vertex among
+/// input-level ones moves 1/L as far — which is the dotted field #26 B7 removes, so a
+/// recipe says which it wants; the default, [`Attenuate::Step`], divides every vertex by the
+/// level of the step ("the base domain will be less modified and the original mesh will
+/// suffer the most significant changes"), continuous over the surface. In recipes `true`
+/// means `"step"` and `false` `"none"`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Attenuate {
+    /// No division.
+    None,
+    /// l of the step's level: 1 at the input's level, one more per coarser level.
+    #[default]
+    Step,
+    /// l of each vertex: the level of the hierarchy it first belongs to, 1 for vertices
+    /// of the input's level only, L + 1 for base vertices.
+    Vertex,
+}
+
+impl<'de> Deserialize<'de> for Attenuate {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> std::result::Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Written {
+            Flag(bool),
+            Name(String),
+        }
+        match Written::deserialize(deserializer)? {
+            Written::Flag(true) => Ok(Attenuate::Step),
+            Written::Flag(false) => Ok(Attenuate::None),
+            Written::Name(name) => match name.as_str() {
+                "step" => Ok(Attenuate::Step),
+                "vertex" => Ok(Attenuate::Vertex),
+                "none" => Ok(Attenuate::None),
+                other => Err(serde::de::Error::custom(format!(
+                    "attenuate: expected true, false, \"step\", \"vertex\" or \"none\", not \"{other}\""
+                ))),
+            },
+        }
+    }
+}
+
 /// Distance attenuation of propagated noise.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -366,8 +412,9 @@ pub struct NoiseParams {
     pub follow_diffusion: bool,
     /// Displacement direction.
     pub direction: Direction,
-    /// Divide by the level number l (eq. 4.5; l = 1 at the input level, growing coarser).
-    pub attenuate: bool,
+    /// Divide by a level number l (eq. 4.5; l = 1 at the input level, growing coarser):
+    /// the step's or each vertex's ([`Attenuate`]).
+    pub attenuate: Attenuate,
     /// Level-modulated lacunarity and gain (§4.7.3.1); default on for `variation`.
     pub modulate: Option<bool>,
     /// Displace vertices already noised by an earlier step.
@@ -399,7 +446,7 @@ impl Default for NoiseParams {
             profile: crate::noise::Profile::Sine,
             follow_diffusion: true,
             direction: Direction::Normal,
-            attenuate: true,
+            attenuate: Attenuate::Step,
             modulate: None,
             accumulate: false,
             rings: Vec::new(),
