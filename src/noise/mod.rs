@@ -7,6 +7,8 @@ mod fractal;
 mod gabor;
 pub mod hash;
 mod perlin;
+#[cfg(target_arch = "x86_64")]
+mod perlin_avx2;
 mod phasor;
 
 use glam::DVec3;
