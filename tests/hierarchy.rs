@@ -307,3 +307,30 @@ fn non_manifold_input_is_refused_with_the_reason() {
         "{err}"
     );
 }
+
+#[test]
+fn openmesh_replaying_the_plans_ends_with_the_rings_base_domain() {
+    // #20: the build plans on the Rust rings alone; replayed on OpenMesh (flips, welds,
+    // boundary welds), the same plans must leave the same base domain, and the hierarchy
+    // must not depend on whether they were replayed. A closed surface, a CAD part with
+    // feature lines, and a scan with boundary loops.
+    let bunny = shared("bunny00.off");
+    let mut open_torus = torus(1.0, 0.4, 40, 20);
+    open_torus.triangles.truncate(open_torus.triangles.len() - 80);
+    asperity::mesh::drop_unreferenced_vertices(&mut open_torus);
+    let cases = [
+        ("torus", torus(1.0, 0.35, 48, 24), options()),
+        ("fandisk", shared("fandisk.off"), SimplifyOptions { keep_features: KeepFeatures::Strong, ..options() }),
+        ("bunny00", bunny, options()),
+        ("open torus", open_torus, options()),
+    ];
+    for (name, mesh, opts) in cases {
+        let replayed = asperity::hierarchy::build_with_openmesh_replay(&mesh, &opts)
+            .unwrap_or_else(|e| panic!("{name}: OpenMesh disagrees with the plans: {e}"));
+        let planned = build(&mesh, &opts).unwrap();
+        assert_eq!(replayed.base_triangles, planned.base_triangles, "{name}: base domain");
+        assert_eq!(replayed.removals, planned.removals, "{name}: removals");
+        assert_eq!(replayed.restore, planned.restore, "{name}: restore flips");
+        assert!(replayed.steps() > 3, "{name}: {} levels", replayed.steps());
+    }
+}

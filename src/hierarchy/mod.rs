@@ -30,7 +30,7 @@ pub use conformal::{Flattening, barycentric, clamp_barycentric, interpolate, loc
 pub use param::ParamPoint;
 pub use refine::{LevelMesh, LevelReport, Refiner, connectivity_match};
 pub use rings::{RingVec, Rings};
-pub use simplify::build;
+pub use simplify::{build, build_with_openmesh_replay};
 
 pub use crate::mesh::used_vertices;
 
@@ -184,8 +184,9 @@ pub struct BuildStages {
     /// Validation, feature classification, quadrics, loading the half-edge store and its
     /// rings.
     pub prepare: f64,
-    /// Exporting faces from the store (recorded levels, the base domain) and checking
-    /// them against the planning rings.
+    /// Compacting the recorded levels, and, when the build replays its plans on OpenMesh
+    /// ([`build_with_openmesh_replay`]), exporting the store's base domain and checking it
+    /// against the planning rings.
     pub export: f64,
     /// Estimating E(v) for every candidate and sorting.
     pub ranking: f64,
@@ -193,8 +194,9 @@ pub struct BuildStages {
     pub planning: f64,
     /// The intersection guard.
     pub guard: f64,
-    /// Replaying flips and welds on the store (on the recorder thread, alongside the next
-    /// level's planning).
+    /// Replaying flips and welds on the OpenMesh store (on the recorder thread, alongside
+    /// the next level's planning); 0 unless the build checks itself
+    /// ([`build_with_openmesh_replay`], debug builds).
     pub store: f64,
     /// Updating the parametrization (MAPS re-mapping of the removed vertices).
     pub parametrization: f64,

@@ -1,8 +1,9 @@
-//! The record of a simplification: each level's plans carried out on the OpenMesh store
-//! and written into the removals (each removed vertex's point on the next coarser level,
-//! the edge to split, the link edges to flip back). Planning needs only the rings, the
-//! quadrics and the parametrization, so the record runs on its own thread, one level
-//! behind.
+//! The record of a simplification: each level's plans written into the removals (each
+//! removed vertex's point on the next coarser level, the edge to split, the link edges to
+//! flip back), and, when the build checks itself against OpenMesh, carried out on the
+//! OpenMesh store too (#20: the build plans on the Rust rings alone; refinement builds its
+//! store from the base domain in one call). Planning needs only the rings, the quadrics and
+//! the parametrization, so the record runs on its own thread, one level behind.
 
 use std::time::Instant;
 
@@ -10,7 +11,7 @@ use glam::DVec3;
 
 use super::cluster::ClusterPlan;
 use super::param::ParamPoint;
-use super::simplify::{expect_done, exported_triangles};
+use super::simplify::expect_done;
 use super::{LevelMesh, Removal};
 use crate::error::Result;
 use crate::ffi::{CollapseOptions, HalfEdgeMesh};
@@ -18,8 +19,9 @@ use crate::ffi::{CollapseOptions, HalfEdgeMesh};
 /// The store, the removals and the parametrization, level by level.
 pub(super) struct Recorder<'a> {
     positions: &'a [DVec3],
-    /// The half-edge store, at the last recorded level.
-    store: HalfEdgeMesh,
+    /// The half-edge store, at the last recorded level, when the build replays its plans
+    /// on OpenMesh to check them.
+    store: Option<HalfEdgeMesh>,
     /// Every removal so far, in order.
     removals: Vec<Removal>,
     /// The link edges of the removals (see [`Removal::restore`]).
@@ -33,16 +35,16 @@ pub(super) struct Recorder<'a> {
 }
 
 impl<'a> Recorder<'a> {
-    /// Starts at the input, held in `store` (recorded as the first level if asked).
-    ///
-    /// # Errors
-    /// [`crate::Error::Native`] if the export fails.
-    pub fn new(positions: &'a [DVec3], store: HalfEdgeMesh, record_levels: bool) -> Result<Self> {
-        let levels = match record_levels {
-            true => Some(vec![LevelMesh::compact(positions, &exported_triangles(&store)?)]),
-            false => None,
-        };
-        Ok(Recorder {
+    /// Starts at the input (`triangles`, recorded as the first level if asked), replaying
+    /// the plans on `store` when one is given.
+    pub fn new(
+        positions: &'a [DVec3],
+        triangles: &[[u32; 3]],
+        store: Option<HalfEdgeMesh>,
+        record_levels: bool,
+    ) -> Self {
+        let levels = record_levels.then(|| vec![LevelMesh::compact(positions, triangles)]);
+        Recorder {
             positions,
             store,
             removals: Vec::new(),
@@ -50,16 +52,19 @@ impl<'a> Recorder<'a> {
             step_starts: vec![0],
             levels,
             seconds: [0.0; 3],
-        })
+        }
     }
 
-    /// Records one simplification step.
+    /// Records one simplification step: its plans and the level's faces after them (the
+    /// planning rings', given when levels are recorded).
     ///
     /// # Errors
     /// [`crate::Error::Internal`] if OpenMesh refuses a planned operation.
-    pub fn record(&mut self, plans: &[ClusterPlan]) -> Result<()> {
+    pub fn record(&mut self, plans: &[ClusterPlan], faces: Option<&[[u32; 3]]>) -> Result<()> {
         let clock = Instant::now();
-        self.apply_to_store(plans)?;
+        if let Some(store) = &mut self.store {
+            apply_to_store(store, plans)?;
+        }
         let stored = Instant::now();
         let step = (self.step_starts.len() - 1) as u32;
         for plan in plans {
@@ -78,8 +83,8 @@ impl<'a> Recorder<'a> {
         }
         self.step_starts.push(self.removals.len());
         let parametrized = Instant::now();
-        if let Some(levels) = &mut self.levels {
-            levels.push(LevelMesh::compact(self.positions, &exported_triangles(&self.store)?));
+        if let (Some(levels), Some(faces)) = (&mut self.levels, faces) {
+            levels.push(LevelMesh::compact(self.positions, faces));
         }
         self.seconds[0] += (stored - clock).as_secs_f64();
         self.seconds[1] += (parametrized - stored).as_secs_f64();
@@ -98,28 +103,29 @@ impl<'a> Recorder<'a> {
             seconds: self.seconds,
         }
     }
+}
 
-    /// Replays the planned flips, then the welds, on the store (one call each; boundary
-    /// welds, of degree 3, in a call of their own).
-    fn apply_to_store(&mut self, plans: &[ClusterPlan]) -> Result<()> {
-        let flips: Vec<[u32; 2]> = plans.iter().flat_map(|p| p.flips.iter().map(move |&a| [p.vertex, a])).collect();
-        expect_done("flip", &flips, &self.store.flip_edges(&flips)?)?;
-        for (boundary, degree) in [(false, 4), (true, 3)] {
-            let welds: Vec<[u32; 2]> =
-                plans.iter().filter(|p| p.boundary == boundary).map(|p| [p.vertex, p.weld_to]).collect();
-            if welds.is_empty() {
-                continue;
-            }
-            let options = CollapseOptions { required_degree: degree, check_normals: false };
-            expect_done("weld", &welds, &self.store.collapse_halfedges(&welds, options)?)?;
+/// Replays the planned flips, then the welds, on the store (one call each; boundary welds,
+/// of degree 3, in a call of their own).
+fn apply_to_store(store: &mut HalfEdgeMesh, plans: &[ClusterPlan]) -> Result<()> {
+    let flips: Vec<[u32; 2]> = plans.iter().flat_map(|p| p.flips.iter().map(move |&a| [p.vertex, a])).collect();
+    expect_done("flip", &flips, &store.flip_edges(&flips)?)?;
+    for (boundary, degree) in [(false, 4), (true, 3)] {
+        let welds: Vec<[u32; 2]> =
+            plans.iter().filter(|p| p.boundary == boundary).map(|p| [p.vertex, p.weld_to]).collect();
+        if welds.is_empty() {
+            continue;
         }
-        Ok(())
+        let options = CollapseOptions { required_degree: degree, check_normals: false };
+        expect_done("weld", &welds, &store.collapse_halfedges(&welds, options)?)?;
     }
+    Ok(())
 }
 
 /// Everything a [`Recorder`] kept.
 pub(super) struct Recorded {
-    pub store: HalfEdgeMesh,
+    /// The store the plans were replayed on, when they were.
+    pub store: Option<HalfEdgeMesh>,
     pub removals: Vec<Removal>,
     pub restore: Vec<[u32; 2]>,
     pub step_starts: Vec<usize>,

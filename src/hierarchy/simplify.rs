@@ -29,6 +29,22 @@ use glam::DVec3;
 /// [`Error::InvalidInput`] for an inconsistent mesh or options; [`Error::Topology`] for a
 /// non-manifold mesh; [`Error::Native`] if OpenMesh or CGAL refuse it.
 pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
+    build_with(mesh, options, cfg!(debug_assertions))
+}
+
+/// [`build`], with every level's plans also carried out on an OpenMesh store (flips and
+/// welds, one batched call each) and the store's base domain checked against the planning
+/// rings' (#20: the build plans on the rings alone; this replay is its check, run by the
+/// tests and by debug builds).
+///
+/// # Errors
+/// As [`build`]; [`Error::Internal`] if OpenMesh refuses a planned operation or ends with
+/// other faces than the rings.
+pub fn build_with_openmesh_replay(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
+    build_with(mesh, options, true)
+}
+
+fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hierarchy> {
     let started = Instant::now();
     let mut stages = BuildStages::default();
     let mut clock = Instant::now();
@@ -56,7 +72,7 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
     let referenced = used_vertices(n, &mesh.triangles);
     let live: Vec<u32> = (0..n as u32).filter(|&v| referenced[v as usize]).collect();
     let rings = Rings::fetch(&store, &live, n)?;
-    let recorder = Recorder::new(&mesh.positions, store, options.record_levels)?;
+    let recorder = Recorder::new(&mesh.positions, &mesh.triangles, replay.then_some(store), options.record_levels);
     lap(&mut clock, &mut stages.prepare);
 
     let mut planner = Planner {
@@ -74,11 +90,11 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
     // behind on its own thread. The channel holds nothing: a level's plans are handed over
     // when the recorder is free, so at most two levels of plans exist at once.
     let (planned, recorded) = std::thread::scope(|scope| {
-        let (sender, receiver) = std::sync::mpsc::sync_channel::<Vec<ClusterPlan>>(0);
+        let (sender, receiver) = std::sync::mpsc::sync_channel::<LevelPlans>(0);
         let worker = scope.spawn(move || -> Result<Recorded> {
             let mut recorder = recorder;
-            for plans in receiver {
-                recorder.record(&plans)?;
+            for (plans, faces) in receiver {
+                recorder.record(&plans, faces.as_deref())?;
             }
             Ok(recorder.finish())
         });
@@ -90,8 +106,10 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
     let recorded = recorded?;
     planned?;
     [stages.store, stages.records, stages.export] = recorded.seconds;
-    let base_triangles = exported_triangles(&recorded.store)?;
-    check_agreement(&base_triangles, &planner.rings.faces(&planner.live))?;
+    let base_triangles = planner.rings.faces(&planner.live);
+    if let Some(store) = &recorded.store {
+        check_agreement(&exported_triangles(store)?, &base_triangles)?;
+    }
     let feature_vertices = planner.live.iter().filter(|&&v| feature[v as usize]).count();
     lap(&mut clock, &mut stages.export);
     Ok(Hierarchy {
@@ -110,6 +128,10 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
         stages,
     })
 }
+
+/// One level's plans for the recorder, with the level's faces after them when levels are
+/// recorded.
+type LevelPlans = (Vec<ClusterPlan>, Option<Vec<[u32; 3]>>);
 
 /// The planning side of [`build`]: the level's rings, quadrics and live vertices.
 struct Planner<'a> {
@@ -134,7 +156,7 @@ impl Planner<'_> {
         &mut self,
         stages: &mut BuildStages,
         clock: &mut Instant,
-        mut record: impl FnMut(Vec<ClusterPlan>) -> bool,
+        mut record: impl FnMut(LevelPlans) -> bool,
     ) -> Result<()> {
         let options = self.options;
         let rules = ClusterRules {
@@ -226,7 +248,8 @@ impl Planner<'_> {
                 self.params.apply_removal(plan, self.positions);
             }
             lap(clock, &mut stages.parametrization);
-            let recording = record(plans);
+            let faces = options.record_levels.then(|| self.rings.faces(&self.live));
+            let recording = record((plans, faces));
             lap(clock, &mut stages.handoff);
             if !recording {
                 break;
