@@ -4,6 +4,7 @@
 //! the conformal flattening of the removed vertex onto the face that replaces it.
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 use serde::Serialize;
 
@@ -80,20 +81,37 @@ impl ParamBuckets {
         }
     }
 
-    /// Applies one removal (the three categories of Lee et al.): the vertices on the
-    /// removed vertex's star faces are re-mapped through its flattening onto the
+    /// Applies one level's removals (the three categories of Lee et al.): the vertices on
+    /// each removed vertex's star faces are re-mapped through its flattening onto the
     /// retriangulated ring, and the removed vertex is placed where its image (the origin)
-    /// falls. Returns the removed vertex's own point.
-    pub fn apply_removal(&mut self, plan: &ClusterPlan, positions: &[DVec3]) -> ParamPoint {
-        let v = plan.vertex;
-        let d = plan.ring.len();
+    /// falls.
+    ///
+    /// The removed vertices are independent (no two share a face, and a plan's new
+    /// triangles hold only its ring vertices), so no plan's star faces hold another's
+    /// re-mapped points: every plan's moves are computed in parallel from the buckets as
+    /// they were, then carried out in plan order, exactly as one removal after the other.
+    pub fn apply_removals(&mut self, plans: &[ClusterPlan], positions: &[DVec3]) {
+        let moves: Vec<Vec<(u32, ParamPoint, f64)>> =
+            plans.par_iter().map(|plan| self.removal_moves(plan, positions)).collect();
+        for (plan, moves) in plans.iter().zip(moves) {
+            for face in star_faces(plan) {
+                self.heads.remove(&face_key(face));
+            }
+            for (w, point, distance) in moves {
+                self.insert(w, point, distance);
+            }
+        }
+    }
+
+    /// Where one removal sends the vertices on its star faces, in bucket order, and the
+    /// removed vertex itself (last), each with its squared distance from its new face.
+    fn removal_moves(&self, plan: &ClusterPlan, positions: &[DVec3]) -> Vec<(u32, ParamPoint, f64)> {
         let flat = plan.flattening(positions);
         let flat_triangles = plan.flat_triangles(&flat);
-        for k in 0..if plan.boundary { d - 1 } else { d } {
-            let star_face = [v, plan.ring[k], plan.ring[(k + 1) % d]];
-            let Some(Bucket { head: mut w, .. }) = self.heads.remove(&face_key(star_face)) else { continue };
+        let mut moves = Vec::new();
+        for star_face in star_faces(plan) {
+            let Some(&Bucket { head: mut w, .. }) = self.heads.get(&face_key(star_face)) else { continue };
             while w != END {
-                let after = self.next[w as usize];
                 if let Some(old) = self.points[w as usize] {
                     let image = old
                         .face
@@ -102,21 +120,26 @@ impl ParamBuckets {
                         .fold(DVec2::ZERO, |acc, (&id, b)| acc + plan.image(id, &flat) * b);
                     let (t, bary) = locate(image, &flat_triangles);
                     let face = plan.triangles[t];
-                    let distance = distance_to(positions, w, face);
-                    self.insert(w, ParamPoint { face, bary }, distance);
+                    moves.push((w, ParamPoint { face, bary }, distance_to(positions, w, face)));
                 }
-                w = after;
+                w = self.next[w as usize];
             }
         }
         let own = ParamPoint { face: plan.triangles[plan.location.0], bary: plan.location.1 };
-        self.insert(v, own, distance_to(positions, v, own.face));
-        own
+        moves.push((plan.vertex, own, distance_to(positions, plan.vertex, own.face)));
+        moves
     }
 
     /// The final points: `None` for vertices never removed.
     pub fn into_points(self) -> Vec<Option<ParamPoint>> {
         self.points
     }
+}
+
+/// The faces around a removed vertex before its removal.
+fn star_faces(plan: &ClusterPlan) -> impl Iterator<Item = [u32; 3]> + '_ {
+    let d = plan.ring.len();
+    (0..if plan.boundary { d - 1 } else { d }).map(move |k| [plan.vertex, plan.ring[k], plan.ring[(k + 1) % d]])
 }
 
 /// Squared distance from vertex `w` to the triangle `face`.

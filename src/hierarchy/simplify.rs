@@ -244,9 +244,7 @@ impl Planner<'_> {
             steps += 1;
             crate::progress::report("simplify", (first_live - self.live.len()) as u64, to_remove);
             lap(clock, &mut stages.planning);
-            for plan in &plans {
-                self.params.apply_removal(plan, self.positions);
-            }
+            self.params.apply_removals(&plans, self.positions);
             lap(clock, &mut stages.parametrization);
             let faces = options.record_levels.then(|| self.rings.faces(&self.live));
             let recording = record((plans, faces));
