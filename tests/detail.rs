@@ -738,4 +738,6 @@ fn vertex_attenuation_divides_each_vertex_by_its_own_level() {
     let bad = "[[step]]\nop = \"noise\"\nnoise = { attenuate = \"pixel\" }\n";
     let err = Recipe::parse(bad).unwrap_err();
     assert!(err.1.contains("attenuate") && err.1.contains("vertex"), "{err:?}");
+    let err = Recipe::parse("[[step]]\nop = \"noise\"\nnoise = { attenuate = 3 }\n").unwrap_err();
+    assert!(err.0 == Some(3) && err.1.contains("attenuate: expected"), "{err:?}");
 }

@@ -88,11 +88,11 @@ impl LevelNoise {
 impl LevelNoise {
     /// `value` (this field's unit value at `p`) with wood's rings faded to their mean where
     /// they are denser than a mesh with edges of `edge` can show: kept whole where a ring
-    /// spans eight edges or more (its fall, two), replaced by the mean ½ where it spans four or fewer, a
-    /// smoothstep between. Rings finer than the mesh alias into serrated cliffs (#26 B9);
-    /// this is clamping (Norton, Rockwood & Skolmoski 1982, as Lagae et al. 2009 §6 filter
-    /// Gabor noise): the ring density is |∇(10·|F|)| from central differences of F. Other
-    /// kinds are returned unchanged.
+    /// spans eight edges or more (its fall, two), replaced by the mean ½ where it spans
+    /// four or fewer, a smoothstep between. Rings finer than the mesh alias into serrated
+    /// cliffs (#26 B9); this is clamping (Norton, Rockwood & Skolmoski 1982), the ring
+    /// density |∇(10·|F|)| taken from central differences of F. Other kinds are returned
+    /// unchanged.
     pub fn clamped(&self, value: f64, p: DVec3, edge: f64) -> f64 {
         let NoiseField::Perlin { basis, fractal: Some(f) } = &self.field else { return value };
         if f.kind != FractalKind::Wood || edge.is_nan() || edge <= 0.0 {

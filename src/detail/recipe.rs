@@ -334,17 +334,18 @@ impl<'de> Deserialize<'de> for Attenuate {
         enum Written {
             Flag(bool),
             Name(String),
+            Other(serde::de::IgnoredAny),
         }
+        let expected = "attenuate: expected true, false, \"step\", \"vertex\" or \"none\"";
         match Written::deserialize(deserializer)? {
+            Written::Other(_) => Err(serde::de::Error::custom(expected)),
             Written::Flag(true) => Ok(Attenuate::Step),
             Written::Flag(false) => Ok(Attenuate::None),
             Written::Name(name) => match name.as_str() {
                 "step" => Ok(Attenuate::Step),
                 "vertex" => Ok(Attenuate::Vertex),
                 "none" => Ok(Attenuate::None),
-                other => Err(serde::de::Error::custom(format!(
-                    "attenuate: expected true, false, \"step\", \"vertex\" or \"none\", not \"{other}\""
-                ))),
+                other => Err(serde::de::Error::custom(format!("{expected}, not \"{other}\""))),
             },
         }
     }

@@ -1,14 +1,14 @@
-//! Seeded Perlin noise four points at a time in 256-bit AVX2 vectors: the batch path of
-//! [`super::Perlin::sample3_batch`] on x86-64 CPUs that have AVX2 (checked at run time).
+//! Seeded Perlin noise four points at a time in 256-bit AVX2 vectors: the batch paths of
+//! [`super::Perlin::sample3_batch`] and [`super::Fractal::fbm_batch`] on x86-64 CPUs that
+//! have AVX2 (checked at run time).
 //!
 //! Every lane performs the operations of the scalar `noise3` on the hashed lattice in the
 //! same order — floor, fade, the per-axis hash parts, the corner hash's 64-bit product,
 //! the lerps — with no fused multiply-add; the gradient is Perlin's select form, equal to
 //! the scalar table's product up to the sign of an exact zero, which both paths remove by
 //! adding +0 to their result. So each value equals [`super::Perlin::sample3`]'s bit for
-//! bit. AVX2 has
-//! no 64-bit multiply; [`mul_lo64`] forms the low 64 bits of the product from three
-//! 32-bit ones, exactly.
+//! bit. AVX2 has no 64-bit multiply; [`mul_lo64`] forms the low 64 bits of the product
+//! from three 32-bit ones, exactly.
 
 #![allow(unsafe_code)]
 
@@ -24,47 +24,17 @@ const MAGIC: f64 = 6_755_399_441_055_744.0;
 /// Lanes with a coordinate this large (or not finite) take the scalar path.
 const LIMIT: f64 = 2_251_799_813_685_248.0; // 2⁵¹
 
-/// [`batch_hashed`] when this CPU has AVX2 (returning true), else nothing (false).
+/// Seeded Perlin noise at every point into `out` (same length) when this CPU has AVX2
+/// (returning true), else nothing (false): the one-octave sum of [`fbm_hashed`], whose
+/// 0 + 1·n is n itself.
 pub(super) fn batch_hashed_if_available(seed: u64, points: &[DVec3], out: &mut [f64]) -> bool {
-    if !is_x86_feature_detected!("avx2") {
-        return false;
-    }
-    // SAFETY: the CPU has AVX2.
-    unsafe { batch_hashed(seed, points, out) };
-    true
-}
-
-/// Seeded Perlin noise at every point into `out` (same length): four points per step,
-/// the rest, and any step with a coordinate beyond 2⁵¹ or not finite, by the scalar path.
-///
-/// # Safety
-/// The CPU must support AVX2.
-#[target_feature(enable = "avx2")]
-unsafe fn batch_hashed(seed: u64, points: &[DVec3], out: &mut [f64]) {
-    let mut chunks = points.chunks_exact(4);
-    let mut outs = out.chunks_exact_mut(4);
-    for (p, o) in (&mut chunks).zip(&mut outs) {
-        let x = _mm256_set_pd(p[3].x, p[2].x, p[1].x, p[0].x);
-        let y = _mm256_set_pd(p[3].y, p[2].y, p[1].y, p[0].y);
-        let z = _mm256_set_pd(p[3].z, p[2].z, p[1].z, p[0].z);
-        if in_range(x) && in_range(y) && in_range(z) {
-            // SAFETY: `o` holds four f64.
-            unsafe { _mm256_storeu_pd(o.as_mut_ptr(), noise4(seed, x, y, z)) };
-        } else {
-            for (q, v) in p.iter().zip(o.iter_mut()) {
-                *v = noise3_hashed(seed, q.x, q.y, q.z);
-            }
-        }
-    }
-    for (q, v) in chunks.remainder().iter().zip(outs.into_remainder()) {
-        *v = noise3_hashed(seed, q.x, q.y, q.z);
-    }
+    fbm_hashed_if_available(seed, &[1.0], 1.0, points, out)
 }
 
 /// fBm of seeded Perlin noise (Σ gainⁱ·n(p·fᵢ) over `frequencies`, summed in the order
 /// [`super::Fractal::fbm_batch`] sums) at every point into `out`, when this CPU has AVX2
-/// (returning true); else nothing (false). Octaves whose scaled coordinates leave the
-/// vector range are evaluated by the scalar path.
+/// (returning true); else nothing (false). Four points per step; the rest, and any octave
+/// whose scaled coordinates are beyond 2⁵¹ or not finite, by the scalar path.
 pub(super) fn fbm_hashed_if_available(
     seed: u64,
     frequencies: &[f64],
