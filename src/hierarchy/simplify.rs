@@ -1,7 +1,8 @@
 //! Feature-sensitive four-face-cluster simplification (thesis §3.1.7, §4.4.1, Algorithm 2
 //! of §3.1.7): per level, vertices ranked by E(v) (eq. 4.1), a maximal independent set of
 //! clusters chosen greedily, each brought to degree 4 by spoke flips and removed by an edge
-//! weld, all applied to the OpenMesh store in one batched call per operation.
+//! weld, all carried out on the Rust rings; [`build_with_openmesh_replay`] also carries them
+//! out on OpenMesh, one batched call per operation, as the build's check.
 
 use std::time::Instant;
 
@@ -86,9 +87,10 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
         lines,
         params: ParamBuckets::new(n),
     };
-    // Planning runs here; the record (OpenMesh and the parametrization) follows a level
-    // behind on its own thread. The channel holds nothing: a level's plans are handed over
-    // when the recorder is free, so at most two levels of plans exist at once.
+    // Planning runs here; the record (the removal records, and the OpenMesh replay when
+    // asked) follows a level behind on its own thread. The channel holds nothing: a level's
+    // plans are handed over when the recorder is free, so at most two levels of plans
+    // exist at once.
     let (planned, recorded) = std::thread::scope(|scope| {
         let (sender, receiver) = std::sync::mpsc::sync_channel::<LevelPlans>(0);
         let worker = scope.spawn(move || -> Result<Recorded> {
