@@ -324,3 +324,38 @@ fn closed_cylinder(segments: u32, rows: u32) -> Mesh {
     }
     Mesh::new(positions, triangles)
 }
+
+/// Share of neighbouring vertex pairs whose directions are nearly parallel as lines
+/// (|cos| > 0.9) but point opposite ways.
+fn opposed_share(field: &[DVec3], adjacency: &Adjacency) -> f64 {
+    let (mut parallel, mut opposed) = (0usize, 0usize);
+    for v in 0..field.len() {
+        for &u in adjacency.neighbours(v) {
+            let c = field[v].dot(field[u as usize]);
+            if c.abs() > 0.9 {
+                parallel += 1;
+                opposed += usize::from(c < 0.0);
+            }
+        }
+    }
+    opposed as f64 / parallel.max(1) as f64
+}
+
+#[test]
+fn oriented_diffusion_does_not_flip_between_parallel_neighbours() {
+    // #26 A2: the voting tensor's eigenvector has an arbitrary sign; a displacement along
+    // it, or phasor noise's phase, must not flip between neighbours that point the same
+    // way. Propagated along the maximum spanning tree of |d·d'| (Hoppe et al. 1992).
+    for name in ["bunny00.off", "fandisk.off"] {
+        let mesh = io::read(&shared_meshes().join(name)).expect("shared mesh").mesh;
+        let adjacency = Adjacency::of(&mesh);
+        let analysis = analyze(&mesh, &AnalysisOptions::default()).unwrap();
+        let raw = opposed_share(&analysis.diffusion(), &adjacency);
+        let oriented = opposed_share(&analysis.oriented_diffusion(&adjacency), &adjacency);
+        eprintln!("{name}: nearly parallel neighbours pointing opposite ways {:.2} % raw, {:.3} % oriented", raw * 100.0, oriented * 100.0);
+        assert!(raw > 0.01, "{name}: the raw field should show the arbitrary signs ({raw})");
+        assert!(oriented < 0.1 * raw, "{name}: {oriented} of parallel pairs still opposed (raw {raw})");
+        let again = analysis.oriented_diffusion(&adjacency);
+        assert_eq!(again, analysis.oriented_diffusion(&adjacency), "deterministic");
+    }
+}

@@ -6,6 +6,7 @@ mod curvature;
 mod features;
 mod gradient;
 mod normals;
+mod orient;
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -16,6 +17,7 @@ pub use features::{
 };
 pub use gradient::face_gradients;
 pub use normals::{FaceGeometry, NormalWeighting, face_normals, vertex_normals};
+pub use orient::orient_line_field;
 
 use crate::error::Result;
 use crate::mesh::{Adjacency, Mesh, Rgb};
@@ -51,6 +53,21 @@ impl SurfaceAnalysis {
     /// normal × diffusion direction (§5.2.2): a tangent direction across the feature lines.
     pub fn normal_cross_diffusion(&self) -> Vec<DVec3> {
         self.normals.iter().zip(&self.tensors).map(|(n, t)| n.cross(t.diffusion).normalize_or_zero()).collect()
+    }
+
+    /// The diffusion directions with consistent signs over the mesh ([`orient_line_field`]):
+    /// the eigenvector's sign is arbitrary, and a displacement or a phase that follows it
+    /// must not flip between neighbours that point the same way (#26 A2).
+    pub fn oriented_diffusion(&self, adjacency: &Adjacency) -> Vec<DVec3> {
+        let mut field = self.diffusion();
+        orient_line_field(&mut field, adjacency);
+        field
+    }
+
+    /// normal × [`SurfaceAnalysis::oriented_diffusion`].
+    pub fn oriented_normal_cross_diffusion(&self, adjacency: &Adjacency) -> Vec<DVec3> {
+        let field = self.oriented_diffusion(adjacency);
+        self.normals.iter().zip(field).map(|(n, d)| n.cross(d).normalize_or_zero()).collect()
     }
 
     /// Number of vertices of each class, indexed by the class number.

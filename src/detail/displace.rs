@@ -155,8 +155,8 @@ pub fn directions(view: &LevelView, direction: Direction) -> Result<Vec<DVec3>> 
     Ok(match direction {
         Direction::Normal => view.normals.clone(),
         Direction::Inward => view.normals.iter().map(|n| -*n).collect(),
-        Direction::Diffusion => view.analysis()?.diffusion(),
-        Direction::NormalCrossDiffusion => view.analysis()?.normal_cross_diffusion(),
+        Direction::Diffusion => view.analysis()?.oriented_diffusion(&view.adjacency),
+        Direction::NormalCrossDiffusion => view.analysis()?.oriented_normal_cross_diffusion(&view.adjacency),
     })
 }
 
@@ -189,7 +189,11 @@ pub fn noise_displacements(
     let ring_noise = ring_fields(params, modulate, view.level, view.depth, frame, seed)?;
     let dirs = directions(view, params.direction)?;
     let diffusion =
-        if params.kind.is_spectral() && params.follow_diffusion { Some(view.analysis()?.diffusion()) } else { None };
+        if params.kind.is_spectral() && params.follow_diffusion {
+            Some(view.analysis()?.oriented_diffusion(&view.adjacency))
+        } else {
+            None
+        };
     let amplitude = params.amplitude * frame.diagonal;
     let edge = view.mean_edge_length();
     let positions = &view.mesh.positions;
