@@ -22,6 +22,16 @@ fn level_view(mesh: &Mesh, depth: usize) -> LevelView {
     LevelView::new(0, depth, LevelMesh::compact(&mesh.positions, &mesh.triangles))
 }
 
+/// One noise step centred on every vertex of `mesh` (its own level, nothing noised before):
+/// the level's frame and view, and the moves.
+fn step_on_every_vertex(mesh: &Mesh, params: &NoiseParams, seed: u64) -> (BoxFrame, LevelView, Vec<(usize, DVec3)>) {
+    let frame = BoxFrame::of(mesh);
+    let view = level_view(mesh, 0);
+    let all = vec![true; mesh.vertex_count()];
+    let moves = noise_displacements(OperatorKind::Noise, params, &view, &frame, &all, &all.map_false(), seed).unwrap();
+    (frame, view, moves)
+}
+
 fn recipe(text: &str) -> Recipe {
     Recipe::parse(text).unwrap_or_else(|e| panic!("recipe: {e:?}"))
 }
@@ -490,9 +500,6 @@ fn surface_gabor_noise_has_no_seam_at_the_equator() {
     // The tangent frame must be continuous where the surface is: a frame that turns
     // abruptly across z = 0 makes the equator's edges steeper than the rest (#26 A2).
     let mesh = icosphere(1.0, 5);
-    let frame = BoxFrame::of(&mesh);
-    let view = level_view(&mesh, 0);
-    let all = vec![true; mesh.vertex_count()];
     for isotropic in [false, true] {
         let params = NoiseParams {
             kind: asperity::noise::NoiseKind::Gabor,
@@ -502,8 +509,7 @@ fn surface_gabor_noise_has_no_seam_at_the_equator() {
             attenuate: Attenuate::None,
             ..Default::default()
         };
-        let moves =
-            noise_displacements(OperatorKind::Noise, &params, &view, &frame, &all, &all.map_false(), 11).unwrap();
+        let (_, _, moves) = step_on_every_vertex(&mesh, &params, 11);
         let mut moved = mesh.positions.clone();
         for (v, p) in moves {
             moved[v] = p;
@@ -575,14 +581,10 @@ fn amplitude_is_the_peak_displacement_of_every_kind() {
     // displacement: no vertex moves further, and a sphere's worth of vertices comes near.
     use clap::ValueEnum;
     let mesh = icosphere(1.0, 5);
-    let frame = BoxFrame::of(&mesh);
-    let view = level_view(&mesh, 0);
-    let all = vec![true; mesh.vertex_count()];
     for &kind in asperity::noise::NoiseKind::value_variants() {
         for k in [1.0, 3.0] {
             let params = NoiseParams { kind, amplitude: 0.02, k, attenuate: Attenuate::None, frequency: 8.0, ..Default::default() };
-            let moves =
-                noise_displacements(OperatorKind::Noise, &params, &view, &frame, &all, &all.map_false(), 4).unwrap();
+            let (frame, _, moves) = step_on_every_vertex(&mesh, &params, 4);
             let peak = 0.02 * frame.diagonal * if kind.is_spectral() { k } else { 1.0 };
             let largest = moves.iter().map(|(v, p)| (*p - mesh.positions[*v]).length()).fold(0.0, f64::max);
             assert!(largest <= peak * (1.0 + 1e-12), "{kind:?} K {k}: moved {largest} past the peak {peak}");
@@ -598,9 +600,6 @@ fn wood_rings_never_jump_across_an_edge() {
     // no edge's ends differ by most of the amplitude at any frequency, while rings the
     // mesh can show keep their whole depth.
     let mesh = icosphere(1.0, 5);
-    let frame = BoxFrame::of(&mesh);
-    let view = level_view(&mesh, 0);
-    let all = vec![true; mesh.vertex_count()];
     let edges = asperity::mesh::Adjacency::of(&mesh);
     for frequency in [1.0, 2.0, 4.0, 8.0, 16.0] {
         let params = NoiseParams {
@@ -611,8 +610,7 @@ fn wood_rings_never_jump_across_an_edge() {
             attenuate: Attenuate::None,
             ..Default::default()
         };
-        let moves =
-            noise_displacements(OperatorKind::Noise, &params, &view, &frame, &all, &all.map_false(), 2).unwrap();
+        let (frame, view, moves) = step_on_every_vertex(&mesh, &params, 2);
         let mut offset = vec![0.0; mesh.vertex_count()];
         for (v, p) in moves {
             offset[v] = (p - mesh.positions[v]).dot(view.normals[v]);

@@ -52,7 +52,7 @@ impl SurfaceAnalysis {
 
     /// normal × diffusion direction (§5.2.2): a tangent direction across the feature lines.
     pub fn normal_cross_diffusion(&self) -> Vec<DVec3> {
-        self.normals.iter().zip(&self.tensors).map(|(n, t)| n.cross(t.diffusion).normalize_or_zero()).collect()
+        self.normal_cross(self.diffusion())
     }
 
     /// The diffusion directions with consistent signs over the mesh ([`orient_line_field`]):
@@ -66,7 +66,11 @@ impl SurfaceAnalysis {
 
     /// normal × [`SurfaceAnalysis::oriented_diffusion`].
     pub fn oriented_normal_cross_diffusion(&self, adjacency: &Adjacency) -> Vec<DVec3> {
-        let field = self.oriented_diffusion(adjacency);
+        self.normal_cross(self.oriented_diffusion(adjacency))
+    }
+
+    /// normal × each direction of `field`, normalised.
+    fn normal_cross(&self, field: Vec<DVec3>) -> Vec<DVec3> {
         self.normals.iter().zip(field).map(|(n, d)| n.cross(d).normalize_or_zero()).collect()
     }
 

@@ -127,9 +127,8 @@ impl Fractal {
         assert_eq!(points.len(), out.len(), "one output per point");
         let octaves = self.octaves.max(1);
         let frequencies = self.frequencies(octaves, 1.0);
-        if perlin.fbm_batch_vectorised(&frequencies, self.gain, points, out) {
-            return;
-        }
+        let done = perlin.fbm_batch_vectorised(&frequencies, self.gain, points, out);
+        let (points, out) = (&points[done..], &mut out[done..]);
         const L: usize = super::perlin::BATCH_LANES;
         let mut chunks = points.chunks_exact(L);
         let mut outs = out.chunks_exact_mut(L);

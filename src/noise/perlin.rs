@@ -281,25 +281,25 @@ impl Perlin {
             Lattice::Reference(perm) => batch(&Permutation(perm), points, out),
             Lattice::Hashed(seed) => {
                 #[cfg(target_arch = "x86_64")]
-                if super::perlin_avx2::batch_hashed_if_available(*seed, points, out) {
-                    return;
-                }
-                batch(&Hashed(*seed), points, out)
+                let done = super::perlin_avx2::batch_hashed_if_available(*seed, points, out);
+                #[cfg(not(target_arch = "x86_64"))]
+                let done = 0;
+                batch(&Hashed(*seed), &points[done..], &mut out[done..])
             }
         }
     }
 
-    /// fBm over `frequencies` with `gain` at every point into `out` by the AVX2 path, when
-    /// the lattice is the seeded one and the CPU has AVX2 (returning true); false leaves
-    /// `out` to the portable path. The sum is formed as [`super::Fractal::fbm_batch`] forms
-    /// it, so the values are the same bits.
-    pub(super) fn fbm_batch_vectorised(&self, frequencies: &[f64], gain: f64, points: &[DVec3], out: &mut [f64]) -> bool {
+    /// fBm over `frequencies` with `gain` at the leading points into `out` by the AVX2
+    /// path, when the lattice is the seeded one and the CPU has AVX2; returns how many
+    /// points were done (0 otherwise), leaving the rest to the portable path. The sum is
+    /// formed as [`super::Fractal::fbm_batch`] forms it, so the values are the same bits.
+    pub(super) fn fbm_batch_vectorised(&self, frequencies: &[f64], gain: f64, points: &[DVec3], out: &mut [f64]) -> usize {
         match &self.lattice {
             #[cfg(target_arch = "x86_64")]
             Lattice::Hashed(seed) => {
                 super::perlin_avx2::fbm_hashed_if_available(*seed, frequencies, gain, points, out)
             }
-            _ => false,
+            _ => 0,
         }
     }
 
@@ -314,7 +314,6 @@ impl Perlin {
 #[cfg(test)]
 mod tests {
     use super::{GRADIENTS, PERLIN_PEAK, fade, grad};
-
 
     #[test]
     fn the_table_and_the_select_form_agree_up_to_the_sign_of_zero() {

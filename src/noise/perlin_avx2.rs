@@ -24,39 +24,37 @@ const MAGIC: f64 = 6_755_399_441_055_744.0;
 /// Lanes with a coordinate this large (or not finite) take the scalar path.
 const LIMIT: f64 = 2_251_799_813_685_248.0; // 2⁵¹
 
-/// Seeded Perlin noise at every point into `out` (same length) when this CPU has AVX2
-/// (returning true), else nothing (false): the one-octave sum of [`fbm_hashed`], whose
-/// 0 + 1·n is n itself.
-pub(super) fn batch_hashed_if_available(seed: u64, points: &[DVec3], out: &mut [f64]) -> bool {
+/// Seeded Perlin noise at the leading points into `out` when this CPU has AVX2: the
+/// one-octave sum of [`fbm_hashed_if_available`], whose 0 + 1·n is n itself. Returns how
+/// many points were done (see there).
+pub(super) fn batch_hashed_if_available(seed: u64, points: &[DVec3], out: &mut [f64]) -> usize {
     fbm_hashed_if_available(seed, &[1.0], 1.0, points, out)
 }
 
 /// fBm of seeded Perlin noise (Σ gainⁱ·n(p·fᵢ) over `frequencies`, summed in the order
-/// [`super::Fractal::fbm_batch`] sums) at every point into `out`, when this CPU has AVX2
-/// (returning true); else nothing (false). Four points per step; the rest, and any octave
-/// whose scaled coordinates are beyond 2⁵¹ or not finite, by the scalar path.
+/// [`super::Fractal::fbm_batch`] sums) into `out`, four points per step, when this CPU has
+/// AVX2; an octave whose scaled coordinates are beyond 2⁵¹ or not finite is evaluated by
+/// the scalar path. Returns how many leading points were done: a multiple of four, or 0
+/// without AVX2; the caller's own path does the rest.
 pub(super) fn fbm_hashed_if_available(
     seed: u64,
     frequencies: &[f64],
     gain: f64,
     points: &[DVec3],
     out: &mut [f64],
-) -> bool {
+) -> usize {
     if !is_x86_feature_detected!("avx2") {
-        return false;
+        return 0;
     }
     // SAFETY: the CPU has AVX2.
-    unsafe { fbm_hashed(seed, frequencies, gain, points, out) };
-    true
+    unsafe { fbm_hashed(seed, frequencies, gain, points, out) }
 }
 
 /// # Safety
 /// The CPU must support AVX2.
 #[target_feature(enable = "avx2")]
-unsafe fn fbm_hashed(seed: u64, frequencies: &[f64], gain: f64, points: &[DVec3], out: &mut [f64]) {
-    let mut chunks = points.chunks_exact(4);
-    let mut outs = out.chunks_exact_mut(4);
-    for (p, o) in (&mut chunks).zip(&mut outs) {
+unsafe fn fbm_hashed(seed: u64, frequencies: &[f64], gain: f64, points: &[DVec3], out: &mut [f64]) -> usize {
+    for (p, o) in points.chunks_exact(4).zip(out.chunks_exact_mut(4)) {
         let x = _mm256_set_pd(p[3].x, p[2].x, p[1].x, p[0].x);
         let y = _mm256_set_pd(p[3].y, p[2].y, p[1].y, p[0].y);
         let z = _mm256_set_pd(p[3].z, p[2].z, p[1].z, p[0].z);
@@ -80,17 +78,7 @@ unsafe fn fbm_hashed(seed: u64, frequencies: &[f64], gain: f64, points: &[DVec3]
         // SAFETY: `o` holds four f64.
         unsafe { _mm256_storeu_pd(o.as_mut_ptr(), sum) };
     }
-    let rest = chunks.remainder();
-    let rest_out = outs.into_remainder();
-    for (q, v) in rest.iter().zip(rest_out) {
-        let (mut sum, mut amplitude) = (0.0, 1.0);
-        for &f in frequencies {
-            let p = *q * f;
-            sum += amplitude * noise3_hashed(seed, p.x, p.y, p.z);
-            amplitude *= gain;
-        }
-        *v = sum;
-    }
+    points.len().min(out.len()) / 4 * 4
 }
 
 /// Whether every lane is finite and below 2⁵¹ in magnitude.
