@@ -1,14 +1,22 @@
-//! asperity for C++: the pipeline (simplify, detail with a recipe, terrain) over flat
-//! arrays, exported through `cxx`. C++ programs include `asperity/pipeline.hpp`, which
-//! wraps these functions for OpenMesh `TriMesh`es; errors arrive as `rust::Error`
-//! exceptions carrying asperity's one-line message. Nothing here panics across the FFI:
-//! every call is caught and turned into an error.
+//! asperity for C++: the pipeline and the hierarchy over flat arrays, exported through
+//! `cxx`. C++ programs include `asperity/asperity.hpp`, whose templates wrap these
+//! functions for OpenMesh `TriMesh`es (see `cpp/package/`).
+//!
+//! Errors: every function returns `Result<_, String>`, the message prefixed with the
+//! command line's exit code and a bar (`2|…` bad input, `1|…` internal), which the C++
+//! side turns into `asperity::InputError` or `asperity::InternalError`. Nothing panics
+//! across the FFI (every call is caught), and no call goes from Rust into C++ code the
+//! user wrote: a C++ operator runs between calls (see [`Refinement`]), so a C++ exception
+//! never crosses into Rust either.
 
-use arrays::{from_flat, to_flat};
-use asperity::detail::{DetailOptions, Recipe};
-use asperity::hierarchy::{KeepFeatures, SimplifyOptions, build};
-use asperity::terrain::{Method, Rect, TerrainParams};
-use asperity::{Error, Mesh};
+mod arrays;
+mod fields;
+mod hierarchy;
+mod pipeline;
+
+use fields::{analyze, noise, terrain_mesh};
+use hierarchy::{BuiltHierarchy, Refinement, build_hierarchy, default_hierarchy_options, start_refinement};
+use pipeline::{detail, simplify, version};
 
 #[cxx::bridge(namespace = "asperity::ffi")]
 mod bridge {
@@ -35,6 +43,81 @@ mod bridge {
         report: Report,
     }
 
+    /// A hierarchy level's mesh, or a refinement's: the input vertex id of each vertex.
+    #[derive(Debug, Default)]
+    struct LevelArrays {
+        mesh: MeshArrays,
+        ids: Vec<u32>,
+    }
+
+    /// The options of a hierarchy build (the library's `SimplifyOptions`); a limit applies
+    /// only when its `has_` flag is set.
+    #[derive(Debug, Clone)]
+    struct HierarchyOptions {
+        has_target_vertices: bool,
+        target_vertices: usize,
+        has_levels: bool,
+        levels: usize,
+        has_max_error: bool,
+        max_error: f64,
+        keep_features: String,
+        feature_vertices: String,
+        keep_vertices: Vec<u32>,
+        removal_weight: f64,
+        swap_weight: f64,
+        fix_threshold_degrees: f64,
+        intersection_guard: bool,
+    }
+
+    /// The hierarchical parametrization, per input vertex: the level at which it appears
+    /// (0: base domain), the index of its base face in level 0's triangles (−1 for base
+    /// vertices) and its barycentric coordinates there (in that triangle's corner order;
+    /// NaN for base vertices).
+    #[derive(Debug, Default)]
+    struct Parametrization {
+        level: Vec<u32>,
+        base_face: Vec<i64>,
+        barycentric: Vec<f64>,
+    }
+
+    /// Surface analysis per vertex: unit normals (x y z), curvatures and feature classes
+    /// (0 face, 1 weak, 2 strong edge, 3 corner).
+    #[derive(Debug, Default)]
+    struct Analysis {
+        normals: Vec<f64>,
+        mean_curvature: Vec<f64>,
+        gaussian_curvature: Vec<f64>,
+        k1: Vec<f64>,
+        k2: Vec<f64>,
+        feature_class: Vec<u8>,
+    }
+
+    /// What one refinement level shows an operator: the mesh, unit normals and the level
+    /// at which each vertex first appears.
+    #[derive(Debug, Default)]
+    struct ViewArrays {
+        level: LevelArrays,
+        normals: Vec<f64>,
+        vertex_levels: Vec<u32>,
+    }
+
+    /// A region refinement's result: the mesh, and the region vertices no edge could take.
+    #[derive(Debug, Default)]
+    struct RegionOutcome {
+        level: LevelArrays,
+        missing: Vec<u32>,
+        report: Report,
+    }
+
+    /// A terrain mesh with per-vertex normals (x y z) and colours (r g b).
+    #[derive(Debug, Default)]
+    struct TerrainMesh {
+        mesh: MeshArrays,
+        normals: Vec<f64>,
+        colors: Vec<u8>,
+        report: Report,
+    }
+
     extern "Rust" {
         /// asperity's version.
         fn version() -> String;
@@ -54,137 +137,71 @@ mod bridge {
             recipe_toml: &str,
             no_self_intersections: bool,
         ) -> Result<Outcome>;
-        /// A classic ("classic") or smoothed ("smooth") diamond-square terrain of size² points.
-        fn terrain(method: &str, size: u64, hurst: f64, seed: u64) -> Result<Outcome>;
+
+        /// A terrain mesh from `asperity terrain`'s flags (the C++ options struct's fields).
+        fn terrain_mesh(flags: &Vec<String>) -> Result<TerrainMesh>;
+        /// `asperity noise`'s field at points (`dimension` 2: the image plane; 3: space).
+        fn noise(points: &[f64], dimension: usize, flags: &Vec<String>) -> Result<Vec<f64>>;
+        /// Normals, curvatures and feature classes of a mesh (`asperity analyze`).
+        fn analyze(positions: &[f64], triangles: &[u32]) -> Result<Analysis>;
+
+        /// The library's default hierarchy options.
+        fn default_hierarchy_options() -> HierarchyOptions;
+
+        /// A built hierarchy, every level recorded.
+        type BuiltHierarchy;
+        /// Builds the hierarchy of a mesh.
+        fn build_hierarchy(
+            positions: &[f64],
+            triangles: &[u32],
+            options: &HierarchyOptions,
+        ) -> Result<Box<BuiltHierarchy>>;
+        /// Levels, the base domain and the input included.
+        fn level_count(self: &BuiltHierarchy) -> usize;
+        /// Level `l` (0: base domain).
+        fn level(self: &BuiltHierarchy, l: usize) -> Result<LevelArrays>;
+        /// The parametrization of every input vertex.
+        fn parametrization(self: &BuiltHierarchy) -> Result<Parametrization>;
+        /// The build's report (levels, base vertices, seconds).
+        fn report(self: &BuiltHierarchy) -> Report;
+        /// Build time by stage, as JSON.
+        fn stages_json(self: &BuiltHierarchy) -> String;
+        /// Refines whole up to `base_level`, then only the vertices `inside` marks (one
+        /// byte per input vertex) and what they need.
+        fn refine_region(self: &BuiltHierarchy, inside: &[u8], base_level: usize) -> Result<RegionOutcome>;
+
+        /// A refinement in progress, level by level from the base domain.
+        type Refinement<'a>;
+        /// Starts refining `hierarchy`.
+        ///
+        /// # Safety
+        /// C++ must keep `hierarchy` alive and unmoved while the refinement lives (the
+        /// C++ wrapper holds both in one call).
+        unsafe fn start_refinement<'a>(hierarchy: &'a BuiltHierarchy) -> Result<Box<Refinement<'a>>>;
+        /// The current level (0: base domain).
+        fn current_level(self: &Refinement) -> usize;
+        /// Whether the input's level is reached.
+        fn finished(self: &Refinement) -> bool;
+        /// The current level's mesh, normals and vertex levels.
+        fn view(self: &mut Refinement) -> Result<ViewArrays>;
+        /// The current level's curvatures and feature classes (computed once per level).
+        fn view_analysis(self: &mut Refinement) -> Result<Analysis>;
+        /// Moves the current level's vertices (x y z per vertex, in `view` order); later
+        /// levels insert their vertices on the moved surface (thesis §4.5.1).
+        fn set_positions(self: &mut Refinement, positions: &[f64]) -> Result<()>;
+        /// Refines one level: every vertex when `inside` is empty, else the vertices it marks.
+        fn refine_next(self: &mut Refinement, inside: &[u8]) -> Result<()>;
+        /// The current mesh.
+        fn result(self: &Refinement) -> Result<LevelArrays>;
     }
 }
 
-use bridge::{MeshArrays, Outcome, Report};
-
-fn version() -> String {
-    env!("CARGO_PKG_VERSION").to_string()
-}
-
-/// Runs `f`, turning panics into errors so that none unwinds into C++.
+/// Runs `f`, turning errors into `code|message` and panics into internal errors, so that
+/// none unwinds into C++.
 fn guarded<T>(f: impl FnOnce() -> asperity::Result<T>) -> Result<T, String> {
     match std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)) {
         Ok(Ok(value)) => Ok(value),
-        Ok(Err(e)) => Err(e.to_string()),
-        Err(_) => Err("asperity: internal error (a bug: please report it)".into()),
-    }
-}
-
-fn outcome(mesh: &Mesh, report: Report) -> Outcome {
-    let (positions, triangles) = to_flat(mesh);
-    Outcome { mesh: MeshArrays { positions, triangles }, report }
-}
-
-fn simplify(
-    positions: &[f64],
-    triangles: &[u32],
-    target_vertices: usize,
-    keep_features: &str,
-) -> Result<Outcome, String> {
-    guarded(|| {
-        let start = std::time::Instant::now();
-        let mesh = from_flat(positions, triangles)?;
-        let keep_features = match keep_features {
-            "none" => KeepFeatures::None,
-            "strong" => KeepFeatures::Strong,
-            "all" => KeepFeatures::All,
-            other => return Err(Error::InvalidInput(format!("keep_features `{other}`: use none, strong or all"))),
-        };
-        let options = SimplifyOptions { target_vertices: Some(target_vertices), keep_features, ..Default::default() };
-        let hierarchy = build(&mesh, &options)?;
-        let base = hierarchy.base_mesh().mesh;
-        let report = Report {
-            input_vertices: mesh.vertex_count(),
-            output_vertices: base.vertex_count(),
-            levels: hierarchy.steps(),
-            seconds: start.elapsed().as_secs_f64(),
-        };
-        Ok(outcome(&base, report))
-    })
-}
-
-fn detail(
-    positions: &[f64],
-    triangles: &[u32],
-    recipe_toml: &str,
-    no_self_intersections: bool,
-) -> Result<Outcome, String> {
-    guarded(|| {
-        let start = std::time::Instant::now();
-        let mesh = from_flat(positions, triangles)?;
-        let recipe = Recipe::parse(recipe_toml).map_err(|(line, message)| {
-            Error::InvalidInput(match line {
-                Some(line) => format!("recipe line {line}: {message}"),
-                None => format!("recipe: {message}"),
-            })
-        })?;
-        let target = recipe
-            .hierarchy
-            .target_vertices
-            .as_deref()
-            .map(|t| asperity::cli::resolve_target(t, mesh.vertex_count()))
-            .transpose()?;
-        let simplify = SimplifyOptions { target_vertices: target, ..Default::default() };
-        let options = DetailOptions { simplify, no_self_intersections, ..Default::default() };
-        let result = asperity::detail::apply(&mesh, &recipe, &options)?;
-        let report = Report {
-            input_vertices: mesh.vertex_count(),
-            output_vertices: result.result.mesh.vertex_count(),
-            levels: result.levels,
-            seconds: start.elapsed().as_secs_f64(),
-        };
-        Ok(outcome(&result.result.mesh, report))
-    })
-}
-
-fn terrain(method: &str, size: u64, hurst: f64, seed: u64) -> Result<Outcome, String> {
-    guarded(|| {
-        let start = std::time::Instant::now();
-        let method = match method {
-            "classic" => Method::Classic,
-            "smooth" => Method::Smooth,
-            other => return Err(Error::InvalidInput(format!("terrain method `{other}`: use classic or smooth"))),
-        };
-        let params = TerrainParams { method, size, hurst, seed, ..TerrainParams::default() };
-        params.generator()?;
-        let last = size - 1;
-        let mesh = asperity::terrain::mesh(&params, Rect { x0: 0, y0: 0, x1: last, y1: last })?;
-        let report = Report {
-            input_vertices: 0,
-            output_vertices: mesh.vertex_count(),
-            levels: 0,
-            seconds: start.elapsed().as_secs_f64(),
-        };
-        Ok(outcome(&mesh, report))
-    })
-}
-
-/// Flat arrays to and from [`Mesh`].
-mod arrays {
-    use asperity::{Error, Mesh, Result};
-
-    pub fn from_flat(positions: &[f64], triangles: &[u32]) -> Result<Mesh> {
-        if positions.len() % 3 != 0 || triangles.len() % 3 != 0 {
-            return Err(Error::InvalidInput(format!(
-                "{} coordinates and {} triangle ids are not multiples of 3",
-                positions.len(),
-                triangles.len()
-            )));
-        }
-        let points = positions.chunks_exact(3).map(|p| glam::DVec3::new(p[0], p[1], p[2])).collect();
-        let faces = triangles.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
-        let mesh = Mesh::new(points, faces);
-        mesh.check()?;
-        Ok(mesh)
-    }
-
-    pub fn to_flat(mesh: &Mesh) -> (Vec<f64>, Vec<u32>) {
-        let positions = mesh.positions.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
-        let triangles = mesh.triangles.iter().flatten().copied().collect();
-        (positions, triangles)
+        Ok(Err(e)) => Err(format!("{}|{e}", e.exit_code())),
+        Err(_) => Err("1|asperity: internal error (a bug: please report it)".into()),
     }
 }

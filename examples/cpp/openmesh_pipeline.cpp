@@ -1,11 +1,15 @@
-// asperity from C++: a program with its own OpenMesh TriMesh runs the pipeline on it.
+// asperity from C++: a program with its own OpenMesh TriMesh uses the whole package.
 //
 //   openmesh_pipeline [MESH] [OUT_DIR]
 //
-// 1. simplify MESH (a sphere made here when none or "" is given) to a tenth of its vertices;
-// 2. apply a detail recipe (coarse turbulence, fine Gabor noise) to the original;
-// 3. make a terrain;
-// 4. show that bad input comes back as a C++ exception with asperity's message.
+//  1. simplify MESH (a sphere made here when none or "" is given) to a tenth of its vertices;
+//  2. build its hierarchy with options, read its levels and attach the parametrization;
+//  3. refine it with a C++ operator at chosen levels (normals, curvatures, vertex levels);
+//  4. refine only a region;
+//  5. analyse the mesh into OpenMesh properties, sample noise at points;
+//  6. apply a detail recipe, make a terrain from an options struct;
+//  7. show that bad input is an asperity::InputError and that an operator's own exception
+//     comes back unchanged.
 // Results are written with OpenMesh's own writer. Exit code 0 when everything behaved.
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
@@ -13,6 +17,7 @@
 
 #include <asperity/pipeline.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <string>
@@ -32,6 +37,15 @@ op = "noise"
 level = -1
 noise = { kind = "gabor", amplitude = 0.004, frequency = 25.0 }
 )";
+
+/// A failed expectation: the program reports it and exits 1.
+struct Failed : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+static void expect(bool ok, const std::string& what) {
+  if (!ok) throw Failed(what);
+}
 
 /// An octahedron refined by OpenMesh's Loop subdivider and pushed onto the unit sphere.
 static Mesh sphere() {
@@ -53,8 +67,184 @@ static void write(const Mesh& mesh, const std::string& path) {
   if (!OpenMesh::IO::write_mesh(mesh, path)) throw std::runtime_error("cannot write " + path);
 }
 
+static double largest_move(const Mesh& from, const Mesh& to) {
+  double moved = 0;
+  for (auto v : from.vertices()) moved = std::max(moved, double((to.point(v) - from.point(v)).norm()));
+  return moved;
+}
+
+/// 2. The hierarchy, its levels and the parametrization as OpenMesh properties.
+static void levels_and_parametrization(const asperity::Hierarchy<Mesh>& h, Mesh& input, const std::string& out) {
+  const auto r = h.report();
+  std::cout << "hierarchy: " << h.level_count() << " levels, " << r.input_vertices << " => " << r.output_vertices
+            << " vertices in " << r.seconds << " s\n";
+  expect(h.level_count() >= 3, "a hierarchy of several levels");
+  Mesh base = h.level(0);
+  expect(base.n_vertices() == r.output_vertices, "level 0 is the base domain");
+  expect(h.level(h.level_count() - 1).n_vertices() == input.n_vertices(), "the last level is the input");
+  auto id = OpenMesh::getProperty<OpenMesh::VertexHandle, int>(base, "asperity:id");
+  for (auto v : base.vertices()) expect(base.point(v) == input.point(input.vertex_handle(id[v])), "ids name input vertices");
+  write(base, out + "/cpp-hierarchy-base.off");
+
+  h.attach_parametrization(input);
+  auto level = OpenMesh::getProperty<OpenMesh::VertexHandle, int>(input, "asperity:level");
+  auto face = OpenMesh::getProperty<OpenMesh::VertexHandle, int>(input, "asperity:base_face");
+  auto bary = OpenMesh::getProperty<OpenMesh::VertexHandle, OpenMesh::Vec3d>(input, "asperity:barycentric");
+  std::size_t at_base = 0;
+  for (auto v : input.vertices()) {
+    at_base += level[v] == 0;
+    expect(face[v] >= 0 && face[v] < int(base.n_faces()), "every vertex has a base face");
+    expect(std::abs(bary[v][0] + bary[v][1] + bary[v][2] - 1.0) < 1e-9, "barycentrics sum to 1");
+  }
+  expect(at_base == base.n_vertices(), "level 0 vertices are the base domain's");
+  std::cout << "parametrization: " << at_base << " base vertices, every vertex on a base face\n";
+}
+
+/// 3. A C++ operator at every level: bumps along the normal on level 1, flattened where the
+/// surface curves less than average on the input's level; records what it saw.
+static void refine_with_an_operator(const asperity::Hierarchy<Mesh>& h, const Mesh& input, const std::string& out) {
+  std::vector<std::size_t> seen;
+  std::size_t highest_appearance = 0;
+  Mesh result = h.refine([&](asperity::LevelView& view) {
+    seen.push_back(view.level());
+    for (auto l : view.vertex_levels()) highest_appearance = std::max<std::size_t>(highest_appearance, l);
+    if (view.level() == 1) {
+      for (std::size_t i = 0; i < view.size(); ++i) {
+        const auto& p = view.positions()[i];
+        const double bump = 0.03 * std::sin(6 * p[0]) * std::cos(6 * p[1]);
+        for (int k = 0; k < 3; ++k) view.positions()[i][k] += bump * view.normals()[i][k];
+      }
+    }
+    if (view.level() + 1 == view.level_count()) {
+      const auto& a = view.analysis();
+      expect(a.mean_curvature.size() == view.size(), "curvature for every vertex of the level");
+    }
+  });
+  expect(seen.size() == h.level_count() && std::is_sorted(seen.begin(), seen.end()), "the operator saw every level in order");
+  expect(highest_appearance + 1 == h.level_count(), "vertex levels reach the input's level");
+  expect(result.n_vertices() == input.n_vertices(), "refinement reaches full resolution");
+  const double moved = largest_move(input, result);
+  std::cout << "refine: operator ran on " << seen.size() << " levels, largest move " << moved << "\n";
+  expect(moved > 0.005 && moved < 0.1, "the operator's bumps reach the full-resolution mesh");
+  write(result, out + "/cpp-refined.off");
+
+  // An operator's own exception comes back unchanged (it never enters Rust).
+  try {
+    h.refine([](asperity::LevelView& view) {
+      if (view.level() == 1) throw std::logic_error("operator gave up at level 1");
+    });
+    expect(false, "the operator's exception propagates");
+  } catch (const std::logic_error& e) {
+    std::cout << "operator exception: " << e.what() << "\n";
+  }
+}
+
+/// 4. Region refinement: the upper cap at full resolution, the rest at the base's.
+static void refine_a_region(const asperity::Hierarchy<Mesh>& h, const Mesh& input, const std::string& out) {
+  std::vector<bool> cap;
+  for (auto v : input.vertices()) cap.push_back(input.point(v)[2] > 0.5);
+  std::vector<std::uint32_t> missing;
+  Mesh region = h.refine_region(cap, 0, &missing);
+  std::cout << "region: " << region.n_vertices() << " vertices (input " << input.n_vertices() << ", base "
+            << h.report().output_vertices << "), " << missing.size() << " missing\n";
+  expect(region.n_vertices() < input.n_vertices() && region.n_vertices() > h.report().output_vertices,
+         "the region is fine, the rest coarse");
+  write(region, out + "/cpp-region.off");
+}
+
+/// 5. Analysis into properties; noise at points.
+static void analysis_and_noise(Mesh input) {
+  input.request_vertex_normals();
+  const auto a = asperity::analyze(input);
+  auto mean = OpenMesh::getProperty<OpenMesh::VertexHandle, double>(input, "asperity:mean_curvature");
+  std::vector<double> h;
+  for (auto v : input.vertices()) h.push_back(std::abs(mean[v]));
+  std::nth_element(h.begin(), h.begin() + h.size() / 2, h.end());
+  const auto faces = std::count(a.feature_class.begin(), a.feature_class.end(), asperity::FeatureClass::Face);
+  std::cout << "analyze: median |H| " << h[h.size() / 2] << " on the unit sphere, " << faces << " of "
+            << a.feature_class.size() << " vertices of class face\n";
+  expect(std::abs(h[h.size() / 2] - 1.0) < 0.1, "a unit sphere's mean curvature is 1");
+  expect(std::abs(input.normal(input.vertex_handle(0)).norm() - 1.0) < 1e-6, "vertex normals set");
+
+  std::vector<asperity::Vec3> points;
+  for (auto v : input.vertices()) points.push_back({input.point(v)[0], input.point(v)[1], input.point(v)[2]});
+  asperity::NoiseOptions gabor;
+  gabor.kind = "gabor";
+  gabor.k = 2.0;
+  gabor.f0 = 4.0;
+  const auto values = asperity::noise(points, gabor);
+  gabor.seed = 1;
+  const auto other = asperity::noise(points, gabor);
+  double spread = 0;
+  for (double x : values) spread = std::max(spread, std::abs(x));
+  std::cout << "noise: gabor at " << values.size() << " points, largest |value| " << spread << "\n";
+  expect(values.size() == points.size() && spread > 0.5 && values != other, "noise values vary with the seed");
+  try {
+    gabor.octaves = 3;
+    asperity::noise(points, gabor);
+    expect(false, "an option of another noise kind is refused");
+  } catch (const asperity::InputError& e) {
+    std::cout << "noise option refused: " << e.what() << "\n";
+  }
+}
+
+/// 6. A recipe and a terrain.
+static void recipe_and_terrain(const Mesh& input, const std::string& out) {
+  Mesh detailed = input;
+  auto r = asperity::detail(detailed, RECIPE, true);
+  const double moved = largest_move(input, detailed);
+  std::cout << "detail: " << r.output_vertices << " vertices over " << r.levels << " levels, largest move " << moved << "\n";
+  expect(detailed.n_vertices() == input.n_vertices() && moved > 1e-4 && std::isfinite(moved), "the recipe moved the mesh");
+  write(detailed, out + "/cpp-detail.off");
+
+  asperity::TerrainOptions land_options;
+  land_options.size = 65;
+  land_options.hurst = 0.9;
+  land_options.seed = 7;
+  land_options.sea_level = 0.0;
+  land_options.grid = "triangle";
+  Mesh land = asperity::terrain<Mesh>(land_options);
+  std::cout << "terrain: " << land.n_vertices() << " vertices, " << land.n_faces() << " faces, colours "
+            << (land.has_vertex_colors() ? "set" : "missing") << "\n";
+  expect(land.n_vertices() == 65 * 65 && land.has_vertex_colors() && land.has_vertex_normals(), "a coloured terrain");
+  OpenMesh::IO::Options colours(OpenMesh::IO::Options::VertexColor);
+  if (!OpenMesh::IO::write_mesh(land, out + "/cpp-terrain.off", colours)) throw std::runtime_error("cannot write terrain");
+}
+
+/// 7. Bad input: typed exceptions with asperity's messages.
+static void bad_input(const Mesh& input) {
+  auto refused = [](const char* what, auto&& call) {
+    try {
+      call();
+    } catch (const asperity::InputError& e) {
+      std::cout << what << " refused: " << e.what() << "\n";
+      return;
+    }
+    throw Failed(std::string(what) + " was accepted");
+  };
+  refused("bad recipe", [&] {
+    Mesh copy = input;
+    asperity::detail(copy, "[[step]]\nop = \"shear\"\n");
+  });
+  refused("terrain size", [] {
+    asperity::TerrainOptions o;
+    o.size = 100;
+    asperity::terrain<Mesh>(o);
+  });
+  refused("hierarchy option", [&] {
+    asperity::HierarchyOptions o;
+    o.max_error = -1.0;
+    asperity::Hierarchy<Mesh> h(input, o);
+  });
+  refused("level", [&] {
+    asperity::HierarchyOptions o;
+    o.levels = 2;
+    asperity::Hierarchy<Mesh>(input, o).level(7);
+  });
+}
+
 int main(int argc, char** argv) {
-  const std::string out_dir = argc > 2 ? argv[2] : ".";
+  const std::string out = argc > 2 ? argv[2] : ".";
   Mesh input;
   if (argc > 1 && argv[1][0] != '\0') {
     if (!OpenMesh::IO::read_mesh(input, argv[1])) {
@@ -71,35 +261,25 @@ int main(int argc, char** argv) {
     auto r = asperity::simplify(base, input.n_vertices() / 10);
     std::cout << "simplify: " << r.input_vertices << " => " << r.output_vertices << " vertices, " << r.levels
               << " levels in " << r.seconds << " s\n";
-    if (base.n_vertices() != r.output_vertices || r.output_vertices > input.n_vertices() / 10) return 1;
-    write(base, out_dir + "/cpp-base.off");
+    expect(base.n_vertices() == r.output_vertices && r.output_vertices <= input.n_vertices() / 10, "simplify's budget");
+    write(base, out + "/cpp-base.off");
 
-    Mesh detailed = input;
-    r = asperity::detail(detailed, RECIPE, true);
-    double moved = 0;
-    for (auto v : input.vertices()) moved = std::max(moved, double((detailed.point(v) - input.point(v)).norm()));
-    std::cout << "detail: " << r.output_vertices << " vertices over " << r.levels << " levels, largest move " << moved
-              << "\n";
-    if (detailed.n_vertices() != input.n_vertices() || !(moved > 1e-4) || !std::isfinite(moved)) return 1;
-    write(detailed, out_dir + "/cpp-detail.off");
-
-    Mesh land = asperity::terrain<Mesh>("classic", 65, 0.8, 7);
-    std::cout << "terrain: " << land.n_vertices() << " vertices, " << land.n_faces() << " faces\n";
-    if (land.n_vertices() != 65 * 65) return 1;
-    write(land, out_dir + "/cpp-terrain.off");
-  } catch (const rust::Error& e) {
+    asperity::HierarchyOptions options;
+    options.target_vertices = input.n_vertices() / 20;
+    options.keep_features = "none";
+    const asperity::Hierarchy<Mesh> hierarchy(input, options);
+    levels_and_parametrization(hierarchy, input, out);
+    refine_with_an_operator(hierarchy, input, out);
+    refine_a_region(hierarchy, input, out);
+    analysis_and_noise(input);
+    recipe_and_terrain(input, out);
+    bad_input(input);
+  } catch (const Failed& e) {
+    std::cerr << "failed: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
     std::cerr << "asperity failed: " << e.what() << "\n";
     return 1;
-  }
-
-  // Bad input is an exception carrying asperity's message, never an abort.
-  try {
-    Mesh copy = input;
-    asperity::detail(copy, "[[step]]\nop = \"shear\"\n");
-    std::cerr << "a bad recipe was accepted\n";
-    return 1;
-  } catch (const rust::Error& e) {
-    std::cout << "bad recipe refused: " << e.what() << "\n";
   }
   return 0;
 }

@@ -251,26 +251,15 @@ impl Hierarchy {
         &self,
         py: Python<'py>,
     ) -> PyResult<(Bound<'py, PyArray1<i64>>, Bound<'py, PyArray2<f64>>)> {
-        let base = self.base().triangles_in_ids();
-        let faces: std::collections::HashMap<[u32; 3], i64> =
-            base.iter().enumerate().map(|(k, &t)| (asperity::hierarchy::face_key(t), k as i64)).collect();
-        let n = self.inner.positions.len();
+        let points = self.inner.indexed_parametrization().map_err(to_py)?;
+        let n = points.len();
         let mut face = vec![-1i64; n];
-        let mut bary = vec![0.0f64; 3 * n];
-        for (v, point) in self.inner.params.iter().enumerate() {
-            match point {
-                Some(p) => {
-                    face[v] = *faces.get(&asperity::hierarchy::face_key(p.face)).ok_or_else(|| {
-                        InternalError::new_err(format!("vertex {v}'s base face {:?} is not a base face", p.face))
-                    })?;
-                    // Barycentrics in the order of the base triangle's corners.
-                    let t = base[face[v] as usize];
-                    for (corner, id) in t.iter().enumerate() {
-                        let k = p.face.iter().position(|f| f == id).expect("the same face");
-                        bary[3 * v + corner] = p.bary[k];
-                    }
-                }
-                None => bary[3 * v..3 * v + 3].fill(f64::NAN),
+        let mut bary = vec![f64::NAN; 3 * n];
+        for (v, point) in points.into_iter().enumerate() {
+            // Base vertices (level 0) have no face here: they are the base domain's corners.
+            if let Some((f, b, _)) = point.filter(|&(_, _, level)| level > 0) {
+                face[v] = f as i64;
+                bary[3 * v..3 * v + 3].copy_from_slice(&b);
             }
         }
         let bary = numpy::ndarray::Array2::from_shape_vec((n, 3), bary).expect("n × 3");

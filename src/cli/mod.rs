@@ -5,6 +5,7 @@ pub mod analyze;
 pub mod clouds;
 pub mod compare;
 mod convert;
+mod embedded;
 mod demo;
 pub mod detail;
 mod info;
@@ -22,6 +23,7 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
 
+pub use embedded::parse_flags;
 pub use report::Context;
 pub use simplify::resolve_target;
 

@@ -114,6 +114,33 @@ impl Default for SimplifyOptions {
     }
 }
 
+impl SimplifyOptions {
+    /// Refuses options no build can use: a negative or non-finite `max_error` or weight, a
+    /// threshold outside 0–180°. (The command line names the flags first; this is the
+    /// check for every other caller.)
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidInput`] naming the field.
+    pub fn check(&self) -> crate::Result<()> {
+        let bad = |name: &str, value: f64, rule: &str| {
+            Err(crate::Error::InvalidInput(format!("simplify option {name} = {value}: {rule}")))
+        };
+        if let Some(e) = self.max_error.filter(|e| !(*e >= 0.0 && e.is_finite())) {
+            return bad("max_error", e, "must be a non-negative fraction of the diagonal");
+        }
+        for (name, w) in [("removal_weight", self.removal_weight), ("swap_weight", self.swap_weight)] {
+            if !(w >= 0.0 && w.is_finite()) {
+                return bad(name, w, "must be non-negative");
+            }
+        }
+        let t = self.fix_threshold_degrees;
+        if !(t > 0.0 && t <= 180.0) {
+            return bad("fix_threshold_degrees", t, "must be above 0 and at most 180");
+        }
+        Ok(())
+    }
+}
+
 /// One removed vertex, in removal order.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Removal {
@@ -270,5 +297,34 @@ impl Hierarchy {
             }
         }
         out
+    }
+
+    /// [`Hierarchy::base_parametrization`] with each face as its index in `base_triangles`
+    /// (the order of [`Hierarchy::base_mesh`]'s triangles) and the barycentric coordinates
+    /// in that triangle's corner order: (face, barycentrics, level) per input vertex.
+    ///
+    /// # Errors
+    /// [`crate::Error::Internal`] if a vertex's face is not a base face (a bug).
+    pub fn indexed_parametrization(&self) -> crate::Result<Vec<Option<(usize, [f64; 3], u32)>>> {
+        let index: std::collections::HashMap<[u32; 3], usize> =
+            self.base_triangles.iter().enumerate().map(|(k, &t)| (face_key(t), k)).collect();
+        let points = self.base_parametrization();
+        points
+            .iter()
+            .enumerate()
+            .map(|(v, point)| {
+                let Some(BasePoint { point, level }) = point else { return Ok(None) };
+                let face = *index.get(&face_key(point.face)).ok_or_else(|| {
+                    crate::Error::Internal(format!("vertex {v}'s base face {:?} is not a base face", point.face))
+                })?;
+                let corners = self.base_triangles[face];
+                let mut bary = [0.0; 3];
+                for (corner, id) in corners.iter().enumerate() {
+                    let k = point.face.iter().position(|f| f == id).expect("the same face, rotated");
+                    bary[corner] = point.bary[k];
+                }
+                Ok(Some((face, bary, *level)))
+            })
+            .collect()
     }
 }

@@ -51,6 +51,7 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
     let mut clock = Instant::now();
     // Validation, the store and the quadrics are independent: the first error reported
     // is validation's, as if it had run alone.
+    options.check()?;
     mesh.check()?;
     // Every geometric decision is made in the unit frame (bounding box centred, diagonal
     // 1), so none depends on the model's units and no product of coordinates overflows;

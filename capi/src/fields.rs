@@ -1,0 +1,68 @@
+//! Fields over points and meshes for C++: terrain meshes, noise at given points, surface
+//! analysis. Terrain and noise take `asperity terrain`'s and `asperity noise`'s flags (the
+//! C++ options structs are turned into them), so every parameter means what the command
+//! line's flag means, with the same checks and messages.
+
+use asperity::analysis::{AnalysisOptions, analyze as analyze_mesh};
+use asperity::cli::{self, parse_flags};
+use asperity::noise::Frame;
+use asperity::{Error, Result};
+use glam::DVec3;
+
+use crate::arrays::{analysis_arrays, arrays_of, flat, mesh_of};
+use crate::bridge::{Analysis, Report, TerrainMesh};
+use crate::guarded;
+
+/// How the C++ options structs spell a flag: `.size` for `--size`.
+fn member(name: &str) -> String {
+    format!("option .{name}")
+}
+
+pub fn terrain_mesh(flags: &Vec<String>) -> Result<TerrainMesh, String> {
+    guarded(|| {
+        let start = std::time::Instant::now();
+        let args: cli::terrain::TerrainArgs =
+            parse_flags("terrain", &["-o", "<mesh>.ply"], flags.clone(), &["--range", "--preset"], member)?;
+        let mesh = cli::terrain::mesh_of(&args)?;
+        let report = Report {
+            input_vertices: 0,
+            output_vertices: mesh.vertex_count(),
+            levels: 0,
+            seconds: start.elapsed().as_secs_f64(),
+        };
+        Ok(TerrainMesh {
+            normals: mesh.normals.as_deref().map(flat).unwrap_or_default(),
+            colors: mesh.colors.as_deref().map(|c| c.iter().flatten().copied().collect()).unwrap_or_default(),
+            mesh: arrays_of(&mesh),
+            report,
+        })
+    })
+}
+
+pub fn noise(points: &[f64], dimension: usize, flags: &Vec<String>) -> Result<Vec<f64>, String> {
+    guarded(|| {
+        if !(dimension == 2 || dimension == 3) || points.len() % dimension != 0 {
+            return Err(Error::InvalidInput(format!(
+                "{} coordinates are not points of dimension {dimension} (use 2 or 3)",
+                points.len()
+            )));
+        }
+        if let Some(k) = points.iter().position(|c| !c.is_finite()) {
+            return Err(Error::InvalidInput(format!("point {}: a coordinate is not finite", k / dimension)));
+        }
+        let args: cli::noise::NoiseArgs =
+            parse_flags("noise", &["-o", "<points>.f32"], flags.clone(), &["--size", "--scale", "--range"], member)?;
+        let (field, _scale) = args.field()?;
+        Ok(if dimension == 2 {
+            points.chunks_exact(2).map(|p| field.sample2(p[0], p[1])).collect()
+        } else {
+            let points: Vec<DVec3> = points.chunks_exact(3).map(|p| DVec3::new(p[0], p[1], p[2])).collect();
+            let frames = vec![Frame { tangent: DVec3::X, bitangent: DVec3::Y }; points.len()];
+            field.sample3_batch(&points, &frames)
+        })
+    })
+}
+
+pub fn analyze(positions: &[f64], triangles: &[u32]) -> Result<Analysis, String> {
+    guarded(|| Ok(analysis_arrays(&analyze_mesh(&mesh_of(positions, triangles)?, &AnalysisOptions::default())?)))
+}

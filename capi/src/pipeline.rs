@@ -1,0 +1,84 @@
+//! The one-call pipeline: simplify to the base domain, detail with a recipe.
+
+use asperity::detail::{DetailOptions, Recipe};
+use asperity::hierarchy::{KeepFeatures, SimplifyOptions, build};
+use asperity::{Error, Mesh};
+
+use crate::arrays::{arrays_of, mesh_of};
+use crate::bridge::{Outcome, Report};
+use crate::guarded;
+
+pub fn version() -> String {
+    env!("CARGO_PKG_VERSION").to_string()
+}
+
+/// A `keep_features` name.
+pub fn keep_features_of(name: &str) -> asperity::Result<KeepFeatures> {
+    match name {
+        "none" => Ok(KeepFeatures::None),
+        "strong" => Ok(KeepFeatures::Strong),
+        "all" => Ok(KeepFeatures::All),
+        other => Err(Error::InvalidInput(format!("keep_features `{other}`: use none, strong or all"))),
+    }
+}
+
+fn outcome(mesh: &Mesh, report: Report) -> Outcome {
+    Outcome { mesh: arrays_of(mesh), report }
+}
+
+pub fn simplify(
+    positions: &[f64],
+    triangles: &[u32],
+    target_vertices: usize,
+    keep_features: &str,
+) -> Result<Outcome, String> {
+    guarded(|| {
+        let start = std::time::Instant::now();
+        let mesh = mesh_of(positions, triangles)?;
+        let keep_features = keep_features_of(keep_features)?;
+        let options = SimplifyOptions { target_vertices: Some(target_vertices), keep_features, ..Default::default() };
+        let hierarchy = build(&mesh, &options)?;
+        let base = hierarchy.base_mesh().mesh;
+        let report = Report {
+            input_vertices: mesh.vertex_count(),
+            output_vertices: base.vertex_count(),
+            levels: hierarchy.steps(),
+            seconds: start.elapsed().as_secs_f64(),
+        };
+        Ok(outcome(&base, report))
+    })
+}
+
+pub fn detail(
+    positions: &[f64],
+    triangles: &[u32],
+    recipe_toml: &str,
+    no_self_intersections: bool,
+) -> Result<Outcome, String> {
+    guarded(|| {
+        let start = std::time::Instant::now();
+        let mesh = mesh_of(positions, triangles)?;
+        let recipe = Recipe::parse(recipe_toml).map_err(|(line, message)| {
+            Error::InvalidInput(match line {
+                Some(line) => format!("recipe line {line}: {message}"),
+                None => format!("recipe: {message}"),
+            })
+        })?;
+        let target = recipe
+            .hierarchy
+            .target_vertices
+            .as_deref()
+            .map(|t| asperity::cli::resolve_target(t, mesh.vertex_count()))
+            .transpose()?;
+        let simplify = SimplifyOptions { target_vertices: target, ..Default::default() };
+        let options = DetailOptions { simplify, no_self_intersections, ..Default::default() };
+        let result = asperity::detail::apply(&mesh, &recipe, &options)?;
+        let report = Report {
+            input_vertices: mesh.vertex_count(),
+            output_vertices: result.result.mesh.vertex_count(),
+            levels: result.levels,
+            seconds: start.elapsed().as_secs_f64(),
+        };
+        Ok(outcome(&result.result.mesh, report))
+    })
+}

@@ -1,0 +1,70 @@
+// asperity::analyze: normals, curvatures and feature classes (thesis §4.4.1) of an
+// OpenMesh triangle mesh, as a struct and as vertex properties of the mesh.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "asperity/mesh_arrays.hpp"
+
+namespace asperity {
+
+/// Feature classes (thesis Algorithm 1).
+enum class FeatureClass : std::uint8_t { Face = 0, Weak = 1, StrongEdge = 2, Corner = 3 };
+
+/// Per-vertex surface analysis: unit normals, mean and Gaussian curvature, principal
+/// curvatures k1 ≥ k2, feature classes.
+struct Analysis {
+  std::vector<Vec3> normals;
+  std::vector<double> mean_curvature;
+  std::vector<double> gaussian_curvature;
+  std::vector<double> k1;
+  std::vector<double> k2;
+  std::vector<FeatureClass> feature_class;
+};
+
+namespace impl {
+
+inline Analysis analysis_of(const ffi::Analysis& a) {
+  Analysis out;
+  out.normals = vectors(a.normals);
+  out.mean_curvature.assign(a.mean_curvature.begin(), a.mean_curvature.end());
+  out.gaussian_curvature.assign(a.gaussian_curvature.begin(), a.gaussian_curvature.end());
+  out.k1.assign(a.k1.begin(), a.k1.end());
+  out.k2.assign(a.k2.begin(), a.k2.end());
+  for (auto c : a.feature_class) out.feature_class.push_back(FeatureClass(c));
+  return out;
+}
+
+}  // namespace impl
+
+/// Analyses `mesh` (asperity analyze) and adds the results to it as vertex properties:
+/// "asperity:mean_curvature", "asperity:gaussian_curvature", "asperity:k1", "asperity:k2"
+/// (double) and "asperity:feature_class" (int, FeatureClass's values); the mesh's vertex
+/// normals are set too when it has them. Returns the same values.
+template <class Mesh>
+Analysis analyze(Mesh& mesh) {
+  std::vector<double> p;
+  std::vector<std::uint32_t> t;
+  to_arrays(mesh, p, t);
+  Analysis a = impl::analysis_of(impl::call([&] { return ffi::analyze(impl::slice(p), impl::slice(t)); }));
+  auto mean = OpenMesh::getOrMakeProperty<OpenMesh::VertexHandle, double>(mesh, "asperity:mean_curvature");
+  auto gauss = OpenMesh::getOrMakeProperty<OpenMesh::VertexHandle, double>(mesh, "asperity:gaussian_curvature");
+  auto k1 = OpenMesh::getOrMakeProperty<OpenMesh::VertexHandle, double>(mesh, "asperity:k1");
+  auto k2 = OpenMesh::getOrMakeProperty<OpenMesh::VertexHandle, double>(mesh, "asperity:k2");
+  auto cls = OpenMesh::getOrMakeProperty<OpenMesh::VertexHandle, int>(mesh, "asperity:feature_class");
+  for (auto v : mesh.vertices()) {
+    const auto i = std::size_t(v.idx());
+    mean[v] = a.mean_curvature[i];
+    gauss[v] = a.gaussian_curvature[i];
+    k1[v] = a.k1[i];
+    k2[v] = a.k2[i];
+    cls[v] = int(a.feature_class[i]);
+    if (mesh.has_vertex_normals()) {
+      mesh.set_normal(v, typename Mesh::Normal(a.normals[i][0], a.normals[i][1], a.normals[i][2]));
+    }
+  }
+  return a;
+}
+
+}  // namespace asperity

@@ -1,0 +1,96 @@
+// OpenMesh triangle meshes to and from the flat arrays the bridge exchanges, and the
+// vertex properties asperity adds (names start with "asperity:").
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <OpenMesh/Core/Utils/PropertyManager.hh>
+
+#include "asperity/errors.hpp"
+#include "rust/cxx.h"  // first: rust::Slice, rust::Vec
+#include "asperity/bridge.rs.h"
+
+namespace asperity {
+
+/// A point or vector, x y z.
+using Vec3 = std::array<double, 3>;
+/// Three vertex indices.
+using Triangle = std::array<std::uint32_t, 3>;
+/// What a pipeline call did.
+using Report = ffi::Report;
+
+/// The mesh's positions and triangles as flat arrays (OpenMesh vertex indices). Throws
+/// InputError for a face that is not a triangle.
+template <class Mesh>
+void to_arrays(const Mesh& mesh, std::vector<double>& positions, std::vector<std::uint32_t>& triangles) {
+  positions.clear();
+  triangles.clear();
+  positions.reserve(3 * mesh.n_vertices());
+  triangles.reserve(3 * mesh.n_faces());
+  for (auto v : mesh.vertices()) {
+    const auto p = mesh.point(v);
+    positions.insert(positions.end(), {double(p[0]), double(p[1]), double(p[2])});
+  }
+  for (auto f : mesh.faces()) {
+    std::size_t corners = 0;
+    for (auto v : mesh.fv_range(f)) {
+      triangles.push_back(std::uint32_t(v.idx()));
+      ++corners;
+    }
+    if (corners != 3) {
+      throw InputError("face " + std::to_string(f.idx()) + " has " + std::to_string(corners) +
+                       " corners: asperity takes triangle meshes");
+    }
+  }
+}
+
+/// Replaces the mesh's contents with the arrays.
+template <class Mesh>
+void from_arrays(Mesh& mesh, const ffi::MeshArrays& arrays) {
+  mesh.clean();
+  std::vector<typename Mesh::VertexHandle> handles;
+  handles.reserve(arrays.positions.size() / 3);
+  for (std::size_t i = 0; i + 2 < arrays.positions.size(); i += 3) {
+    handles.push_back(mesh.add_vertex(typename Mesh::Point(arrays.positions[i], arrays.positions[i + 1], arrays.positions[i + 2])));
+  }
+  for (std::size_t i = 0; i + 2 < arrays.triangles.size(); i += 3) {
+    mesh.add_face(handles[arrays.triangles[i]], handles[arrays.triangles[i + 1]], handles[arrays.triangles[i + 2]]);
+  }
+}
+
+/// A mesh of a hierarchy level or refinement, each vertex's input vertex index in the
+/// vertex property "asperity:id".
+template <class Mesh>
+Mesh level_mesh(const ffi::LevelArrays& level) {
+  Mesh mesh;
+  from_arrays(mesh, level.mesh);
+  auto id = OpenMesh::getOrMakeProperty<OpenMesh::VertexHandle, int>(mesh, "asperity:id");
+  for (auto v : mesh.vertices()) id[v] = int(level.ids[std::size_t(v.idx())]);
+  return mesh;
+}
+
+namespace impl {
+
+/// Bridge slices over vectors.
+template <class T>
+rust::Slice<const T> slice(const std::vector<T>& values) {
+  return rust::Slice<const T>(values.data(), values.size());
+}
+
+/// x y z triples as vectors.
+inline std::vector<Vec3> vectors(const rust::Vec<double>& flat) {
+  std::vector<Vec3> out(flat.size() / 3);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = {flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]};
+  return out;
+}
+
+/// One byte per flag (the bridge's form of a selection).
+inline std::vector<std::uint8_t> bytes(const std::vector<bool>& flags) {
+  return std::vector<std::uint8_t>(flags.begin(), flags.end());
+}
+
+}  // namespace impl
+}  // namespace asperity
