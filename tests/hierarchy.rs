@@ -222,6 +222,37 @@ fn assert_parameter_points_valid(name: &str, mesh: &Mesh) {
     for r in &h.removals {
         assert!(r.local.bary.iter().all(|&b| b >= -1e-9) && (r.local.bary.iter().sum::<f64>() - 1.0).abs() <= 1e-12);
     }
+    // The indexed form (what the Python and C++ packages hand out) is the same point: the
+    // barycentric combination of the indexed triangle's corners equals the keyed face's.
+    let indexed = h.indexed_parametrization().unwrap();
+    for (v, (p, q)) in points.iter().zip(&indexed).enumerate() {
+        let (p, q) = (p.unwrap(), q.unwrap());
+        let t = h.base_triangles[q.face];
+        assert_eq!(face_key(t), face_key(p.point.face), "{name}: vertex {v}'s indexed face");
+        assert_eq!(q.level, p.level);
+        let at = |face: [u32; 3], bary: [f64; 3]| -> glam::DVec3 {
+            (0..3).map(|k| h.positions[face[k] as usize] * bary[k]).sum()
+        };
+        let d = at(t, q.barycentric).distance(at(p.point.face, p.point.bary));
+        assert!(d <= 1e-12 * (1.0 + h.positions[v].length()), "{name}: vertex {v} moved {d}");
+    }
+}
+
+#[test]
+fn options_no_build_can_use_are_refused_naming_the_field() {
+    let mesh = torus(1.0, 0.35, 16, 8);
+    for (options, field) in [
+        (SimplifyOptions { max_error: Some(-0.1), ..options() }, "max_error"),
+        (SimplifyOptions { removal_weight: f64::NAN, ..options() }, "removal_weight"),
+        (SimplifyOptions { swap_weight: -1.0, ..options() }, "swap_weight"),
+        (SimplifyOptions { fix_threshold_degrees: 0.0, ..options() }, "fix_threshold_degrees"),
+        (SimplifyOptions { fix_threshold_degrees: 200.0, ..options() }, "fix_threshold_degrees"),
+    ] {
+        let e = build(&mesh, &options).unwrap_err();
+        assert_eq!(e.exit_code(), 2, "{e}");
+        assert!(e.to_string().contains(field), "{e}");
+    }
+    assert!(build(&mesh, &SimplifyOptions { fix_threshold_degrees: 180.0, ..options() }).is_ok());
 }
 
 #[test]

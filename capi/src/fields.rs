@@ -18,6 +18,8 @@ fn member(name: &str) -> String {
     format!("option .{name}")
 }
 
+// cxx passes a C++ `rust::Vec<rust::String>` as `&Vec<String>`.
+#[allow(clippy::ptr_arg)]
 pub fn terrain_mesh(flags: &Vec<String>) -> Result<TerrainMesh, String> {
     guarded(|| {
         let start = std::time::Instant::now();
@@ -39,6 +41,7 @@ pub fn terrain_mesh(flags: &Vec<String>) -> Result<TerrainMesh, String> {
     })
 }
 
+#[allow(clippy::ptr_arg)]
 pub fn noise(points: &[f64], dimension: usize, flags: &Vec<String>) -> Result<Vec<f64>, String> {
     guarded(|| {
         if !(dimension == 2 || dimension == 3) || points.len() % dimension != 0 {

@@ -107,7 +107,7 @@ impl BuiltHierarchy {
                 barycentric: Vec::with_capacity(3 * points.len()),
             };
             for point in points {
-                let (face, bary, level) = point.map_or((-1, [f64::NAN; 3], 0), |(f, b, l)| (f as i64, b, l));
+                let (face, bary, level) = point.map_or((-1, [f64::NAN; 3], 0), |p| (p.face as i64, p.barycentric, p.level));
                 out.level.push(level);
                 out.base_face.push(face);
                 out.barycentric.extend(bary);

@@ -257,9 +257,9 @@ impl Hierarchy {
         let mut bary = vec![f64::NAN; 3 * n];
         for (v, point) in points.into_iter().enumerate() {
             // Base vertices (level 0) have no face here: they are the base domain's corners.
-            if let Some((f, b, _)) = point.filter(|&(_, _, level)| level > 0) {
-                face[v] = f as i64;
-                bary[3 * v..3 * v + 3].copy_from_slice(&b);
+            if let Some(p) = point.filter(|p| p.level > 0) {
+                face[v] = p.face as i64;
+                bary[3 * v..3 * v + 3].copy_from_slice(&p.barycentric);
             }
         }
         let bary = numpy::ndarray::Array2::from_shape_vec((n, 3), bary).expect("n × 3");

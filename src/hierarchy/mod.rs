@@ -173,6 +173,18 @@ pub struct BasePoint {
     pub level: u32,
 }
 
+/// A vertex's place in the base domain by face index (see
+/// [`Hierarchy::indexed_parametrization`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IndexedBasePoint {
+    /// Index in [`Hierarchy::base_triangles`].
+    pub face: usize,
+    /// Barycentric coordinates in that triangle's corner order.
+    pub barycentric: [f64; 3],
+    /// The level at which the vertex appears (0: a base vertex).
+    pub level: u32,
+}
+
 /// A built hierarchy: the input, the base domain, the removals and the parametrization.
 #[derive(Debug, Clone)]
 pub struct Hierarchy {
@@ -301,11 +313,11 @@ impl Hierarchy {
 
     /// [`Hierarchy::base_parametrization`] with each face as its index in `base_triangles`
     /// (the order of [`Hierarchy::base_mesh`]'s triangles) and the barycentric coordinates
-    /// in that triangle's corner order: (face, barycentrics, level) per input vertex.
+    /// in that triangle's corner order.
     ///
     /// # Errors
     /// [`crate::Error::Internal`] if a vertex's face is not a base face (a bug).
-    pub fn indexed_parametrization(&self) -> crate::Result<Vec<Option<(usize, [f64; 3], u32)>>> {
+    pub fn indexed_parametrization(&self) -> crate::Result<Vec<Option<IndexedBasePoint>>> {
         let index: std::collections::HashMap<[u32; 3], usize> =
             self.base_triangles.iter().enumerate().map(|(k, &t)| (face_key(t), k)).collect();
         let points = self.base_parametrization();
@@ -323,7 +335,7 @@ impl Hierarchy {
                     let k = point.face.iter().position(|f| f == id).expect("the same face, rotated");
                     bary[corner] = point.bary[k];
                 }
-                Ok(Some((face, bary, *level)))
+                Ok(Some(IndexedBasePoint { face, barycentric: bary, level: *level }))
             })
             .collect()
     }
