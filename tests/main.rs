@@ -22,4 +22,5 @@ mod scene;
 mod repair;
 mod terrain;
 mod terrain_scale;
+mod uv;
 mod validation;

@@ -209,6 +209,17 @@ impl Builder {
     /// A glTF mesh of `mesh`; with `alpha` (one per vertex), colours carry it and the
     /// material blends.
     pub(crate) fn mesh_with_alpha(&mut self, mesh: &Mesh, name: &str, alpha: Option<&[f32]>) -> Result<Index<gj::Mesh>> {
+        // glTF holds one UV per vertex: seam vertices are split.
+        let split;
+        let copied_alpha: Vec<f32>;
+        let (mesh, alpha) = if mesh.uvs.is_some() {
+            let source;
+            (split, source) = crate::mesh::uv::split_by_uv(mesh);
+            copied_alpha = alpha.map(|a| source.iter().map(|&s| a[s as usize]).collect()).unwrap_or_default();
+            (&split, alpha.map(|_| copied_alpha.as_slice()))
+        } else {
+            (mesh, alpha)
+        };
         let mut attributes = BTreeMap::new();
         let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.as_vec3().to_array()).collect();
         attributes.insert(Valid(gj::mesh::Semantic::Positions), self.vec3(&positions, true));
@@ -230,6 +241,20 @@ impl Builder {
                 None,
             );
             attributes.insert(Valid(gj::mesh::Semantic::Colors(0)), colors);
+        }
+        if let Some(uvs) = &mesh.uvs {
+            // glTF's v runs down the image, OBJ's and PLY's (asperity's) up.
+            let st: Vec<[f32; 2]> = uvs.values.iter().map(|&[u, v]| [u as f32, (1.0 - v) as f32]).collect();
+            let accessor = self.accessor(
+                bytemuck::cast_slice(&st),
+                Some(gj::buffer::Target::ArrayBuffer),
+                st.len(),
+                gj::accessor::ComponentType::F32,
+                gj::accessor::Type::Vec2,
+                false,
+                None,
+            );
+            attributes.insert(Valid(gj::mesh::Semantic::TexCoords(0)), accessor);
         }
         for (name, values) in &mesh.scalars {
             let floats: Vec<f32> = values.iter().map(|&v| v as f32).collect();
@@ -378,7 +403,7 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
     let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| Error::parse(path, Location::File, format!("glTF: {e}")))?;
     let blob = gltf.blob.as_deref();
     let mut out = Mesh::default();
-    let (mut normals, mut colors) = (Some(Vec::new()), Some(Vec::new()));
+    let (mut normals, mut colors, mut texcoords) = (Some(Vec::new()), Some(Vec::new()), Some(Vec::new()));
     let mut notes = Vec::new();
     let mut dropped = 0;
     let mut stack: Vec<(gltf::Node, glam::DMat4, usize)> = match gltf.default_scene().or_else(|| gltf.scenes().next()) {
@@ -445,6 +470,14 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
                 }
                 _ => None,
             };
+            texcoords = match (texcoords, reader.read_tex_coords(0)) {
+                // glTF's v runs down the image, asperity's up.
+                (Some(mut all), Some(t)) => {
+                    all.extend(t.into_f32().map(|[s, t]| [f64::from(s), 1.0 - f64::from(t)]));
+                    Some(all)
+                }
+                _ => None,
+            };
             colors = match (colors, reader.read_colors(0)) {
                 (Some(mut all), Some(c)) => {
                     all.extend(c.into_rgb_u8());
@@ -460,6 +493,9 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
     }
     out.normals = normals.filter(|n| n.len() == out.positions.len());
     out.colors = colors.filter(|c| c.len() == out.positions.len());
+    out.uvs = texcoords
+        .filter(|t| t.len() == out.positions.len())
+        .map(|t| crate::mesh::uv::CornerUvs::per_vertex(t, &out.triangles));
     notes.extend(super::repeated_vertex_note(dropped));
     Ok(super::ReadOutcome { mesh: out, triangulated_polygons: 0, notes })
 }

@@ -3,8 +3,10 @@
 //! corners without a word, so a user's per-vertex data would no longer line up (#24). Here
 //! every `v` line is a vertex, in file order; faces (`f`, any corner form `i`, `i/t`,
 //! `i//n`, `i/t/n`, negative indices relative to the vertices so far) are triangulated;
-//! errors name the line and quote the token. Statements without geometry for a triangle
-//! mesh (`o`, `g`, `s`, materials, lines, points, free-form) are skipped with a note.
+//! errors name the line and quote the token. Texture coordinates are kept per corner
+//! (`f v/vt`, see [`crate::mesh::uv`]) when every corner has one, and `mtllib`/`usemtl`
+//! are kept per face and written back. Statements without geometry for a triangle mesh
+//! (`o`, `g`, `s`, lines, points, free-form) are skipped with a note.
 
 use std::borrow::Cow;
 use std::collections::BTreeMap;
@@ -16,12 +18,13 @@ use glam::DVec3;
 use super::text::{coordinate, decode, numbered_lines, shorten};
 use super::{ReadOutcome, repeated_vertex_note, without_repeated_corners};
 use crate::error::{Error, Location, Result};
+use crate::mesh::uv::{CornerUvs, Materials};
 use crate::mesh::{Mesh, triangulate_polygon};
 
 /// Statements that describe no triangle-mesh geometry and are skipped without a note.
-const SILENT: [&str; 7] = ["o", "g", "s", "usemtl", "mtllib", "vp", "shadow_obj"];
+const SILENT: [&str; 5] = ["o", "g", "s", "vp", "shadow_obj"];
 
-/// Parses an OBJ file (materials are not read).
+/// Parses an OBJ file (material libraries are named, not read).
 pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     let text = decode(bytes, path)?;
     // Positive indices may refer forward, to any element of the file.
@@ -70,7 +73,17 @@ struct Reader {
     uncoloured: usize,
     weights: usize,
     normals: Vec<DVec3>,
-    texcoords: usize,
+    texcoords: Vec<[f64; 2]>,
+    /// `vt` lines with a third coordinate other than 0.
+    texcoords_3d: usize,
+    /// Each corner's texture coordinate index (`u32::MAX`: none given).
+    corner_texcoords: Vec<u32>,
+    libraries: Vec<String>,
+    materials: Vec<String>,
+    /// The material of the faces that follow (`u32::MAX`: none yet).
+    current_material: u32,
+    /// Each face's material.
+    face_materials: Vec<u32>,
     corner_normals: BTreeMap<u32, DVec3>,
     normals_consistent: bool,
     normals_seen: bool,
@@ -101,10 +114,32 @@ impl Reader {
                 if values.is_empty() || values.len() > 3 {
                     return Err(format!("a `vt` line has 1 to 3 coordinates, this one has {}", values.len()));
                 }
-                for v in &values {
-                    coordinate(v)?;
+                let mut uvw = [0.0; 3];
+                for (slot, v) in uvw.iter_mut().zip(&values) {
+                    *slot = coordinate(v)?;
                 }
-                self.texcoords += 1;
+                self.texcoords_3d += usize::from(uvw[2] != 0.0);
+                self.texcoords.push([uvw[0], uvw[1]]);
+                Ok(())
+            }
+            "mtllib" => {
+                // A library name may contain spaces: the rest of the line.
+                let name = values.join(" ");
+                if !name.is_empty() && !self.libraries.contains(&name) {
+                    self.libraries.push(name);
+                }
+                Ok(())
+            }
+            "usemtl" => {
+                let name = values.join(" ");
+                let index = match self.materials.iter().position(|m| *m == name) {
+                    Some(i) => i,
+                    None => {
+                        self.materials.push(name);
+                        self.materials.len() - 1
+                    }
+                };
+                self.current_material = index as u32;
                 Ok(())
             }
             "f" => self.face(&values),
@@ -152,9 +187,11 @@ impl Reader {
             let at = |m: String| format!("face corner `{quoted}`: {m}");
             let mut parts = corner.split('/');
             let v = index(parts.next().unwrap_or(""), self.positions.len(), vertices, "vertex").map_err(at)?;
-            if let Some(t) = parts.next().filter(|t| !t.is_empty()) {
-                index(t, self.texcoords, texcoords, "texture coordinate").map_err(at)?;
-            }
+            let t = match parts.next().filter(|t| !t.is_empty()) {
+                Some(t) => index(t, self.texcoords.len(), texcoords, "texture coordinate").map_err(at)?,
+                None => u32::MAX,
+            };
+            self.corner_texcoords.push(t);
             match parts.next().filter(|n| !n.is_empty()) {
                 Some(n) => {
                     let n = index(n, self.normals.len(), normals, "normal").map_err(at)?;
@@ -168,6 +205,7 @@ impl Reader {
             self.corners.push(v);
         }
         self.face_ends.push(self.corners.len());
+        self.face_materials.push(self.current_material);
         Ok(())
     }
 
@@ -175,15 +213,28 @@ impl Reader {
         let mut notes = Vec::new();
         let n = self.positions.len();
         let (mut triangles, mut triangulated, mut dropped) = (Vec::new(), 0, 0);
+        // Per triangle: its corners' texture coordinates and its face's material.
+        let (mut triangle_texcoords, mut triangle_materials) = (Vec::new(), Vec::new());
         let mut start = 0;
         let mut polygon = Vec::new();
-        for &end in &self.face_ends {
+        for (face, &end) in self.face_ends.iter().enumerate() {
             polygon.clear();
             polygon.extend_from_slice(&self.corners[start..end]);
+            let corners = start..end;
             start = end;
             if without_repeated_corners(&mut polygon) {
                 triangulated += usize::from(polygon.len() > 3);
+                let first = triangles.len();
                 triangulate_polygon(&self.positions, &polygon, &mut triangles);
+                // A vertex's texture coordinate is that of its first corner in the face.
+                let texcoord_of = |v: u32| {
+                    let k = corners.clone().find(|&k| self.corners[k] == v).expect("a corner of the face");
+                    self.corner_texcoords[k]
+                };
+                for t in &triangles[first..] {
+                    triangle_texcoords.push(t.map(texcoord_of));
+                    triangle_materials.push(self.face_materials[face]);
+                }
             } else {
                 dropped += 1;
             }
@@ -204,8 +255,23 @@ impl Reader {
         if self.weights > 0 {
             notes.push(format!("OBJ vertex weights (v x y z w) on {} vertices: ignored", self.weights));
         }
-        if self.texcoords > 0 {
-            notes.push(format!("{} OBJ texture coordinates: not carried (meshes hold no UVs)", self.texcoords));
+        let corners_with_uv = triangle_texcoords.iter().flatten().filter(|&&t| t != u32::MAX).count();
+        if corners_with_uv == 3 * triangle_texcoords.len() && !triangle_texcoords.is_empty() {
+            mesh.uvs = Some(CornerUvs { values: self.texcoords, corners: triangle_texcoords });
+            if self.texcoords_3d > 0 {
+                notes.push(format!("{} OBJ texture coordinates have a third coordinate: kept as u v", self.texcoords_3d));
+            }
+        } else if corners_with_uv > 0 {
+            notes.push(format!(
+                "OBJ texture coordinates on {corners_with_uv} of {} triangle corners: ignored (every corner needs one)",
+                3 * triangle_texcoords.len()
+            ));
+        } else if !self.texcoords.is_empty() {
+            notes.push(format!("{} OBJ texture coordinates no face uses: ignored", self.texcoords.len()));
+        }
+        if !self.materials.is_empty() || !self.libraries.is_empty() {
+            mesh.materials =
+                Some(Materials { libraries: self.libraries, names: self.materials, faces: triangle_materials });
         }
         if self.normals_seen {
             let every_vertex = self.corner_normals.len() == n && !self.corners_without_normal;
@@ -283,17 +349,48 @@ pub fn write_face(w: &mut dyn Write, t: [u32; 3], with_normals: bool) -> std::io
 }
 
 /// Writes an OBJ file: positions (with colours as `v x y z r g b` when present), normals,
-/// and 1-based triangles.
+/// texture coordinates per corner (`f v/vt`), the material libraries and each face's
+/// `usemtl`, and 1-based triangles.
 pub fn write(mesh: &Mesh, w: &mut dyn Write) -> std::io::Result<()> {
     write_header(w)?;
+    if let Some(m) = &mesh.materials {
+        for library in &m.libraries {
+            writeln!(w, "mtllib {library}")?;
+        }
+    }
     for (i, p) in mesh.positions.iter().enumerate() {
         write_vertex(w, *p, mesh.colors.as_ref().map(|c| c[i]))?;
     }
     for n in mesh.normals.iter().flatten() {
         write_normal(w, *n)?;
     }
-    for t in &mesh.triangles {
-        write_face(w, *t, mesh.normals.is_some())?;
+    if let Some(uvs) = &mesh.uvs {
+        for [u, v] in &uvs.values {
+            writeln!(w, "vt {u} {v}")?;
+        }
+    }
+    let mut material = u32::MAX;
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        if let Some(m) = &mesh.materials {
+            if m.faces[f] != material && m.faces[f] != u32::MAX {
+                material = m.faces[f];
+                writeln!(w, "usemtl {}", m.names[material as usize])?;
+            }
+        }
+        match &mesh.uvs {
+            Some(uvs) => write_textured_face(w, *t, uvs.corners[f], mesh.normals.is_some())?,
+            None => write_face(w, *t, mesh.normals.is_some())?,
+        }
     }
     Ok(())
+}
+
+/// One `f v/vt` line (or `v/vt/vn` with normals of the vertices' indices), 1-based.
+fn write_textured_face(w: &mut dyn Write, t: [u32; 3], uv: [u32; 3], with_normals: bool) -> std::io::Result<()> {
+    write!(w, "f")?;
+    for k in 0..3 {
+        let (v, vt) = (u64::from(t[k]) + 1, u64::from(uv[k]) + 1);
+        if with_normals { write!(w, " {v}/{vt}/{v}")? } else { write!(w, " {v}/{vt}")? }
+    }
+    writeln!(w)
 }

@@ -443,7 +443,8 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     let faces = polygon_starts.iter().zip(ends).map(|(&start, end)| &polygons[start..end]);
     let (triangles, triangulated) = triangulate_polygons(&positions, faces);
     notes.extend(repeated_vertex_note(dropped));
-    let mesh = Mesh { positions, triangles, normals, colors, scalars };
+    let mut mesh = Mesh { positions, triangles, normals, colors, scalars, ..Mesh::default() };
+    uvs_from_scalars(&mut mesh);
     Ok(ReadOutcome { mesh, triangulated_polygons: triangulated, notes })
 }
 
@@ -607,8 +608,38 @@ pub fn write_triangle(w: &mut dyn Write, ascii: bool, t: [u32; 3]) -> std::io::R
     w.write_all(&record)
 }
 
-/// Writes a PLY file: binary little-endian, or ASCII with `ascii`.
+/// The vertex property pairs read as texture coordinates, in order of preference (the
+/// first is what asperity writes).
+const UV_PROPERTIES: [[&str; 2]; 4] = [["s", "t"], ["u", "v"], ["texture_u", "texture_v"], ["texture_s", "texture_t"]];
+
+/// Moves the first pair of UV properties from the scalars into per-vertex UVs.
+fn uvs_from_scalars(mesh: &mut Mesh) {
+    let Some([u, v]) = UV_PROPERTIES.iter().find(|[u, v]| mesh.scalars.contains_key(*u) && mesh.scalars.contains_key(*v))
+    else {
+        return;
+    };
+    let us = mesh.scalars.remove(*u).expect("found above");
+    let vs = mesh.scalars.remove(*v).expect("found above");
+    let values = us.into_iter().zip(vs).map(|(u, v)| [u, v]).collect();
+    mesh.uvs = Some(crate::mesh::uv::CornerUvs::per_vertex(values, &mesh.triangles));
+}
+
+/// Writes a PLY file: binary little-endian, or ASCII with `ascii`. UVs are written as the
+/// vertex properties `s t`, one vertex per distinct (vertex, UV) (PLY holds one UV per
+/// vertex).
 pub fn write(mesh: &Mesh, w: &mut dyn Write, ascii: bool) -> std::io::Result<()> {
+    if mesh.uvs.is_some() {
+        let (mut split, _) = crate::mesh::uv::split_by_uv(mesh);
+        let values = split.uvs.take().map(|u| u.values).unwrap_or_default();
+        let [u, v] = UV_PROPERTIES[0];
+        split.scalars.insert(u.into(), values.iter().map(|uv| uv[0]).collect());
+        split.scalars.insert(v.into(), values.iter().map(|uv| uv[1]).collect());
+        return write_plain(&split, w, ascii);
+    }
+    write_plain(mesh, w, ascii)
+}
+
+fn write_plain(mesh: &Mesh, w: &mut dyn Write, ascii: bool) -> std::io::Result<()> {
     let layout = PlyLayout {
         vertices: mesh.positions.len(),
         faces: mesh.triangles.len(),

@@ -11,6 +11,7 @@ pub mod primitives;
 mod repair;
 mod triangulate;
 mod unit;
+pub mod uv;
 mod validate;
 
 use std::collections::BTreeMap;
@@ -49,6 +50,10 @@ pub struct Mesh {
     pub colors: Option<Vec<Rgb>>,
     /// Named per-vertex scalar properties (curvatures, feature classes, ...), in name order.
     pub scalars: BTreeMap<String, Vec<f64>>,
+    /// Texture coordinates per triangle corner (see [`uv`]).
+    pub uvs: Option<uv::CornerUvs>,
+    /// Materials per face (OBJ `mtllib`/`usemtl`).
+    pub materials: Option<uv::Materials>,
 }
 
 impl Mesh {
@@ -81,7 +86,8 @@ impl Mesh {
     }
 
     /// Appends `other`'s vertices and faces. Colours are kept when both meshes have them
-    /// (or this one is empty), normals likewise; scalars only where both have the name.
+    /// (or this one is empty), normals and UVs likewise; scalars only where both have the name;
+    /// materials only when this mesh is empty.
     pub fn append(&mut self, other: &Mesh) {
         let empty = self.positions.is_empty();
         let offset = self.positions.len() as u32;
@@ -94,6 +100,18 @@ impl Mesh {
         }
         join(&mut self.colors, &other.colors, empty);
         join(&mut self.normals, &other.normals, empty);
+        self.uvs = match (self.uvs.take(), &other.uvs) {
+            (Some(mut mine), Some(theirs)) => {
+                let shift = mine.values.len() as u32;
+                mine.values.extend_from_slice(&theirs.values);
+                mine.corners.extend(theirs.corners.iter().map(|c| c.map(|i| i + shift)));
+                Some(mine)
+            }
+            (None, Some(theirs)) if empty => Some(theirs.clone()),
+            _ => None,
+        };
+        // Materials name files of their own: kept only when nothing is merged with them.
+        self.materials = if empty { other.materials.clone() } else { None };
         if empty {
             self.scalars = other.scalars.clone();
         } else {
@@ -150,6 +168,21 @@ impl Mesh {
         }
         for (name, v) in &self.scalars {
             check_len(name, v.len())?;
+        }
+        if let Some(uvs) = &self.uvs {
+            uvs.check(self.triangles.len())?;
+        }
+        if let Some(m) = &self.materials {
+            if m.faces.len() != self.triangles.len() {
+                return Err(Error::InvalidInput(format!(
+                    "materials are given for {} of {} faces",
+                    m.faces.len(),
+                    self.triangles.len()
+                )));
+            }
+            if let Some(f) = m.faces.iter().position(|&i| i != u32::MAX && i as usize >= m.names.len()) {
+                return Err(Error::InvalidInput(format!("face {f} names a material that is not defined")));
+            }
         }
         Ok(())
     }

@@ -158,7 +158,14 @@ pub fn remove_degenerate_faces(mesh: &mut Mesh) -> DegenerateRemoval {
             None => state.delete(f),
         }
     }
-    let Degenerates { triangles, alive, report, .. } = state;
+    let Degenerates { triangles, alive, report, uv_corners, .. } = state;
+    if let (Some(uvs), Some(corners)) = (&mut mesh.uvs, uv_corners) {
+        uvs.corners = corners;
+        uvs.retain_faces(&alive);
+    }
+    if let Some(m) = &mut mesh.materials {
+        m.retain_faces(&alive);
+    }
     mesh.triangles = triangles.into_iter().zip(alive).filter_map(|(t, a)| a.then_some(t)).collect();
     report
 }
@@ -171,6 +178,8 @@ struct Degenerates<'a> {
     edges: rustc_hash::FxHashMap<(u32, u32), usize>,
     faces_of: Vec<Vec<usize>>,
     report: DegenerateRemoval,
+    /// Each face's UV indices, following its corners through collapses and flips.
+    uv_corners: Option<Vec<[u32; 3]>>,
 }
 
 impl<'a> Degenerates<'a> {
@@ -191,6 +200,7 @@ impl<'a> Degenerates<'a> {
             edges,
             faces_of,
             report: DegenerateRemoval::default(),
+            uv_corners: mesh.uvs.as_ref().map(|u| u.corners.clone()),
         }
     }
 
@@ -220,6 +230,14 @@ impl<'a> Degenerates<'a> {
     /// are deleted.
     fn collapse(&mut self, kept: u32, gone: u32) -> Vec<usize> {
         let faces = std::mem::take(&mut self.faces_of[gone as usize]);
+        // The faces that take `kept` take its UV from a face holding both (the needle).
+        let kept_uv = self.uv_corners.as_ref().and_then(|uv| {
+            faces.iter().find_map(|&f| {
+                let t = self.triangles[f];
+                let k = t.iter().position(|&v| v == kept)?;
+                (self.alive[f] && t.contains(&gone)).then_some(uv[f][k])
+            })
+        });
         let mut changed = Vec::new();
         for f in faces {
             // A face flipped earlier may no longer hold `gone` (its list keeps it).
@@ -231,9 +249,12 @@ impl<'a> Degenerates<'a> {
                 continue;
             }
             self.unlink(f);
-            for v in &mut self.triangles[f] {
+            for (k, v) in self.triangles[f].iter_mut().enumerate() {
                 if *v == gone {
                     *v = kept;
+                    if let (Some(uv), Some(kept_uv)) = (&mut self.uv_corners, kept_uv) {
+                        uv[f][k] = kept_uv;
+                    }
                 }
             }
             self.link(f);
@@ -263,6 +284,13 @@ impl<'a> Degenerates<'a> {
         self.unlink(g);
         self.triangles[f] = [c, a, d];
         self.triangles[g] = [d, b, c];
+        if let Some(uv) = &mut self.uv_corners {
+            // Each corner keeps the UV its vertex had in the face it came from.
+            let (uf, ug) = (uv[f], uv[g]);
+            let tc = uf[(i + 2) % 3];
+            uv[f] = [tc, uf[i], ug[(k + 2) % 3]];
+            uv[g] = [ug[(k + 2) % 3], uf[(i + 1) % 3], tc];
+        }
         self.link(f);
         self.link(g);
         self.faces_of[d as usize].push(f);
@@ -313,6 +341,12 @@ pub fn remove_duplicate_faces(mesh: &mut Mesh) -> usize {
 
 fn retain_faces(mesh: &mut Mesh, keep: &[bool]) -> usize {
     let before = mesh.triangles.len();
+    if let Some(uvs) = &mut mesh.uvs {
+        uvs.retain_faces(keep);
+    }
+    if let Some(m) = &mut mesh.materials {
+        m.retain_faces(keep);
+    }
     let mut k = keep.iter();
     mesh.triangles.retain(|_| *k.next().expect("one flag per face"));
     before - mesh.triangles.len()
@@ -445,6 +479,9 @@ pub fn orient_faces(mesh: &mut Mesh) -> (usize, usize) {
         for &f in &component {
             if (flip[f] == 1) != invert {
                 mesh.triangles[f].swap(1, 2);
+                if let Some(uvs) = &mut mesh.uvs {
+                    uvs.corners[f].swap(1, 2);
+                }
                 flipped += 1;
             }
         }
