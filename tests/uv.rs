@@ -148,3 +148,111 @@ fn ply_and_glb_hold_one_uv_per_vertex_so_seams_are_split_on_writing() {
         }
     }
 }
+
+/// Cylindrical UVs around the z axis through the box centre (u = angle / 2π, v = height),
+/// with a seam where the angle wraps: a face whose corners straddle it gets u + 1 on its
+/// low side, so those vertices carry two UVs.
+fn with_cylindrical_uvs(mut mesh: Mesh) -> Mesh {
+    let (lo, hi) = mesh.bounding_box().unwrap();
+    let centre = 0.5 * (lo + hi);
+    let at = |p: DVec3| {
+        let d = p - centre;
+        [(d.y.atan2(d.x) / TAU).rem_euclid(1.0), (p.z - lo.z) / (hi.z - lo.z).max(f64::MIN_POSITIVE)]
+    };
+    let mut values = Vec::new();
+    let mut corners = Vec::new();
+    for t in &mesh.triangles {
+        let mut uv = t.map(|v| at(mesh.positions[v as usize]));
+        let us = uv.map(|c| c[0]);
+        if us.iter().cloned().fold(f64::MIN, f64::max) - us.iter().cloned().fold(f64::MAX, f64::min) > 0.5 {
+            for c in &mut uv {
+                if c[0] < 0.5 {
+                    c[0] += 1.0;
+                }
+            }
+        }
+        let first = values.len() as u32;
+        values.extend(uv);
+        corners.push([first, first + 1, first + 2]);
+    }
+    mesh.uvs = Some(CornerUvs { values, corners });
+    mesh
+}
+
+/// Checks every recorded level of `mesh`'s hierarchy: each corner's UV is one its vertex
+/// has in the input, and no face spans the seam: the u extent of the faces `measurable`
+/// accepts (corner positions) stays under 1/2, where a face across the seam would reach
+/// nearly 1.
+fn assert_levels_keep_uvs(name: &str, mesh: &Mesh, target: usize, measurable: &dyn Fn([DVec3; 3]) -> bool) -> usize {
+    use asperity::hierarchy::{KeepFeatures, SimplifyOptions, build};
+    let options = SimplifyOptions {
+        target_vertices: Some(target),
+        keep_features: KeepFeatures::None,
+        record_levels: true,
+        ..SimplifyOptions::default()
+    };
+    let h = build(mesh, &options).unwrap();
+    let input_uvs = mesh.uvs.as_ref().unwrap();
+    let mut uvs_of = vec![Vec::new(); mesh.vertex_count()];
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for k in 0..3 {
+            uvs_of[t[k] as usize].push(input_uvs.at(f, k));
+        }
+    }
+    let mut levels = h.levels.clone();
+    levels.push(h.base_mesh());
+    for (depth, level) in levels.into_iter().enumerate() {
+        let level = h.with_attributes(level).unwrap();
+        level.mesh.check().unwrap();
+        let uvs = level.mesh.uvs.as_ref().expect("UVs on every level");
+        let mut measured = 0;
+        for (f, t) in level.mesh.triangles.iter().enumerate() {
+            let us: Vec<f64> = (0..3).map(|k| uvs.at(f, k)[0]).collect();
+            let extent = us.iter().cloned().fold(f64::MIN, f64::max) - us.iter().cloned().fold(f64::MAX, f64::min);
+            if measurable(t.map(|v| level.mesh.positions[v as usize])) {
+                measured += 1;
+                assert!(extent < 0.5, "{name}: level {depth} face {f} spans the seam (u {us:?})");
+            }
+            for k in 0..3 {
+                let id = level.ids[t[k] as usize] as usize;
+                assert!(uvs_of[id].contains(&uvs.at(f, k)), "{name}: level {depth}: vertex {id} got a UV it never had");
+            }
+        }
+        assert!(2 * measured > level.mesh.face_count(), "{name}: level {depth}: only {measured} faces measured");
+    }
+    h.base_vertex_count()
+}
+
+#[test]
+fn every_level_keeps_the_uvs_and_no_face_spans_a_seam() {
+    // At the poles u is any value: faces there are not measured.
+    let off_poles = |p: [DVec3; 3]| p.iter().all(|p| p.z.abs() < 0.999);
+    let sphere = uv_sphere(48, 24);
+    let base = assert_levels_keep_uvs("uv sphere", &sphere, 60, &off_poles);
+    // The seam's ends (the poles) and its path stay; the rest simplifies.
+    assert!(base < 200, "uv sphere: {base} base vertices");
+    let torus = with_cylindrical_uvs(asperity::mesh::primitives::torus(1.0, 0.35, 64, 24));
+    assert!(!seam_edges(&torus).is_empty());
+    let base = assert_levels_keep_uvs("torus", &torus, 100, &|_| true);
+    assert!(base < 400, "torus: {base} base vertices");
+}
+
+#[test]
+fn a_shared_scan_with_generated_uvs_keeps_them_on_every_level() {
+    let path = crate::common::shared_meshes().join("bunny00.off");
+    let mesh = io::read(&path).unwrap_or_else(|e| panic!("{e}: the shared meshes belong in {}", path.display())).mesh;
+    let mesh = with_cylindrical_uvs(mesh);
+    let target = mesh.vertex_count() / 20;
+    // Near the axis the angle, and so u, is ill-defined: faces measured are those whose
+    // corners all lie away from it and within a quarter turn of each other.
+    let (lo, hi) = mesh.bounding_box().unwrap();
+    let (centre, reach) = (0.5 * (lo + hi), 0.2 * (hi - lo).truncate().min_element());
+    let clear = |p: [DVec3; 3]| {
+        let angle = p.map(|q| (q.y - centre.y).atan2(q.x - centre.x));
+        let apart = |a: f64, b: f64| ((a - b).rem_euclid(TAU)).min((b - a).rem_euclid(TAU));
+        p.iter().all(|q| (*q - centre).truncate().length() > reach)
+            && apart(angle[0], angle[1]).max(apart(angle[1], angle[2])).max(apart(angle[0], angle[2])) < TAU / 4.0
+    };
+    let base = assert_levels_keep_uvs("bunny00", &mesh, target, &clear);
+    assert!(base <= 2 * target, "bunny00: {base} base vertices for a target of {target}");
+}

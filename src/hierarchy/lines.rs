@@ -2,7 +2,8 @@
 //! whose literal rule keeps every feature vertex).
 //!
 //! The feature edges are the edges joining two feature vertices of the input (Algorithm 1's
-//! classes chosen by `--keep-features`) and the boundary edges. A feature or boundary vertex
+//! classes chosen by `--keep-features`), the boundary edges and the texture seams (#22: the
+//! edges whose faces disagree on a UV or a material, [`crate::mesh::uv::seam_edges`]). A feature or boundary vertex
 //! with exactly two feature edges lies on a line; one with any other count is a junction or
 //! an end and, like a corner, is never removed. A line vertex may be removed only by the
 //! weld whose diagonal joins its two line neighbours, so the line stays a line of the
@@ -25,6 +26,8 @@ pub struct FeatureLines {
     on_line: Vec<bool>,
     /// Vertices on a boundary of the input.
     boundary: Vec<bool>,
+    /// Vertices on a texture seam of the input.
+    seam_vertex: Vec<bool>,
 }
 
 fn key(a: u32, b: u32) -> [u32; 2] {
@@ -33,10 +36,11 @@ fn key(a: u32, b: u32) -> [u32; 2] {
 
 impl FeatureLines {
     /// The lines of a mesh whose feature vertices are `feature` (edges from `triangles`),
-    /// with its boundary loops as lines too. Corners are never line vertices, and none is
-    /// when `along` is false (the lines are then only reported); vertices whose removal the
-    /// caller forbids are left to the caller's `kept` flags.
-    pub fn new(feature: &[bool], corner: &[bool], triangles: &[[u32; 3]], along: bool) -> Self {
+    /// with its boundary loops and the `seams` (edges, any order of ends) as lines too.
+    /// Corners are never line vertices, and none is when `along` is false (the lines are then
+    /// only reported); vertices whose removal the caller forbids are left to the caller's
+    /// `kept` flags.
+    pub fn new(feature: &[bool], corner: &[bool], triangles: &[[u32; 3]], along: bool, seams: &[[u32; 2]]) -> Self {
         let n = feature.len();
         let directed: rustc_hash::FxHashSet<[u32; 2]> =
             triangles.iter().flat_map(|t| (0..3).map(move |k| [t[k], t[(k + 1) % 3]])).collect();
@@ -52,18 +56,31 @@ impl FeatureLines {
                 edges.insert(key(a, b), 0.0);
             }
         }
+        let mut seam_vertex = vec![false; n];
+        for &[a, b] in seams {
+            edges.insert(key(a, b), 0.0);
+            seam_vertex[a as usize] = true;
+            seam_vertex[b as usize] = true;
+        }
         let mut degree = vec![0u8; n];
         for &[a, b] in edges.keys() {
             degree[a as usize] = degree[a as usize].saturating_add(1);
             degree[b as usize] = degree[b as usize].saturating_add(1);
         }
-        let on_line = (0..n).map(|v| along && (feature[v] || boundary[v]) && !corner[v] && degree[v] == 2).collect();
-        FeatureLines { edges, on_line, boundary }
+        let on_line = (0..n)
+            .map(|v| along && (feature[v] || boundary[v] || seam_vertex[v]) && !corner[v] && degree[v] == 2)
+            .collect();
+        FeatureLines { edges, on_line, boundary, seam_vertex }
     }
 
     /// Whether `v` is on a boundary of the input.
     pub fn is_boundary(&self, v: u32) -> bool {
         self.boundary.get(v as usize).copied().unwrap_or(false)
+    }
+
+    /// Whether `v` is on a texture seam of the input.
+    pub fn is_on_seam(&self, v: u32) -> bool {
+        self.seam_vertex.get(v as usize).copied().unwrap_or(false)
     }
 
     /// Whether `v` lies on a line.

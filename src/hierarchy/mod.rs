@@ -21,6 +21,7 @@ mod refine;
 pub mod region;
 mod rings;
 mod simplify;
+mod wedges;
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -31,6 +32,7 @@ pub use param::ParamPoint;
 pub use refine::{LevelMesh, LevelReport, Refiner, connectivity_match};
 pub use rings::{RingVec, Rings};
 pub use simplify::{build, build_with_openmesh_replay};
+pub use wedges::Wedges;
 
 pub use crate::mesh::used_vertices;
 
@@ -214,6 +216,9 @@ pub struct Hierarchy {
     pub seconds: f64,
     /// Build time by stage.
     pub stages: BuildStages,
+    /// The input's UVs and materials, for carrying them to every level (`None` when it has
+    /// neither).
+    pub wedges: Option<Wedges>,
 }
 
 /// Seconds [`build`] spent in each stage (summed over levels): a one-line report of where
@@ -287,6 +292,20 @@ impl Hierarchy {
     /// The base domain as a compact mesh, with each vertex's input id.
     pub fn base_mesh(&self) -> LevelMesh {
         LevelMesh::compact(&self.positions, &self.base_triangles)
+    }
+
+    /// `level` (a level's or a refinement's mesh of input vertices) with the input's UVs
+    /// and materials on its faces (see [`Wedges`]); unchanged when the input has neither.
+    ///
+    /// # Errors
+    /// [`crate::Error::Internal`] when a face lies in no wedge of a seam vertex.
+    pub fn with_attributes(&self, mut level: LevelMesh) -> crate::Result<LevelMesh> {
+        if let Some(wedges) = &self.wedges {
+            let (uvs, materials) = wedges.level(&level.triangles_in_ids())?;
+            level.mesh.uvs = uvs;
+            level.mesh.materials = materials;
+        }
+        Ok(level)
     }
 
     /// Every input vertex's base-domain point and level (base vertices sit on a corner of

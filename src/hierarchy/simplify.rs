@@ -10,6 +10,7 @@ use rayon::prelude::*;
 
 use rustc_hash::FxHashSet;
 
+use super::wedges::Wedges;
 use super::cluster::{ClusterPlan, ClusterRules, LevelGeometry, apply_plan, plan_cluster, plan_still_applies};
 use super::guard::guard_plans;
 use super::lines::FeatureLines;
@@ -65,7 +66,7 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
     prepared?;
     let (store, quadrics) = (store?, quadrics?);
     let n = mesh.vertex_count();
-    let Features { feature, kept, lines } = features_and_kept(&working, options)?;
+    let Features { feature, kept, lines } = features_and_kept(&working, options, &crate::mesh::uv::seam_edges(mesh))?;
     // Planning needs only the working positions; the copy's faces go now.
     let working_positions = {
         let copy = working;
@@ -129,6 +130,7 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
         fix_threshold: options.fix_threshold_degrees.to_radians(),
         seconds: started.elapsed().as_secs_f64(),
         stages,
+        wedges: Wedges::of(mesh),
     })
 }
 
@@ -332,10 +334,10 @@ fn prepare_input(mesh: &Mesh) -> Result<()> {
 }
 
 /// The feature vertices (§4.4.1.1, Algorithm 1 classes chosen by `keep_features`), their
-/// lines and the boundary loops, and the vertices never removed: corners, the feature and
-/// boundary vertices not on a line (every one with [`FeatureVertices::Keep`]) and those
-/// the user marked.
-fn features_and_kept(mesh: &Mesh, options: &SimplifyOptions) -> Result<Features> {
+/// lines, the boundary loops and the texture `seams`, and the vertices never removed:
+/// corners, the feature, boundary and seam vertices not on a line (every one with
+/// [`FeatureVertices::Keep`]) and those the user marked.
+fn features_and_kept(mesh: &Mesh, options: &SimplifyOptions, seams: &[[u32; 2]]) -> Result<Features> {
     let n = mesh.vertex_count();
     let mut feature = vec![false; n];
     let mut corner = vec![false; n];
@@ -357,9 +359,9 @@ fn features_and_kept(mesh: &Mesh, options: &SimplifyOptions) -> Result<Features>
         }
     }
     let along = options.feature_vertices == FeatureVertices::AlongLines;
-    let lines = FeatureLines::new(&feature, &corner, &mesh.triangles, along);
-    let mut kept: Vec<bool> =
-        (0..n).map(|v| (feature[v] || lines.is_boundary(v as u32)) && !lines.is_on_line(v as u32)).collect();
+    let lines = FeatureLines::new(&feature, &corner, &mesh.triangles, along, seams);
+    let line_like = |v: u32| feature[v as usize] || lines.is_boundary(v) || lines.is_on_seam(v);
+    let mut kept: Vec<bool> = (0..n as u32).map(|v| line_like(v) && !lines.is_on_line(v)).collect();
     for &v in &options.keep_vertices {
         let slot = kept
             .get_mut(v as usize)
