@@ -256,3 +256,69 @@ fn a_shared_scan_with_generated_uvs_keeps_them_on_every_level() {
     let base = assert_levels_keep_uvs("bunny00", &mesh, target, &clear);
     assert!(base <= 2 * target, "bunny00: {base} base vertices for a target of {target}");
 }
+
+/// An 8 × 8 check texture whose texels encode their check: red (i + ½)·32, green
+/// (j + ½)·32, blue 255. Lighting scales the three channels alike, so a pixel's check is
+/// read back from its red and green against its blue.
+fn check_index_texture() -> asperity::render::texture::Texture {
+    let side = 64;
+    let texels = (0..side * side)
+        .map(|k| {
+            let (x, y) = (k % side, k / side);
+            // Image rows run down; check j counts up the v axis.
+            let (i, j) = (x / 8, 7 - y / 8);
+            glam::Vec3::new((i as f32 + 0.5) * 32.0 / 255.0, (j as f32 + 0.5) * 32.0 / 255.0, 1.0)
+        })
+        .collect();
+    asperity::render::texture::Texture::new(side, side, texels).unwrap()
+}
+
+/// The check (i, j) each fully covered pixel shows.
+fn checks_seen(mesh: &Mesh, yaw: f64) -> Vec<Option<(i32, i32)>> {
+    use asperity::render::{RenderOptions, render};
+    let options = RenderOptions {
+        width: 160,
+        height: 160,
+        yaw_deg: yaw,
+        pitch_deg: 10.0,
+        background: None,
+        texture: Some(std::sync::Arc::new(check_index_texture())),
+        ..RenderOptions::default()
+    };
+    let picture = render(mesh, &options).unwrap();
+    picture
+        .rgba
+        .chunks_exact(4)
+        .map(|p| {
+            (p[3] == 255 && p[2] > 40).then(|| {
+                let read = |c: u8| ((f32::from(c) / f32::from(p[2]) * 255.0 / 32.0).floor() as i32).clamp(0, 7);
+                (read(p[0]), read(p[1]))
+            })
+        })
+        .collect()
+}
+
+#[test]
+fn a_coarse_level_draws_the_same_checks_as_the_input() {
+    use asperity::hierarchy::{KeepFeatures, SimplifyOptions, build};
+    let sphere = uv_sphere(64, 32);
+    let options = SimplifyOptions {
+        target_vertices: Some(sphere.vertex_count() / 8),
+        keep_features: KeepFeatures::None,
+        ..SimplifyOptions::default()
+    };
+    let h = build(&sphere, &options).unwrap();
+    let base = h.with_attributes(h.base_mesh()).unwrap().mesh;
+    // The seam lies at +x; the four views see it from the front, both sides and behind.
+    for yaw in [0.0, 90.0, 180.0, 270.0] {
+        let (fine, coarse) = (checks_seen(&sphere, yaw), checks_seen(&base, yaw));
+        let both: Vec<((i32, i32), (i32, i32))> =
+            fine.iter().zip(&coarse).filter_map(|(a, b)| Some(((*a)?, (*b)?))).collect();
+        assert!(both.len() > 5000, "yaw {yaw}: {} pixels compared", both.len());
+        // u wraps: checks 0 and 7 are neighbours across the seam.
+        let apart = |a: i32, b: i32| (a - b).rem_euclid(8).min((b - a).rem_euclid(8));
+        let torn = both.iter().filter(|((i, j), (k, l))| apart(*i, *k) > 1 || (j - l).abs() > 1).count();
+        let share = torn as f64 / both.len() as f64;
+        assert!(share < 0.01, "yaw {yaw}: {:.2} % of the pixels show a check more than one away", share * 100.0);
+    }
+}

@@ -80,9 +80,13 @@ pub fn run(args: DetailArgs, ctx: super::Context) -> Result<()> {
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;
     let options =
         DetailOptions { simplify, no_self_intersections: !args.allow_self_intersections, ..Default::default() };
-    let outcome =
+    let mut outcome =
         ctx.spin("detail", "applying the recipe level by level", || apply_to(&hierarchy, &mesh, &recipe, &options))?;
+    super::relocate_material_libraries(&mut outcome.result.mesh, &args.input, &args.output);
     io::write(&outcome.result.mesh, &args.output, WriteOptions::default())?;
+    for note in &outcome.attribute_notes {
+        ctx.note(note);
+    }
     let exact = outcome.result.has_input_positions(&mesh);
     let matched = connectivity_match(&mesh.triangles, &outcome.result.triangles_in_ids());
     let seconds = json!({
@@ -105,6 +109,7 @@ pub fn run(args: DetailArgs, ctx: super::Context) -> Result<()> {
             "steps": outcome.steps,
             "repair": repair,
             "self_intersections": outcome.intersections,
+            "attribute_notes": outcome.attribute_notes,
             "seconds": seconds,
         });
         println!("{}", serde_json::to_string_pretty(&report).expect("report serialises"));

@@ -297,3 +297,30 @@ pub(crate) fn require_extension(output: &std::path::Path, extensions: &[&str]) -
     let list: Vec<String> = extensions.iter().map(|e| format!(".{e}")).collect();
     Err(Error::InvalidInput(format!("{}: the output must end in {}", output.display(), list.join(" or "))))
 }
+
+/// `mesh` (read from `input`) about to be written to `output`: each material library it
+/// names relative to the input's folder is named relative to the output's instead, or by
+/// its absolute path where no relative path leads there, so that the written OBJ still
+/// finds it. Names already absolute, and libraries that do not exist, are left as they are.
+pub(crate) fn relocate_material_libraries(mesh: &mut crate::mesh::Mesh, input: &std::path::Path, output: &std::path::Path) {
+    let Some(materials) = &mut mesh.materials else { return };
+    let folder = |p: &std::path::Path| {
+        let parent = p.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
+        parent.canonicalize().ok()
+    };
+    let (Some(from), Some(to)) = (folder(input), folder(output)) else { return };
+    if from == to {
+        return;
+    }
+    for library in &mut materials.libraries {
+        let path = std::path::Path::new(library.as_str());
+        if path.is_absolute() {
+            continue;
+        }
+        let Ok(found) = from.join(path).canonicalize() else { continue };
+        *library = match found.strip_prefix(&to) {
+            Ok(inside) => inside.display().to_string(),
+            Err(_) => found.display().to_string(),
+        };
+    }
+}

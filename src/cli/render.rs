@@ -77,6 +77,7 @@ impl ViewArgs {
             crease_deg: self.crease.unwrap_or(40.0),
             edges: self.edges,
             water: None,
+            texture: None,
         })
     }
 }
@@ -99,6 +100,10 @@ pub struct RenderArgs {
     /// (with --water-level) [default: 0.02].
     #[arg(long)]
     water_clarity: Option<f64>,
+    /// Draw the mesh with this texture (PNG) at its UVs (faces mode; the mesh needs texture
+    /// coordinates: OBJ vt, PLY s t, glTF TEXCOORD_0). Replaces --colors.
+    #[arg(long)]
+    texture: Option<PathBuf>,
     #[command(flatten)]
     repair: super::input::RepairArg,
 }
@@ -116,6 +121,16 @@ impl RenderArgs {
         options.water = self
             .water_level
             .map(|level| crate::render::WaterView { level, clarity: self.water_clarity.unwrap_or(0.02) });
+        if let Some(path) = &self.texture {
+            if self.view.mode != Mode::Faces {
+                let mode = format!("{:?}", self.view.mode).to_lowercase();
+                return Err(Error::InvalidInput(format!("--texture applies only to --mode faces, not {mode}")));
+            }
+            if self.view.colors != ColorSource::Attribute {
+                return Err(Error::InvalidInput("--texture gives the colours: --colors cannot be used with it".into()));
+            }
+            options.texture = Some(std::sync::Arc::new(crate::render::texture::Texture::read_png(path)?));
+        }
         Ok(options)
     }
 

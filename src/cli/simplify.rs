@@ -10,7 +10,7 @@ use serde_json::json;
 use crate::detail::HierarchySection;
 use crate::error::{Error, Result};
 use crate::hierarchy::compare::{ShapeReport, relative_hausdorff};
-use crate::hierarchy::{FeatureVertices, Hierarchy, KeepFeatures, SimplifyOptions, build};
+use crate::hierarchy::{FeatureVertices, Hierarchy, KeepFeatures, LevelMesh, SimplifyOptions, build};
 use crate::io::glb::{GlbPart, write_glb_parts};
 use crate::io::{self, WriteOptions};
 use crate::mesh::Mesh;
@@ -239,10 +239,11 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
     let hierarchy = ctx
         .spin("simplify", "building the 4-k hierarchy", || build(mesh, &options))
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;
-    let base = hierarchy.base_mesh().mesh;
+    let mut base = hierarchy.with_attributes(hierarchy.base_mesh())?.mesh;
+    super::relocate_material_libraries(&mut base, &args.input, &args.output);
     io::write(&base, &args.output, WriteOptions::default())?;
     if let Some(dir) = &args.levels_out {
-        write_levels(&hierarchy, dir)?;
+        write_levels(&hierarchy, &args.input, dir)?;
     }
     if let Some(p) = &args.lod_out {
         write_lods(&hierarchy, p)?;
@@ -287,21 +288,33 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
     Ok(())
 }
 
-fn write_levels(hierarchy: &Hierarchy, dir: &Path) -> Result<()> {
+/// Every level as DIR/level_NN.ply, or in the input's format when it carries UVs or
+/// materials (an OBJ's levels keep its `vt` and `usemtl`).
+fn write_levels(hierarchy: &Hierarchy, input: &Path, dir: &Path) -> Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     let steps = hierarchy.steps();
+    let extension = match (&hierarchy.wedges, input.extension().and_then(|e| e.to_str())) {
+        (Some(_), Some(ext)) if ["obj", "ply", "glb"].contains(&ext.to_ascii_lowercase().as_str()) => {
+            ext.to_ascii_lowercase()
+        }
+        _ => "ply".to_string(),
+    };
     for (k, level) in hierarchy.levels.iter().enumerate() {
-        let path = dir.join(format!("level_{:02}.ply", steps - k));
-        io::write(&level.mesh, &path, WriteOptions::default())?;
+        let path = dir.join(format!("level_{:02}.{extension}", steps - k));
+        let mut mesh = hierarchy.with_attributes(level.clone())?.mesh;
+        super::relocate_material_libraries(&mut mesh, input, &path);
+        io::write(&mesh, &path, WriteOptions::default())?;
     }
     Ok(())
 }
 
-/// Every level as a node of one `.glb`, base domain (level 0) first.
+/// Every level as a node of one `.glb`, base domain (level 0) first, with `TEXCOORD_0`
+/// when the input has UVs.
 fn write_lods(hierarchy: &Hierarchy, path: &Path) -> Result<()> {
     let steps = hierarchy.steps();
-    let parts: Vec<GlbPart> = hierarchy
-        .levels
+    let levels: Vec<LevelMesh> =
+        hierarchy.levels.iter().map(|l| hierarchy.with_attributes(l.clone())).collect::<Result<_>>()?;
+    let parts: Vec<GlbPart> = levels
         .iter()
         .enumerate()
         .rev()

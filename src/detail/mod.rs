@@ -93,6 +93,8 @@ pub struct DetailOutcome {
     pub base_vertices: usize,
     /// Stage times, seconds: hierarchy build, steps, refinement, self-intersections.
     pub seconds: StageSeconds,
+    /// What of the input's attributes the result could not carry, one note each.
+    pub attribute_notes: Vec<String>,
 }
 
 /// Time per stage.
@@ -130,6 +132,8 @@ struct RunState {
     frozen: Vec<bool>,
     /// The refinement level each vertex id first belongs to (eq. 4.5's per-vertex l).
     appear: Vec<u32>,
+    /// The edge each vertex made by local subdivision split, in order of ids.
+    splits: Vec<[u32; 2]>,
 }
 
 /// The input vertices a selection picks, evaluated on the input itself (its own frame,
@@ -203,6 +207,7 @@ pub fn apply_with(
             .iter()
             .map(|p| p.map_or(hierarchy.steps() as u32, |p| p.level))
             .collect(),
+        splits: Vec::new(),
     };
     let steps = hierarchy.steps();
     let levels = recipe.steps.iter().map(|s| s.level).chain(functions.iter().map(|f| f.level));
@@ -241,6 +246,7 @@ pub fn apply_with(
     let start = Instant::now();
     let intersections = resolve_self_intersections(&mut result.mesh, &rest, options.no_self_intersections)?;
     seconds.intersections = start.elapsed().as_secs_f64();
+    let attribute_notes = carry_attributes(hierarchy, input, &state.splits, &mut result)?;
     Ok(DetailOutcome {
         result,
         rest,
@@ -249,7 +255,69 @@ pub fn apply_with(
         levels: steps,
         base_vertices: hierarchy.base_vertex_count(),
         seconds,
+        attribute_notes,
     })
+}
+
+/// Gives the detailed mesh the input's attributes (#22 B3): colours and scalars by vertex
+/// (a vertex made by local subdivision takes the mean of its edge's ends), UVs and
+/// materials per face corner through [`Hierarchy::with_attributes`], and normals
+/// recomputed on the deformed surface when the input had normals. Returns a note for what
+/// could not be carried.
+///
+/// # Errors
+/// As [`Hierarchy::with_attributes`].
+fn carry_attributes(
+    hierarchy: &Hierarchy,
+    input: &Mesh,
+    splits: &[[u32; 2]],
+    result: &mut LevelMesh,
+) -> Result<Vec<String>> {
+    let n = input.vertex_count();
+    let mut notes = Vec::new();
+    // Values for every id, made ones after the input's, each the mean of its edge's ends.
+    let extend = |values: &[f64]| -> Vec<f64> {
+        let mut all = values.to_vec();
+        for &[a, b] in splits {
+            all.push(0.5 * (all[a as usize] + all[b as usize]));
+        }
+        all
+    };
+    let by_id = |all: &[f64]| -> Vec<f64> { result.ids.iter().map(|&id| all[id as usize]).collect() };
+    for (name, values) in &input.scalars {
+        let all = extend(values);
+        result.mesh.scalars.insert(name.clone(), by_id(&all));
+    }
+    if let Some(colors) = &input.colors {
+        let channels: Vec<Vec<f64>> =
+            (0..3).map(|c| extend(&colors.iter().map(|rgb| f64::from(rgb[c])).collect::<Vec<_>>())).collect();
+        result.mesh.colors = Some(
+            result.ids.iter().map(|&id| [0, 1, 2].map(|c| channels[c][id as usize].round() as u8)).collect(),
+        );
+    }
+    if input.uvs.is_some() || input.materials.is_some() {
+        if splits.is_empty() {
+            let textured = hierarchy.with_attributes(std::mem::take(result))?;
+            *result = textured;
+        } else {
+            notes.push(format!(
+                "UVs and materials not carried: local subdivision made {} vertices, whose texture coordinates are not interpolated yet",
+                splits.len()
+            ));
+        }
+    }
+    if input.normals.is_some() {
+        let adjacency = crate::mesh::Adjacency::of(&result.mesh);
+        let faces = crate::analysis::FaceGeometry::of(&result.mesh);
+        result.mesh.normals = Some(crate::analysis::vertex_normals(
+            &result.mesh,
+            &adjacency,
+            &faces,
+            crate::analysis::NormalWeighting::Angle,
+        ));
+    }
+    debug_assert!(result.ids.iter().all(|&id| (id as usize) < n + splits.len()));
+    Ok(notes)
 }
 
 /// The vertices the next refinement level may insert (sorted): those whose parameter face
@@ -371,6 +439,7 @@ fn run_step(step: &Step, refiner: &mut Refiner, state: &mut RunState, steps: usi
             state.noised.push(false);
             state.frozen.push(true);
             state.appear.push(level as u32);
+            state.splits.push([a, b]);
         }
         for &v in &made.region {
             state.frozen[v as usize] = true;

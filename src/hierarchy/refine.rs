@@ -27,7 +27,7 @@ use crate::ffi::HalfEdgeMesh;
 use crate::mesh::Mesh;
 
 /// A level's mesh, compacted, with each vertex's input id.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct LevelMesh {
     /// The mesh (vertices on at least one face).
     pub mesh: Mesh,

@@ -7,6 +7,7 @@ mod camera;
 pub mod hillshade;
 mod raster;
 mod shade;
+pub mod texture;
 pub mod water;
 
 use std::path::Path;
@@ -76,6 +77,8 @@ pub struct RenderOptions {
     pub edges: bool,
     /// A water plane drawn over the mesh (faces mode).
     pub water: Option<WaterView>,
+    /// A texture drawn with the mesh's UVs (faces mode; the surface colours are then white).
+    pub texture: Option<std::sync::Arc<texture::Texture>>,
 }
 
 /// A water plane of the picture: perpendicular to the up axis at `level` over the mesh's
@@ -104,6 +107,7 @@ impl Default for RenderOptions {
             crease_deg: 40.0,
             edges: false,
             water: None,
+            texture: None,
         }
     }
 }
@@ -202,12 +206,26 @@ pub fn render(mesh: &Mesh, options: &RenderOptions) -> Result<Picture> {
     let first = Camera::fit(bbox, options.up, options.yaw_deg, options.pitch_deg, w, h);
     let camera = first.framed(&mesh.positions.par_iter().map(|&p| first.project(p)).collect::<Vec<_>>(), w, h);
     let projected: Vec<Option<Vec3>> = mesh.positions.par_iter().map(|&p| camera.project(p)).collect();
-    let base = base_colors(mesh, &options.colors, options.up)?;
+    let base = match options.texture {
+        Some(_) => vec![Vec3::ONE; mesh.vertex_count()],
+        None => base_colors(mesh, &options.colors, options.up)?,
+    };
     let mut frame = Frame::new(w, h);
     let lighting = Lighting::default();
     match options.mode {
         Mode::Faces => {
-            frame.triangles(&shaded_triangles(mesh, &camera, &projected, &base, &lighting, options), Fill::Shaded);
+            let mut triangles = shaded_triangles(mesh, &camera, &projected, &base, &lighting, options);
+            match (&options.texture, &mesh.uvs) {
+                (Some(texture), Some(uvs)) => {
+                    for (f, t) in triangles.iter_mut().enumerate() {
+                        if let Some(t) = t {
+                            t.uvs = Some([0, 1, 2].map(|k| glam::DVec2::from(uvs.at(f, k)).as_vec2()));
+                        }
+                    }
+                    frame.textured_triangles(&triangles, texture);
+                }
+                _ => frame.triangles(&triangles, Fill::Shaded),
+            }
             if options.edges {
                 frame.segments(&edge_segments(mesh, &projected, |_| Vec3::splat(0.08)), 2e-3);
             }
@@ -269,6 +287,16 @@ fn check(mesh: &Mesh, options: &RenderOptions) -> Result<()> {
             return Err(Error::InvalidInput("the water level must be finite and its clarity positive".into()));
         }
     }
+    if options.texture.is_some() {
+        if options.mode != Mode::Faces {
+            return Err(Error::InvalidInput("a texture is drawn only in faces mode".into()));
+        }
+        if mesh.uvs.is_none() {
+            return Err(Error::InvalidInput(
+                "the mesh has no texture coordinates to draw a texture with (OBJ vt, PLY s t, glTF TEXCOORD_0)".into(),
+            ));
+        }
+    }
     if !options.yaw_deg.is_finite() || !options.pitch_deg.is_finite() {
         return Err(Error::InvalidInput("camera angles must be finite".into()));
     }
@@ -307,7 +335,7 @@ fn base_colors(mesh: &Mesh, source: &ColorSource, up: UpAxis) -> Result<Vec<Vec3
 
 fn triangle_at(t: &[u32; 3], projected: &[Option<Vec3>], colors: [Vec3; 3]) -> Option<Triangle> {
     let corners = [projected[t[0] as usize]?, projected[t[1] as usize]?, projected[t[2] as usize]?];
-    Some(Triangle { corners, colors })
+    Some(Triangle { corners, colors, uvs: None })
 }
 
 /// The triangles as occluders only (hidden-line and hidden-point removal).

@@ -34,10 +34,12 @@ pub enum Fill {
     DepthOnly,
 }
 
-/// A projected triangle: corners (pixels and inverse depth) and corner colours.
+/// A projected triangle: corners (pixels and inverse depth), corner colours and, for a
+/// textured mesh, corner UVs.
 pub struct Triangle {
     pub corners: [Vec3; 3],
     pub colors: [Vec3; 3],
+    pub uvs: Option<[Vec2; 3]>,
 }
 
 /// A projected line segment with end colours.
@@ -96,6 +98,16 @@ impl Frame {
 
     /// Draws triangles (skipping `None`s) with the z-buffer.
     pub fn triangles(&mut self, triangles: &[Option<Triangle>], fill: Fill) {
+        self.draw(triangles, fill, None);
+    }
+
+    /// Draws shaded triangles whose colours are multiplied by `texture` at their UVs,
+    /// interpolated perspective-correctly.
+    pub fn textured_triangles(&mut self, triangles: &[Option<Triangle>], texture: &super::texture::Texture) {
+        self.draw(triangles, Fill::Shaded, Some(texture));
+    }
+
+    fn draw(&mut self, triangles: &[Option<Triangle>], fill: Fill, texture: Option<&super::texture::Texture>) {
         let bins = self.bin(triangles.len(), |i| {
             let t = triangles[i].as_ref()?;
             let ys = t.corners.map(|c| c.y);
@@ -104,7 +116,7 @@ impl Frame {
         self.each_band(&bins, |band, ids| {
             for &i in ids {
                 if let Some(t) = &triangles[i as usize] {
-                    band.triangle(t, fill);
+                    band.triangle(t, fill, texture);
                 }
             }
         });
@@ -159,7 +171,7 @@ impl Band<'_> {
         }
     }
 
-    fn triangle(&mut self, t: &Triangle, fill: Fill) {
+    fn triangle(&mut self, t: &Triangle, fill: Fill, texture: Option<&super::texture::Texture>) {
         let [a, b, c] = t.corners.map(|v| v.truncate());
         let area = edge(a, b, c);
         if area.abs() < 1e-12 || !area.is_finite() {
@@ -180,7 +192,12 @@ impl Band<'_> {
                     continue;
                 }
                 let depth = w0 * z[0] + w1 * z[1] + w2 * z[2];
-                let color = t.colors[0] * w0 + t.colors[1] * w1 + t.colors[2] * w2;
+                let mut color = t.colors[0] * w0 + t.colors[1] * w1 + t.colors[2] * w2;
+                if let (Some(texture), Some(uv)) = (texture, &t.uvs) {
+                    // Linear in screen space are uv·(1/depth) and 1/depth.
+                    let uv = (uv[0] * (w0 * z[0]) + uv[1] * (w1 * z[1]) + uv[2] * (w2 * z[2])) / depth;
+                    color *= texture.sample(uv);
+                }
                 self.put(x, y, depth, color, fill);
             }
         }
