@@ -322,3 +322,92 @@ fn a_coarse_level_draws_the_same_checks_as_the_input() {
         assert!(share < 0.01, "yaw {yaw}: {:.2} % of the pixels show a check more than one away", share * 100.0);
     }
 }
+
+fn asperity(args: &[&str], cwd: &std::path::Path) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_asperity")).args(args).current_dir(cwd).output().expect("run asperity")
+}
+
+#[test]
+fn the_command_line_keeps_uvs_through_simplify_and_draws_them() {
+    let dir = temp_dir();
+    let d = dir.path();
+    io::write(&uv_sphere(32, 16), &d.join("sphere.obj"), io::WriteOptions::default()).unwrap();
+    std::fs::write(d.join("sphere materials.mtl"), "newmtl north\nnewmtl south\n").unwrap();
+    std::fs::create_dir(d.join("out")).unwrap();
+    let out = asperity(
+        &["simplify", "sphere.obj", "-o", "out/base.obj", "--target-vertices", "20%", "--levels-out", "levels", "--lod-out", "lod.glb"],
+        d,
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // Levels in the input's format, with their UVs and materials; libraries found from
+    // their new folders.
+    for name in ["out/base.obj", "levels/level_00.obj", "levels/level_03.obj"] {
+        let read = io::read(&d.join(name)).unwrap();
+        assert!(read.mesh.uvs.is_some() && read.mesh.materials.is_some(), "{name}");
+        let library = &read.mesh.materials.as_ref().unwrap().libraries[0];
+        let folder = d.join(name).parent().unwrap().to_path_buf();
+        assert!(folder.join(library).exists(), "{name}: mtllib {library}");
+    }
+    let lod = io::read(&d.join("lod.glb")).unwrap().mesh;
+    assert!(lod.uvs.is_some(), "TEXCOORD_0 in the LOD file");
+    // render --texture draws them; a mesh without UVs or another mode is refused.
+    let checker: Vec<u8> = (0..16 * 16).flat_map(|k| if (k % 16 / 4 + k / 64) % 2 == 0 { [220, 40, 40] } else { [30, 30, 200] }).collect();
+    asperity::io::image::write_png_rgb8(&d.join("checker.png"), &checker, 16).unwrap();
+    let plain = asperity(&["render", "out/base.obj", "-o", "plain.png", "--size", "96,72"], d);
+    let textured =
+        asperity(&["render", "out/base.obj", "-o", "textured.png", "--size", "96,72", "--texture", "checker.png"], d);
+    assert!(plain.status.success() && textured.status.success(), "{}", String::from_utf8_lossy(&textured.stderr));
+    assert_ne!(std::fs::read(d.join("plain.png")).unwrap(), std::fs::read(d.join("textured.png")).unwrap());
+    io::write(&Mesh::new(vec![DVec3::ZERO, DVec3::X, DVec3::Y], vec![[0, 1, 2]]), &d.join("bare.ply"), io::WriteOptions::default()).unwrap();
+    for (args, says) in [
+        (&["render", "bare.ply", "-o", "x.png", "--texture", "checker.png"][..], "no texture coordinates"),
+        (&["render", "out/base.obj", "-o", "x.png", "--texture", "checker.png", "--mode", "wireframe"][..], "--mode faces"),
+        (&["render", "out/base.obj", "-o", "x.png", "--texture", "checker.png", "--colors", "height"][..], "--colors"),
+    ] {
+        let out = asperity(args, d);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.code() == Some(2) && stderr.contains(says), "{args:?}: {stderr}");
+    }
+}
+
+#[test]
+fn detail_carries_uvs_materials_and_colours_or_says_why_not() {
+    use asperity::detail::{DetailOptions, Recipe, apply};
+    let mut sphere = uv_sphere(48, 24);
+    sphere.colors = Some((0..sphere.vertex_count()).map(|v| [(v % 256) as u8, 7, 9]).collect());
+    sphere.normals = Some(sphere.positions.clone());
+    let noise = Recipe::parse(
+        "seed = 3\n[[step]]\nop = \"noise\"\nlevel = -1\nnoise = { kind = \"fbm\", amplitude = 0.01, frequency = 4.0 }\n",
+    )
+    .unwrap();
+    let out = apply(&sphere, &noise, &DetailOptions::default()).unwrap();
+    assert!(out.attribute_notes.is_empty(), "{:?}", out.attribute_notes);
+    let result = &out.result;
+    let (uvs, colors) = (result.mesh.uvs.as_ref().expect("UVs"), result.mesh.colors.as_ref().expect("colours"));
+    assert!(result.mesh.materials.is_some() && result.mesh.normals.is_some());
+    let input_uvs = sphere.uvs.as_ref().unwrap();
+    let mut uvs_of = vec![Vec::new(); sphere.vertex_count()];
+    for (f, t) in sphere.triangles.iter().enumerate() {
+        for k in 0..3 {
+            uvs_of[t[k] as usize].push(input_uvs.at(f, k));
+        }
+    }
+    for (f, t) in result.mesh.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let id = result.ids[t[k] as usize] as usize;
+            assert!(uvs_of[id].contains(&uvs.at(f, k)));
+            assert_eq!(colors[t[k] as usize], sphere.colors.as_ref().unwrap()[id]);
+        }
+    }
+    // Local subdivision makes vertices whose UVs are not interpolated yet: none is
+    // invented, and the outcome says so.
+    let subdivide = Recipe::parse(
+        "[[step]]\nop = \"subdivide\"\nlevel = -1\nselect = { sphere = { center = [0.5, 0.5, 1.0], radius = 0.2 } }\nsubdivide = { steps = 1 }\n",
+    )
+    .unwrap();
+    let out = apply(&sphere, &subdivide, &DetailOptions::default()).unwrap();
+    assert!(out.result.mesh.vertex_count() > sphere.vertex_count());
+    assert!(out.result.mesh.uvs.is_none());
+    assert!(out.attribute_notes.iter().any(|n| n.contains("not interpolated")), "{:?}", out.attribute_notes);
+    assert_eq!(out.result.mesh.colors.as_ref().map(Vec::len), Some(out.result.mesh.vertex_count()));
+}
