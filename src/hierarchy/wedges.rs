@@ -82,7 +82,7 @@ impl Wedges {
             }
         }
         let first_steps = self.first_seam_steps(&present);
-        let mut corners = Vec::with_capacity(triangles.len());
+        let mut corners: Vec<[u32; 3]> = Vec::with_capacity(triangles.len());
         let mut faces = Vec::with_capacity(triangles.len());
         for (f, t) in triangles.iter().enumerate() {
             let mut wedge = [(0u32, 0u8); 3];
@@ -98,7 +98,19 @@ impl Wedges {
                 faces.push(m.faces[wedge[0].0 as usize]);
             }
         }
-        let uvs = self.uvs.as_ref().map(|u| CornerUvs { values: u.values.clone(), corners });
+        // Only the coordinates the level uses, in order of first use.
+        let uvs = self.uvs.as_ref().map(|u| {
+            let mut index = vec![u32::MAX; u.values.len()];
+            let mut values = Vec::new();
+            for c in corners.iter_mut().flatten() {
+                if index[*c as usize] == u32::MAX {
+                    index[*c as usize] = values.len() as u32;
+                    values.push(u.values[*c as usize]);
+                }
+                *c = index[*c as usize];
+            }
+            CornerUvs { values, corners }
+        });
         let materials =
             self.materials.as_ref().map(|m| Materials { libraries: m.libraries.clone(), names: m.names.clone(), faces });
         Ok((uvs, materials))

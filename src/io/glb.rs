@@ -404,6 +404,7 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
     let blob = gltf.blob.as_deref();
     let mut out = Mesh::default();
     let (mut normals, mut colors, mut texcoords) = (Some(Vec::new()), Some(Vec::new()), Some(Vec::new()));
+    let mut some_texcoords = false;
     let mut notes = Vec::new();
     let mut dropped = 0;
     let mut stack: Vec<(gltf::Node, glam::DMat4, usize)> = match gltf.default_scene().or_else(|| gltf.scenes().next()) {
@@ -470,7 +471,9 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
                 }
                 _ => None,
             };
-            texcoords = match (texcoords, reader.read_tex_coords(0)) {
+            let primitive_texcoords = reader.read_tex_coords(0);
+            some_texcoords |= primitive_texcoords.is_some();
+            texcoords = match (texcoords, primitive_texcoords) {
                 // glTF's v runs down the image, asperity's up.
                 (Some(mut all), Some(t)) => {
                     all.extend(t.into_f32().map(|[s, t]| [f64::from(s), 1.0 - f64::from(t)]));
@@ -496,6 +499,9 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
     out.uvs = texcoords
         .filter(|t| t.len() == out.positions.len())
         .map(|t| crate::mesh::uv::CornerUvs::per_vertex(t, &out.triangles));
+    if some_texcoords && out.uvs.is_none() {
+        notes.push("TEXCOORD_0 on only some primitives: ignored (every vertex needs one)".to_string());
+    }
     notes.extend(super::repeated_vertex_note(dropped));
     Ok(super::ReadOutcome { mesh: out, triangulated_polygons: 0, notes })
 }

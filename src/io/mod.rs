@@ -30,8 +30,9 @@ pub enum Format {
     Off,
     /// STereoLithography, ASCII or binary.
     Stl,
-    /// glTF 2.0 binary (written with normals, colours and scalars; read: triangle meshes
-    /// of the default scene with node transforms applied).
+    /// glTF 2.0 binary (written with normals, colours, `TEXCOORD_0` and scalars; read:
+    /// triangle meshes of the default scene with node transforms applied, and their
+    /// `TEXCOORD_0`).
     Glb,
 }
 

@@ -1,7 +1,9 @@
 //! Stanford PLY: ASCII, binary little- and big-endian. Reads positions, normals
-//! (`nx ny nz`), colours (`red green blue`, 8-bit or float) and every other scalar vertex
+//! (`nx ny nz`), colours (`red green blue`, 8-bit or float), texture coordinates (`s t`,
+//! `u v`, `texture_u texture_v` or `texture_s texture_t`) and every other scalar vertex
 //! property (kept by name); faces from `vertex_indices` / `vertex_index`; other elements
-//! are skipped. Writes binary little-endian by default, with all attributes.
+//! are skipped. Writes binary little-endian by default, with all attributes (UVs as `s t`,
+//! seam vertices split).
 
 use std::collections::BTreeMap;
 use std::io::Write;
