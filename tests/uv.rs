@@ -371,7 +371,7 @@ fn the_command_line_keeps_uvs_through_simplify_and_draws_them() {
 }
 
 #[test]
-fn detail_carries_uvs_materials_and_colours_or_says_why_not() {
+fn detail_carries_uvs_materials_and_colours_through_subdivision() {
     use asperity::detail::{DetailOptions, Recipe, apply};
     let mut sphere = uv_sphere(48, 24);
     sphere.colors = Some((0..sphere.vertex_count()).map(|v| [(v % 256) as u8, 7, 9]).collect());
@@ -399,15 +399,34 @@ fn detail_carries_uvs_materials_and_colours_or_says_why_not() {
             assert_eq!(colors[t[k] as usize], sphere.colors.as_ref().unwrap()[id]);
         }
     }
-    // Local subdivision makes vertices whose UVs are not interpolated yet: none is
-    // invented, and the outcome says so.
+    // Local subdivision across the seam (at +x) and at the pole where it ends: the made
+    // vertices take their edge's mean UV on each side, so no face spans the seam.
     let subdivide = Recipe::parse(
-        "[[step]]\nop = \"subdivide\"\nlevel = -1\nselect = { sphere = { center = [0.5, 0.5, 1.0], radius = 0.2 } }\nsubdivide = { steps = 1 }\n",
+        "[[step]]\nop = \"subdivide\"\nlevel = -1\nselect = { sphere = { center = [1.0, 0.5, 0.5], radius = 0.15 } }\nsubdivide = { steps = 3 }\n[[step]]\nop = \"subdivide\"\nlevel = -1\nselect = { sphere = { center = [0.5, 0.5, 1.0], radius = 0.1 } }\nsubdivide = { steps = 2 }\n",
     )
     .unwrap();
     let out = apply(&sphere, &subdivide, &DetailOptions::default()).unwrap();
-    assert!(out.result.mesh.vertex_count() > sphere.vertex_count());
-    assert!(out.result.mesh.uvs.is_none());
-    assert!(out.attribute_notes.iter().any(|n| n.contains("not interpolated")), "{:?}", out.attribute_notes);
+    assert!(out.attribute_notes.is_empty(), "{:?}", out.attribute_notes);
+    let made = out.result.mesh.vertex_count() - sphere.vertex_count();
+    assert!(made > 50, "{made} vertices made");
+    let uvs = out.result.mesh.uvs.as_ref().expect("UVs");
+    let mut seam_faces = 0;
+    for (f, t) in out.result.mesh.triangles.iter().enumerate() {
+        let p = t.map(|v| out.result.mesh.positions[v as usize]);
+        let us: Vec<f64> = (0..3).map(|k| uvs.at(f, k)[0]).collect();
+        let extent = us.iter().cloned().fold(f64::MIN, f64::max) - us.iter().cloned().fold(f64::MAX, f64::min);
+        if p.iter().all(|p| p.z.abs() < 0.999) {
+            assert!(extent < 0.5, "face {f} spans the seam (u {us:?})");
+        }
+        // Faces touching the seam meridian in the subdivided region.
+        seam_faces += usize::from(t.iter().any(|&v| out.result.ids[v as usize] as usize >= sphere.vertex_count()) && us.iter().any(|&u| u == 0.0 || u == 1.0));
+        for k in 0..3 {
+            let id = out.result.ids[t[k] as usize] as usize;
+            if id < sphere.vertex_count() {
+                assert!(uvs_of[id].contains(&uvs.at(f, k)), "input vertex {id} got a UV it never had");
+            }
+        }
+    }
+    assert!(seam_faces > 4, "only {seam_faces} subdivided faces on the seam");
     assert_eq!(out.result.mesh.colors.as_ref().map(Vec::len), Some(out.result.mesh.vertex_count()));
 }

@@ -246,7 +246,7 @@ pub fn apply_with(
     let start = Instant::now();
     let intersections = resolve_self_intersections(&mut result.mesh, &rest, options.no_self_intersections)?;
     seconds.intersections = start.elapsed().as_secs_f64();
-    let attribute_notes = carry_attributes(hierarchy, input, &state.splits, &mut result)?;
+    let attribute_notes = carry_attributes(hierarchy, input, &state.splits, &mut result);
     Ok(DetailOutcome {
         result,
         rest,
@@ -261,18 +261,11 @@ pub fn apply_with(
 
 /// Gives the detailed mesh the input's attributes (#22 B3): colours and scalars by vertex
 /// (a vertex made by local subdivision takes the mean of its edge's ends), UVs and
-/// materials per face corner through [`Hierarchy::with_attributes`], and normals
-/// recomputed on the deformed surface when the input had normals. Returns a note for what
-/// could not be carried.
-///
-/// # Errors
-/// As [`Hierarchy::with_attributes`].
-fn carry_attributes(
-    hierarchy: &Hierarchy,
-    input: &Mesh,
-    splits: &[[u32; 2]],
-    result: &mut LevelMesh,
-) -> Result<Vec<String>> {
+/// materials per face corner through [`crate::hierarchy::Wedges::level`] (a made
+/// vertex's UV is the mean of its edge's ends' on each side), and normals recomputed on
+/// the deformed surface when the input had normals. Returns a note for what could not be
+/// carried.
+fn carry_attributes(hierarchy: &Hierarchy, input: &Mesh, splits: &[[u32; 2]], result: &mut LevelMesh) -> Vec<String> {
     let n = input.vertex_count();
     let mut notes = Vec::new();
     // Values for every id, made ones after the input's, each the mean of its edge's ends.
@@ -295,15 +288,12 @@ fn carry_attributes(
             result.ids.iter().map(|&id| [0, 1, 2].map(|c| channels[c][id as usize].round() as u8)).collect(),
         );
     }
-    if input.uvs.is_some() || input.materials.is_some() {
-        if splits.is_empty() {
-            let textured = hierarchy.with_attributes(std::mem::take(result))?;
-            *result = textured;
-        } else {
-            notes.push(format!(
-                "UVs and materials not carried: local subdivision made {} vertices, whose texture coordinates are not interpolated yet",
-                splits.len()
-            ));
+    if let Some(wedges) = &hierarchy.wedges {
+        // A wedge not found is a bug; the detailed mesh is still good, so it is written
+        // without UVs and the note says why rather than the whole run failing.
+        match wedges.level(&result.triangles_in_ids(), splits) {
+            Ok((uvs, materials)) => (result.mesh.uvs, result.mesh.materials) = (uvs, materials),
+            Err(e) => notes.push(format!("UVs and materials not carried: {e}")),
         }
     }
     if input.normals.is_some() {
@@ -317,7 +307,7 @@ fn carry_attributes(
         ));
     }
     debug_assert!(result.ids.iter().all(|&id| (id as usize) < n + splits.len()));
-    Ok(notes)
+    notes
 }
 
 /// The vertices the next refinement level may insert (sorted): those whose parameter face

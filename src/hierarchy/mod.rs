@@ -301,7 +301,7 @@ impl Hierarchy {
     /// [`crate::Error::Internal`] when a face lies in no wedge of a seam vertex.
     pub fn with_attributes(&self, mut level: LevelMesh) -> crate::Result<LevelMesh> {
         if let Some(wedges) = &self.wedges {
-            let (uvs, materials) = wedges.level(&level.triangles_in_ids())?;
+            let (uvs, materials) = wedges.level(&level.triangles_in_ids(), &[])?;
             level.mesh.uvs = uvs;
             level.mesh.materials = materials;
         }

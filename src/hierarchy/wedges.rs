@@ -1,5 +1,5 @@
 //! Texture coordinates and materials on every level (#22 B): which of a seam vertex's UVs
-//! a level's face takes.
+//! a level's face takes, and the UVs of vertices made by local subdivision.
 //!
 //! Levels keep the input's vertices, so a face's corner takes its vertex's UV, and a vertex
 //! off the seams has one. A seam vertex has one UV per *wedge*, the sector of its faces
@@ -10,6 +10,11 @@
 //! following the input seam from v towards x, finds that first edge v–n; the wedge is the
 //! input face on the left of v → n. A boundary met first is passed by turning the other
 //! way (the wedge is then on the right of the seam edge found).
+//!
+//! A vertex w that local subdivision made at the midpoint of an edge a–b takes, on each
+//! side of a → b, the mean of a's and b's UVs on that side (its parameter face's
+//! interpolation, thesis §4.7.1.1). Where a–b ran along a seam, w joins the seam between a
+//! and b, and a face at w takes the side it lies on.
 
 use rustc_hash::FxHashMap;
 
@@ -30,6 +35,36 @@ pub struct Wedges {
     any_corner: Vec<(u32, u8)>,
     /// The input's triangles.
     triangles: Vec<[u32; 3]>,
+}
+
+/// What a face's corner takes: a UV (an index into the values, the input's then the made
+/// vertices') and the material of the face the wedge belongs to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Wedge {
+    uv: u32,
+    material: u32,
+}
+
+/// A made vertex: the edge it split and what it takes on each side of it (left, right of
+/// `ends[0]` → `ends[1]`).
+#[derive(Debug, Clone, Copy)]
+struct Made {
+    sides: [Wedge; 2],
+}
+
+/// The mesh being given attributes: its faces, their directed edges, which vertices it
+/// has, and the seams as they run in it.
+struct Target<'a> {
+    triangles: &'a [[u32; 3]],
+    half: FxHashMap<[u32; 2], u32>,
+    present: Vec<bool>,
+    /// Seam neighbours of every id (input ones edited where made vertices joined a seam;
+    /// a made vertex's are [towards its edge's first end, towards the second]).
+    seams: Vec<Vec<u32>>,
+    /// (v, made vertex on a seam next to v) → the input seam neighbour of v it stands for.
+    stands_for: FxHashMap<[u32; 2], u32>,
+    /// Level seam edge v–x → the first vertex of the seam path from v towards x.
+    first_steps: FxHashMap<[u32; 2], u32>,
 }
 
 impl Wedges {
@@ -62,82 +97,222 @@ impl Wedges {
         })
     }
 
-    /// The corner UVs and face materials of a level's faces (input ids; every vertex an
-    /// input vertex), in `triangles`' order.
+    /// The corner UVs and face materials of `triangles`, in their order: a level's or a
+    /// refinement's faces, whose vertices are input vertices and the vertices made by
+    /// `splits` (vertex n + i split edge `splits[i]` at its midpoint, in that order).
     ///
     /// # Errors
-    /// [`Error::Internal`] when a face's wedge cannot be found (a seam the level does not
-    /// keep: a bug of the simplification).
-    pub fn level(&self, triangles: &[[u32; 3]]) -> Result<(Option<CornerUvs>, Option<Materials>)> {
+    /// [`Error::Internal`] when a face's wedge cannot be found (a seam the mesh does not
+    /// keep: a bug of the simplification) or a vertex is neither an input one nor made.
+    pub fn level(&self, triangles: &[[u32; 3]], splits: &[[u32; 2]]) -> Result<(Option<CornerUvs>, Option<Materials>)> {
         let n = self.seam_neighbours.len();
-        if let Some(v) = triangles.iter().flatten().find(|&&v| v as usize >= n) {
-            return Err(Error::Internal(format!("vertex {v} is not an input vertex: its UV is unknown")));
+        let total = n + splits.len();
+        if let Some(v) = triangles.iter().flatten().find(|&&v| v as usize >= total) {
+            return Err(Error::Internal(format!("vertex {v} is neither an input vertex nor made: its UV is unknown")));
         }
-        let mut present = vec![false; n];
-        let mut level_half: FxHashMap<[u32; 2], u32> = FxHashMap::default();
+        let mut target = Target {
+            triangles,
+            half: FxHashMap::default(),
+            present: vec![false; total],
+            seams: self.seam_neighbours.clone(),
+            stands_for: FxHashMap::default(),
+            first_steps: FxHashMap::default(),
+        };
         for (f, t) in triangles.iter().enumerate() {
             for k in 0..3 {
-                present[t[k] as usize] = true;
-                level_half.insert([t[k], t[(k + 1) % 3]], f as u32);
+                target.present[t[k] as usize] = true;
+                target.half.insert([t[k], t[(k + 1) % 3]], f as u32);
             }
         }
-        let first_steps = self.first_seam_steps(&present);
+        // Where each made vertex lies: the vertex next to each end along its edge, and
+        // whether the edge ran along a seam (then it joins the seam).
+        let mut next: FxHashMap<[u32; 2], u32> = FxHashMap::default();
+        target.seams.resize(total, Vec::new());
+        for (i, &[a, b]) in splits.iter().enumerate() {
+            let w = (n + i) as u32;
+            next.insert([a, b], w);
+            next.insert([b, a], w);
+            if let Some([from_a, from_b]) = target.seam_path_ends(a, b) {
+                target.join_seam(a, from_a, w);
+                target.join_seam(b, from_b, w);
+                target.seams[w as usize] = vec![a, b];
+            }
+        }
+        target.first_steps = target.seam_steps(n);
+        let adjacent = |p: u32, q: u32| {
+            let mut x = q;
+            while let Some(&y) = next.get(&[p, x]) {
+                x = y;
+            }
+            x
+        };
+        // Made vertices' two sides, in order (a made vertex's ends were made before it).
+        let mut values: Vec<[f64; 2]> = self.uvs.as_ref().map(|u| u.values.clone()).unwrap_or_default();
+        let mut made: Vec<Made> = Vec::with_capacity(splits.len());
+        for (i, &[a, b]) in splits.iter().enumerate() {
+            let (xa, xb) = (adjacent(a, b), adjacent(b, a));
+            let mut sides = [Wedge { uv: 0, material: u32::MAX }; 2];
+            for (side, (fa, fb)) in [([a, xa], [xb, b]), ([xa, a], [b, xb])].into_iter().enumerate() {
+                let at = |v: u32, edge: [u32; 2]| {
+                    let f = *target.half.get(&edge)?;
+                    self.corner(&target, &made, n, f, v)
+                };
+                let (ua, ub) = (at(a, fa), at(b, fb));
+                sides[side] = match (ua, ub) {
+                    (Some(ua), Some(ub)) => {
+                        let uv = self.uvs.as_ref().map_or(0, |_| {
+                            let [p, q] = [values[ua.uv as usize], values[ub.uv as usize]];
+                            values.push([0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])]);
+                            (values.len() - 1) as u32
+                        });
+                        Wedge { uv, material: ua.material }
+                    }
+                    _ => Wedge { uv: u32::MAX, material: u32::MAX },
+                };
+            }
+            // Sides that agree share one coordinate; a side on a boundary takes the other's.
+            if sides[1].uv != u32::MAX && sides[0].uv != u32::MAX && self.uvs.is_some() {
+                let last = values.len() - 1;
+                if values[last] == values[last - 1] && sides[1].uv as usize == last {
+                    values.pop();
+                    sides[1].uv = sides[0].uv;
+                }
+            }
+            if sides[0].uv == u32::MAX {
+                sides[0] = sides[1];
+            } else if sides[1].uv == u32::MAX {
+                sides[1] = sides[0];
+            }
+            if sides[0].uv == u32::MAX {
+                return Err(Error::Internal(format!("made vertex {} on edge {a}–{b}: no face beside it", n + i)));
+            }
+            made.push(Made { sides });
+        }
         let mut corners: Vec<[u32; 3]> = Vec::with_capacity(triangles.len());
         let mut faces = Vec::with_capacity(triangles.len());
         for (f, t) in triangles.iter().enumerate() {
-            let mut wedge = [(0u32, 0u8); 3];
+            let mut wedge = [Wedge { uv: 0, material: 0 }; 3];
             for k in 0..3 {
-                wedge[k] = self.wedge(t, k, &level_half, triangles, &first_steps).ok_or_else(|| {
-                    Error::Internal(format!("level face {f} {t:?}: no wedge of vertex {} holds it", t[k]))
+                wedge[k] = self.corner(&target, &made, n, f as u32, t[k]).ok_or_else(|| {
+                    Error::Internal(format!("face {f} {t:?}: no wedge of vertex {} holds it", t[k]))
                 })?;
             }
-            if let Some(uvs) = &self.uvs {
-                corners.push(wedge.map(|(g, j)| uvs.corners[g as usize][j as usize]));
-            }
-            if let Some(m) = &self.materials {
-                faces.push(m.faces[wedge[0].0 as usize]);
-            }
+            corners.push(wedge.map(|w| w.uv));
+            // A corner off the seams has its one material; any corner's is the face's.
+            faces.push(wedge[0].material);
         }
-        // Only the coordinates the level uses, in order of first use.
-        let uvs = self.uvs.as_ref().map(|u| {
-            let mut index = vec![u32::MAX; u.values.len()];
-            let mut values = Vec::new();
+        // Only the coordinates the faces use, in order of first use.
+        let uvs = self.uvs.as_ref().map(|_| {
+            let mut index = vec![u32::MAX; values.len()];
+            let mut used = Vec::new();
             for c in corners.iter_mut().flatten() {
                 if index[*c as usize] == u32::MAX {
-                    index[*c as usize] = values.len() as u32;
-                    values.push(u.values[*c as usize]);
+                    index[*c as usize] = used.len() as u32;
+                    used.push(values[*c as usize]);
                 }
                 *c = index[*c as usize];
             }
-            CornerUvs { values, corners }
+            CornerUvs { values: used, corners }
         });
         let materials =
             self.materials.as_ref().map(|m| Materials { libraries: m.libraries.clone(), names: m.names.clone(), faces });
         Ok((uvs, materials))
     }
 
-    /// For each present seam vertex v and level seam edge v–x: the first input vertex of
-    /// the seam path from v to x.
-    fn first_seam_steps(&self, present: &[bool]) -> FxHashMap<[u32; 2], u32> {
+    /// What corner `v` of face `f` of the target takes.
+    fn corner(&self, target: &Target, made: &[Made], n: usize, f: u32, v: u32) -> Option<Wedge> {
+        if v as usize >= n {
+            let m = made.get(v as usize - n)?;
+            if m.sides[0] == m.sides[1] || target.seams[v as usize].is_empty() {
+                return Some(m.sides[0]);
+            }
+            // On a seam: the side of the edge the face lies on. Left of w → (towards the
+            // first end) is the right of first → second.
+            let (x, clockwise) = target.turn_to_seam(f, v)?;
+            let towards_first = target.seams[v as usize].first() == Some(&x);
+            let left_of_edge = towards_first != clockwise;
+            return Some(m.sides[if left_of_edge { 0 } else { 1 }]);
+        }
+        if target.seams[v as usize].is_empty() {
+            return Some(self.input_wedge(self.any_corner[v as usize]));
+        }
+        let (x, clockwise) = target.turn_to_seam(f, v)?;
+        let step = *target.first_steps.get(&[v, x])?;
+        // A made vertex next to v on a seam stands for the input seam neighbour it replaced.
+        let step = target.stands_for.get(&[v, step]).copied().unwrap_or(step);
+        let (g, j) = if clockwise {
+            *self.half.get(&[v, step])?
+        } else {
+            let (g, _) = *self.half.get(&[step, v])?;
+            (g, self.corner_index(g, v)?)
+        };
+        Some(self.input_wedge((g, j)))
+    }
+
+    fn input_wedge(&self, (f, k): (u32, u8)) -> Wedge {
+        Wedge {
+            uv: self.uvs.as_ref().map_or(0, |u| u.corners[f as usize][k as usize]),
+            material: self.materials.as_ref().map_or(u32::MAX, |m| m.faces[f as usize]),
+        }
+    }
+
+    /// The corner of `v` in input face `f`.
+    fn corner_index(&self, f: u32, v: u32) -> Option<u8> {
+        self.triangles[f as usize].iter().position(|&w| w == v).map(|k| k as u8)
+    }
+}
+
+impl Target<'_> {
+    /// The seam path from `a` towards `b` through vertices absent here: the first vertex
+    /// after `a` and the last before `b`, if it reaches `b`.
+    fn seam_path_ends(&self, a: u32, b: u32) -> Option<[u32; 2]> {
+        for &first in &self.seams[a as usize] {
+            let (mut previous, mut current) = (a, first);
+            let mut guard = self.seams.len();
+            while current != b && !self.present[current as usize] && guard > 0 {
+                let ahead = &self.seams[current as usize];
+                let Some(&next) = ahead.iter().find(|&&w| w != previous).filter(|_| ahead.len() == 2) else {
+                    break;
+                };
+                (previous, current) = (current, next);
+                guard -= 1;
+            }
+            if current == b {
+                return Some([first, previous]);
+            }
+        }
+        None
+    }
+
+    /// Made vertex `w` takes the place of `v`'s seam neighbour `old`.
+    fn join_seam(&mut self, v: u32, old: u32, w: u32) {
+        if let Some(slot) = self.seams[v as usize].iter_mut().find(|s| **s == old) {
+            *slot = w;
+        }
+        let original = self.stands_for.get(&[v, old]).copied().unwrap_or(old);
+        self.stands_for.insert([v, w], original);
+    }
+
+    /// For each present seam vertex v among the first `n` (the input's) and each seam
+    /// edge v–x here: the first vertex of the seam path from v to x.
+    fn seam_steps(&self, n: usize) -> FxHashMap<[u32; 2], u32> {
         let mut steps = FxHashMap::default();
-        for (v, neighbours) in self.seam_neighbours.iter().enumerate() {
-            if !present[v] {
+        for v in 0..n {
+            if !self.present[v] {
                 continue;
             }
-            for &first in neighbours {
+            for &first in &self.seams[v] {
                 let (mut previous, mut current) = (v as u32, first);
-                // A removed seam vertex lies on a line (two seam neighbours); the walk
-                // ends at the next present vertex, or gives up on a broken path.
-                let mut guard = self.seam_neighbours.len();
-                while !present[current as usize] && guard > 0 {
-                    let ahead = &self.seam_neighbours[current as usize];
+                let mut guard = self.seams.len();
+                while !self.present[current as usize] && guard > 0 {
+                    let ahead = &self.seams[current as usize];
                     let Some(&next) = ahead.iter().find(|&&w| w != previous).filter(|_| ahead.len() == 2) else {
                         break;
                     };
                     (previous, current) = (current, next);
                     guard -= 1;
                 }
-                if present[current as usize] {
+                if self.present[current as usize] {
                     steps.entry([v as u32, current]).or_insert(first);
                 }
             }
@@ -145,54 +320,35 @@ impl Wedges {
         steps
     }
 
-    /// The input (face, corner) whose UV corner `k` of level face `t` takes.
-    fn wedge(
-        &self,
-        t: &[u32; 3],
-        k: usize,
-        level_half: &FxHashMap<[u32; 2], u32>,
-        triangles: &[[u32; 3]],
-        first_steps: &FxHashMap<[u32; 2], u32>,
-    ) -> Option<(u32, u8)> {
-        let v = t[k];
-        if self.seam_neighbours[v as usize].is_empty() {
-            return Some(self.any_corner[v as usize]);
-        }
-        // Clockwise: from the face's edge v → a to the face across it, until a seam edge.
+    /// Turns around `v` from face `f` to the first seam edge: clockwise (the face on its
+    /// left) or, past a boundary, counter-clockwise (on its right). Returns the edge's
+    /// other end and the direction.
+    fn turn_to_seam(&self, f: u32, v: u32) -> Option<(u32, bool)> {
+        let is_seam = |x: u32| self.seams[v as usize].contains(&x) || self.first_steps.contains_key(&[v, x]);
         // No ring of a level is this large; a walk that finds no seam gives up.
-        let limit = 1 << 12;
+        const LIMIT: usize = 1 << 12;
+        let t = self.triangles[f as usize];
+        let k = t.iter().position(|&w| w == v)?;
         let mut a = t[(k + 1) % 3];
-        for _ in 0..limit {
-            if let Some(&step) = first_steps.get(&[v, a]) {
-                return self.left_of(v, step);
+        for _ in 0..LIMIT {
+            if is_seam(a) {
+                return Some((a, true));
             }
-            let Some(&across) = level_half.get(&[a, v]) else { break };
-            let u = triangles[across as usize];
+            let Some(&across) = self.half.get(&[a, v]) else { break };
+            let u = self.triangles[across as usize];
             let j = u.iter().position(|&w| w == v)?;
             a = u[(j + 1) % 3];
         }
-        // A boundary first: counter-clockwise from the face's edge b → v.
         let mut b = t[(k + 2) % 3];
-        for _ in 0..limit {
-            if let Some(&step) = first_steps.get(&[v, b]) {
-                return self.left_of(step, v).and_then(|(f, _)| self.corner_of(f, v));
+        for _ in 0..LIMIT {
+            if is_seam(b) {
+                return Some((b, false));
             }
-            let across = *level_half.get(&[v, b])?;
-            let u = triangles[across as usize];
+            let across = *self.half.get(&[v, b])?;
+            let u = self.triangles[across as usize];
             let j = u.iter().position(|&w| w == v)?;
             b = u[(j + 2) % 3];
         }
         None
-    }
-
-    /// The input face on the left of directed edge a → b and the corner of a in it.
-    fn left_of(&self, a: u32, b: u32) -> Option<(u32, u8)> {
-        self.half.get(&[a, b]).copied()
-    }
-
-    /// The corner of `v` in input face `f`.
-    fn corner_of(&self, f: u32, v: u32) -> Option<(u32, u8)> {
-        let k = self.triangles[f as usize].iter().position(|&w| w == v)?;
-        Some((f, k as u8))
     }
 }
