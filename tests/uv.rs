@@ -106,8 +106,8 @@ fn obj_texture_coordinates_follow_polygons_and_partial_ones_are_refused_with_a_n
     let (_dir, read) = read_text("quad.obj", quad);
     let uvs = read.mesh.uvs.as_ref().expect("UVs kept");
     for (f, t) in read.mesh.triangles.iter().enumerate() {
-        for k in 0..3 {
-            let p = read.mesh.positions[t[k] as usize];
+        for (k, &v) in t.iter().enumerate() {
+            let p = read.mesh.positions[v as usize];
             assert_eq!(uvs.at(f, k), [p.x, p.y], "corner {k} of triangle {f}");
         }
     }
@@ -213,8 +213,8 @@ fn assert_levels_keep_uvs(name: &str, mesh: &Mesh, target: usize, measurable: &d
                 measured += 1;
                 assert!(extent < 0.5, "{name}: level {depth} face {f} spans the seam (u {us:?})");
             }
-            for k in 0..3 {
-                let id = level.ids[t[k] as usize] as usize;
+            for (k, &v) in t.iter().enumerate() {
+                let id = level.ids[v as usize] as usize;
                 assert!(uvs_of[id].contains(&uvs.at(f, k)), "{name}: level {depth}: vertex {id} got a UV it never had");
             }
         }
@@ -420,8 +420,8 @@ fn detail_carries_uvs_materials_and_colours_through_subdivision() {
         }
         // Faces touching the seam meridian in the subdivided region.
         seam_faces += usize::from(t.iter().any(|&v| out.result.ids[v as usize] as usize >= sphere.vertex_count()) && us.iter().any(|&u| u == 0.0 || u == 1.0));
-        for k in 0..3 {
-            let id = out.result.ids[t[k] as usize] as usize;
+        for (k, &v) in t.iter().enumerate() {
+            let id = out.result.ids[v as usize] as usize;
             if id < sphere.vertex_count() {
                 assert!(uvs_of[id].contains(&uvs.at(f, k)), "input vertex {id} got a UV it never had");
             }

@@ -6,7 +6,7 @@
 //! command line's exit code and a bar (`2|…` bad input, `1|…` internal), which the C++
 //! side turns into `asperity::InputError` or `asperity::InternalError`. Nothing panics
 //! across the FFI (every call is caught), and no call goes from Rust into C++ code the
-//! user wrote: a C++ operator runs between calls (see [`Refinement`]), so a C++ exception
+//! user wrote: a C++ operator runs between calls (see `hierarchy::Refinement`), so a C++ exception
 //! never crosses into Rust either.
 
 mod arrays;
