@@ -350,6 +350,12 @@ fn the_command_line_keeps_uvs_through_simplify_and_draws_them() {
     }
     let lod = io::read(&d.join("lod.glb")).unwrap().mesh;
     assert!(lod.uvs.is_some(), "TEXCOORD_0 in the LOD file");
+    // Region refinement across the seam (at +x) keeps them too.
+    let out = asperity(&["refine", "sphere.obj", "--region", "half_space = { axis = \"x\", above = 0.6 }", "-o", "out/r.obj"], d);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("not carried"));
+    let refined = io::read(&d.join("out/r.obj")).unwrap().mesh;
+    assert!(refined.uvs.is_some() && refined.materials.is_some());
     // render --texture draws them; a mesh without UVs or another mode is refused.
     let checker: Vec<u8> = (0..16 * 16).flat_map(|k| if (k % 16 / 4 + k / 64) % 2 == 0 { [220, 40, 40] } else { [30, 30, 200] }).collect();
     asperity::io::image::write_png_rgb8(&d.join("checker.png"), &checker, 16).unwrap();
