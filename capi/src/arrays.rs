@@ -2,6 +2,7 @@
 
 use asperity::analysis::SurfaceAnalysis;
 use asperity::hierarchy::LevelMesh;
+use asperity::mesh::uv::CornerUvs;
 use asperity::{Error, Mesh, Result};
 use glam::DVec3;
 
@@ -36,9 +37,28 @@ pub fn arrays_of(mesh: &Mesh) -> MeshArrays {
     MeshArrays { positions: flat(&mesh.positions), triangles: mesh.triangles.iter().flatten().copied().collect() }
 }
 
-/// A level's mesh and ids as flat arrays.
+/// A level's mesh, ids and corner UVs as flat arrays.
 pub fn level_arrays(level: &LevelMesh) -> LevelArrays {
-    LevelArrays { mesh: arrays_of(&level.mesh), ids: level.ids.clone() }
+    let corner_uvs = match &level.mesh.uvs {
+        Some(uvs) => (0..level.mesh.face_count()).flat_map(|f| (0..3).flat_map(move |k| uvs.at(f, k))).collect(),
+        None => Vec::new(),
+    };
+    LevelArrays { mesh: arrays_of(&level.mesh), ids: level.ids.clone(), corner_uvs }
+}
+
+/// UVs from u v per face corner (6 per triangle; empty: none).
+pub fn corner_uvs_of(flat: &[f64], faces: usize) -> Result<Option<CornerUvs>> {
+    if flat.is_empty() {
+        return Ok(None);
+    }
+    if flat.len() != 6 * faces {
+        return Err(Error::InvalidInput(format!("{} texture coordinates for {faces} triangles (6 each)", flat.len())));
+    }
+    let values = flat.chunks_exact(2).map(|c| [c[0], c[1]]).collect();
+    let corners = (0..faces as u32).map(|f| [3 * f, 3 * f + 1, 3 * f + 2]).collect();
+    let uvs = CornerUvs { values, corners };
+    uvs.check(faces)?;
+    Ok(Some(uvs))
 }
 
 /// An analysis as flat arrays.

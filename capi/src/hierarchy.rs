@@ -7,7 +7,7 @@ use asperity::hierarchy::region::refine_region;
 use asperity::hierarchy::{FeatureVertices, Hierarchy, Refiner, SimplifyOptions, build};
 use asperity::{Error, Mesh, Result};
 
-use crate::arrays::{analysis_arrays, flat, level_arrays, mask_of, mesh_of, vectors_of};
+use crate::arrays::{analysis_arrays, corner_uvs_of, flat, level_arrays, mask_of, mesh_of, vectors_of};
 use crate::bridge::{Analysis, HierarchyOptions, LevelArrays, Parametrization, RegionOutcome, Report, ViewArrays};
 use crate::guarded;
 use crate::pipeline::keep_features_of;
@@ -67,10 +67,12 @@ fn simplify_options(o: &HierarchyOptions) -> Result<SimplifyOptions> {
 pub fn build_hierarchy(
     positions: &[f64],
     triangles: &[u32],
+    corner_uvs: &[f64],
     options: &HierarchyOptions,
 ) -> Result<Box<BuiltHierarchy>, String> {
     guarded(|| {
-        let input = mesh_of(positions, triangles)?;
+        let mut input = mesh_of(positions, triangles)?;
+        input.uvs = corner_uvs_of(corner_uvs, input.face_count())?;
         let inner = build(&input, &simplify_options(options)?)?;
         Ok(Box::new(BuiltHierarchy { input, inner }))
     })
@@ -90,11 +92,13 @@ impl BuiltHierarchy {
                     count - 1
                 )));
             }
-            // Recorded levels run from the input (first) to the level above the base.
-            Ok(match l {
-                0 => level_arrays(&self.inner.base_mesh()),
-                _ => level_arrays(&self.inner.levels[count - 1 - l]),
-            })
+            // Recorded levels run from the input (first) to the base domain (last); level 0
+            // is listed in the base triangles' order, which parametrization indices count in.
+            let level = match l {
+                0 => self.inner.base_mesh(),
+                _ => self.inner.levels[count - 1 - l].clone(),
+            };
+            Ok(level_arrays(&self.inner.with_attributes(level)?))
         })
     }
 
@@ -133,7 +137,8 @@ impl BuiltHierarchy {
         guarded(|| {
             let start = std::time::Instant::now();
             let mask = mask_of(inside, self.input.vertex_count())?;
-            let region = refine_region(&self.inner, base_level, &|v| mask[v as usize])?;
+            let mut region = refine_region(&self.inner, base_level, &|v| mask[v as usize])?;
+            with_uvs_if_found(&self.inner, &mut region.mesh);
             let report = Report {
                 input_vertices: self.input.vertex_count(),
                 output_vertices: region.mesh.ids.len(),
@@ -192,7 +197,7 @@ impl Refinement<'_> {
     pub fn view(&mut self) -> Result<ViewArrays, String> {
         guarded(|| {
             let view = self.current_view()?;
-            let level = LevelArrays { mesh: crate::arrays::arrays_of(&view.mesh), ids: view.ids.clone() };
+            let level = LevelArrays { mesh: crate::arrays::arrays_of(&view.mesh), ids: view.ids.clone(), corner_uvs: Vec::new() };
             Ok(ViewArrays { level, normals: flat(&view.normals), vertex_levels: view.appear.clone() })
         })
     }
@@ -246,6 +251,20 @@ impl Refinement<'_> {
     }
 
     pub fn result(&self) -> Result<LevelArrays, String> {
-        guarded(|| Ok(level_arrays(&self.refiner.mesh()?)))
+        guarded(|| {
+            let mut level = self.refiner.mesh()?;
+            with_uvs_if_found(&self.hierarchy.inner, &mut level);
+            Ok(level_arrays(&level))
+        })
+    }
+}
+
+/// The input's UVs on a refinement's faces; none where a face's wedge is not found (a
+/// seam vertex placed off its seam by Algorithm 2's search), which leaves the UVs out.
+fn with_uvs_if_found(hierarchy: &Hierarchy, level: &mut asperity::hierarchy::LevelMesh) {
+    if let Some(wedges) = &hierarchy.wedges {
+        if let Ok((uvs, materials)) = wedges.level(&level.triangles_in_ids(), &[]) {
+            (level.mesh.uvs, level.mesh.materials) = (uvs, materials);
+        }
     }
 }

@@ -43,11 +43,13 @@ mod bridge {
         report: Report,
     }
 
-    /// A hierarchy level's mesh, or a refinement's: the input vertex id of each vertex.
+    /// A hierarchy level's mesh, or a refinement's: the input vertex id of each vertex, and
+    /// when the input had texture coordinates, u v per face corner (6 per triangle).
     #[derive(Debug, Default)]
     struct LevelArrays {
         mesh: MeshArrays,
         ids: Vec<u32>,
+        corner_uvs: Vec<f64>,
     }
 
     /// The options of a hierarchy build (the library's `SimplifyOptions`); a limit applies
@@ -150,10 +152,12 @@ mod bridge {
 
         /// A built hierarchy, every level recorded.
         type BuiltHierarchy;
-        /// Builds the hierarchy of a mesh.
+        /// Builds the hierarchy of a mesh; `corner_uvs` is empty or u v per face corner (6 per
+        /// triangle), which every level then carries (seams simplified along themselves).
         fn build_hierarchy(
             positions: &[f64],
             triangles: &[u32],
+            corner_uvs: &[f64],
             options: &HierarchyOptions,
         ) -> Result<Box<BuiltHierarchy>>;
         /// Levels, the base domain and the input included.

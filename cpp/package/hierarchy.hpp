@@ -127,14 +127,17 @@ template <class Mesh>
 class Hierarchy {
  public:
   /// Builds the hierarchy of `mesh` (throws InputError for a mesh or option asperity
-  /// cannot use).
+  /// cannot use). Its texture coordinates (halfedge texcoords, else vertex texcoords) are
+  /// carried to every level: seams are simplified along themselves, and each level's face
+  /// takes its corners' UVs from the side of the seam it lies on.
   explicit Hierarchy(const Mesh& mesh, const HierarchyOptions& options = HierarchyOptions())
       : inner_(build(mesh, options)) {}
 
   /// Levels, the base domain (0) and the input (level_count() − 1) included.
   std::size_t level_count() const { return inner_->level_count(); }
 
-  /// Level `l` as a mesh, each vertex's input index in the property "asperity:id".
+  /// Level `l` as a mesh, each vertex's input index in the property "asperity:id" and, when
+  /// the input had texture coordinates, halfedge texcoords.
   Mesh level(std::size_t l) const {
     return level_mesh<Mesh>(impl::call([&] { return inner_->level(l); }));
   }
@@ -174,7 +177,9 @@ class Hierarchy {
   /// writes move the level's vertices. With `region` (a flag per input vertex), levels
   /// after the base insert only the marked vertices. An exception the operator throws
   /// propagates unchanged (it never enters Rust). Returns the result, "asperity:id" on
-  /// each vertex.
+  /// each vertex, with halfedge texcoords when the input had texture coordinates and every
+  /// face's side of the seams is found (a vertex Algorithm 2's search placed off its seam
+  /// leaves them out: the result then has none).
   template <class Operator>
   Mesh refine(Operator&& op, const std::vector<bool>* region = nullptr) const {
     auto session = impl::call([&] { return ffi::start_refinement(*inner_); });
@@ -226,7 +231,8 @@ class Hierarchy {
     f.swap_weight = o.swap_weight;
     f.fix_threshold_degrees = o.fix_threshold_degrees;
     f.intersection_guard = o.intersection_guard;
-    return impl::call([&] { return ffi::build_hierarchy(impl::slice(p), impl::slice(t), f); });
+    const std::vector<double> uvs = corner_uvs(mesh);
+    return impl::call([&] { return ffi::build_hierarchy(impl::slice(p), impl::slice(t), impl::slice(uvs), f); });
   }
 
   rust::Box<ffi::BuiltHierarchy> inner_;

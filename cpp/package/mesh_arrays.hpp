@@ -61,14 +61,56 @@ void from_arrays(Mesh& mesh, const ffi::MeshArrays& arrays) {
   }
 }
 
+/// The mesh's texture coordinates per face corner, u v in `to_arrays`' corner order (6
+/// per triangle): its halfedge texcoords, else its vertex texcoords; empty when it has
+/// neither.
+template <class Mesh>
+std::vector<double> corner_uvs(const Mesh& mesh) {
+  std::vector<double> uvs;
+  const bool per_corner = mesh.has_halfedge_texcoords2D();
+  if (!per_corner && !mesh.has_vertex_texcoords2D()) return uvs;
+  uvs.reserve(6 * mesh.n_faces());
+  for (auto f : mesh.faces()) {
+    for (auto v : mesh.fv_range(f)) {
+      typename Mesh::TexCoord2D t(0, 0);
+      if (!per_corner) t = mesh.texcoord2D(v);
+      if (per_corner) {
+        // The corner of v in f: the face's halfedge that points to v.
+        for (auto h : mesh.fh_range(f)) {
+          if (mesh.to_vertex_handle(h) == v) t = mesh.texcoord2D(h);
+        }
+      }
+      uvs.push_back(double(t[0]));
+      uvs.push_back(double(t[1]));
+    }
+  }
+  return uvs;
+}
+
 /// A mesh of a hierarchy level or refinement, each vertex's input vertex index in the
-/// vertex property "asperity:id".
+/// vertex property "asperity:id", and, when the input had texture coordinates, halfedge
+/// texcoords (one per face corner: a seam vertex has one per side).
 template <class Mesh>
 Mesh level_mesh(const ffi::LevelArrays& level) {
   Mesh mesh;
   from_arrays(mesh, level.mesh);
   auto id = OpenMesh::getOrMakeProperty<OpenMesh::VertexHandle, int>(mesh, "asperity:id");
   for (auto v : mesh.vertices()) id[v] = int(level.ids[std::size_t(v.idx())]);
+  if (!level.corner_uvs.empty() && level.corner_uvs.size() == 6 * mesh.n_faces()) {
+    mesh.request_halfedge_texcoords2D();
+    for (auto f : mesh.faces()) {
+      const auto& t = level.mesh.triangles;
+      const std::size_t base = 3 * std::size_t(f.idx());
+      for (auto h : mesh.fh_range(f)) {
+        const auto v = std::uint32_t(mesh.to_vertex_handle(h).idx());
+        for (std::size_t k = 0; k < 3; ++k) {
+          if (t[base + k] != v) continue;
+          const auto u = level.corner_uvs[2 * (base + k)], w = level.corner_uvs[2 * (base + k) + 1];
+          mesh.set_texcoord2D(h, typename Mesh::TexCoord2D(u, w));
+        }
+      }
+    }
+  }
   return mesh;
 }
 

@@ -5,7 +5,7 @@
 //  1. simplify MESH (a sphere made here when none or "" is given) to a tenth of its vertices;
 //  2. build its hierarchy with options, read its levels and attach the parametrization;
 //  3. refine it with a C++ operator at chosen levels (normals, curvatures, vertex levels);
-//  4. refine only a region;
+//  4. refine only a region, and carry texture coordinates through the levels;
 //  5. analyse the mesh into OpenMesh properties, sample noise at points;
 //  6. apply a detail recipe, make a terrain from an options struct;
 //  7. show that bad input is an asperity::InputError and that an operator's own exception
@@ -152,6 +152,59 @@ static void refine_a_region(const asperity::Hierarchy<Mesh>& h, const Mesh& inpu
   write(region, out + "/cpp-region.off");
 }
 
+/// 4b. Texture coordinates through the hierarchy: spherical UVs with a seam where the
+/// longitude wraps (halfedge texcoords, a seam vertex has one per side); every level keeps
+/// them, and no face away from the poles spans the seam.
+static void textured_levels(Mesh input, const std::string& out) {
+  input.request_halfedge_texcoords2D();
+  for (auto f : input.faces()) {
+    float u[3], v[3];
+    Mesh::HalfedgeHandle hs[3];
+    int k = 0;
+    for (auto h : input.fh_range(f)) {
+      const auto p = input.point(input.to_vertex_handle(h));
+      u[k] = float(std::atan2(p[1], p[0]) / (2 * M_PI) + 0.5);
+      v[k] = float(0.5 + std::asin(std::clamp(double(p[2]), -1.0, 1.0)) / M_PI);
+      hs[k++] = h;
+    }
+    // A face across the wrap takes u + 1 on its low side: the seam.
+    const float lo = std::min({u[0], u[1], u[2]}), hi = std::max({u[0], u[1], u[2]});
+    for (int j = 0; j < 3; ++j) {
+      if (hi - lo > 0.5f && u[j] < 0.5f) u[j] += 1.0f;
+      input.set_texcoord2D(hs[j], Mesh::TexCoord2D(u[j], v[j]));
+    }
+  }
+  asperity::HierarchyOptions options;
+  options.target_vertices = input.n_vertices() / 10;
+  options.keep_features = "none";
+  const asperity::Hierarchy<Mesh> h(input, options);
+  std::size_t checked = 0;
+  for (std::size_t l = 0; l < h.level_count(); l += 3) {
+    Mesh level = h.level(l);
+    expect(level.has_halfedge_texcoords2D(), "every level carries the texture coordinates");
+    for (auto f : level.faces()) {
+      float lo = 2, hi = -1;
+      bool pole = false;
+      for (auto hh : level.fh_range(f)) {
+        const float u = level.texcoord2D(hh)[0];
+        lo = std::min(lo, u);
+        hi = std::max(hi, u);
+        pole |= std::abs(level.point(level.to_vertex_handle(hh))[2]) > 0.95f;
+      }
+      if (!pole) {
+        expect(hi - lo < 0.5f, "level " + std::to_string(l) + ": a face spans the seam");
+        ++checked;
+      }
+    }
+  }
+  std::cout << "texture coordinates: " << checked << " faces of " << (h.level_count() + 2) / 3
+            << " levels checked, none spans the seam\n";
+  OpenMesh::IO::Options with_uvs(OpenMesh::IO::Options::FaceTexCoord);
+  if (!OpenMesh::IO::write_mesh(h.level(0), out + "/cpp-textured-base.obj", with_uvs)) {
+    throw std::runtime_error("cannot write the textured base");
+  }
+}
+
 /// 5. Analysis into properties; noise at points.
 static void analysis_and_noise(Mesh input) {
   input.request_vertex_normals();
@@ -271,6 +324,7 @@ int main(int argc, char** argv) {
     levels_and_parametrization(hierarchy, input, out);
     refine_with_an_operator(hierarchy, input, out);
     refine_a_region(hierarchy, input, out);
+    textured_levels(input, out);
     analysis_and_noise(input);
     recipe_and_terrain(input, out);
     bad_input(input);
