@@ -1,6 +1,7 @@
 // The C++ options structs as the command line's flags: the bridge parses them with the
 // command line's own definitions, so an option means exactly what its flag means, with
-// the same checks and messages (an error names the option as `option .name`).
+// the same checks and messages. Messages name the flag: `--tile-size` is the option
+// `.tile_size`.
 #pragma once
 
 #include <array>
