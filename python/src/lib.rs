@@ -63,7 +63,11 @@ fn read<'py>(
     Bound<'py, PyDict>,
     Vec<String>,
 )> {
-    let outcome = run(py, false, move || asperity::io::read(&path))?;
+    let mut outcome = run(py, false, move || asperity::io::read(&path))?;
+    // The Python mesh has no place for them yet: said, not dropped unseen.
+    if outcome.mesh.uvs.is_some() || outcome.mesh.materials.is_some() {
+        outcome.notes.push("texture coordinates and materials are not handed to Python (the command line keeps them)".into());
+    }
     let mesh = outcome.mesh;
     let scalars = PyDict::new(py);
     for (name, values) in mesh.scalars {

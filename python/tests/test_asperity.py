@@ -103,6 +103,13 @@ def test_errors_are_typed_with_the_command_lines_messages(tmp_path):
         asperity.detail((positions, triangles), "[[step]]\nop = 'nonsense'\n")
 
 
+def test_texture_coordinates_are_named_in_the_notes_not_dropped_unseen(tmp_path):
+    path = tmp_path / "quad.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n")
+    mesh = asperity.read(path)
+    assert any("texture coordinates" in note for note in mesh.notes), mesh.notes
+
+
 def test_the_hierarchy_levels_parametrization_and_refinement(meshes):
     mesh = asperity.read(meshes / "femur.off")
     n = len(mesh.positions)
