@@ -436,3 +436,24 @@ fn detail_carries_uvs_materials_and_colours_through_subdivision() {
     assert!(seam_faces > 4, "only {seam_faces} subdivided faces on the seam");
     assert_eq!(out.result.mesh.colors.as_ref().map(Vec::len), Some(out.result.mesh.vertex_count()));
 }
+
+#[test]
+fn obj_faces_without_a_material_stay_without_one() {
+    // A level may list a face with no material after a named one: written first, since
+    // OBJ gives every face after a `usemtl` that material.
+    let mut mesh = Mesh::new(
+        vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::ONE],
+        vec![[0, 1, 2], [2, 1, 3]],
+    );
+    mesh.materials = Some(Materials { libraries: vec![], names: vec!["red".into()], faces: vec![0, u32::MAX] });
+    let dir = temp_dir();
+    let path = dir.path().join("m.obj");
+    io::write(&mesh, &path, io::WriteOptions::default()).unwrap();
+    let back = io::read(&path).unwrap().mesh;
+    let material_of = |m: &Mesh, t: [u32; 3]| {
+        let f = m.triangles.iter().position(|&u| u == t).unwrap();
+        m.materials.as_ref().unwrap().faces[f]
+    };
+    assert_eq!(material_of(&back, [2, 1, 3]), u32::MAX);
+    assert_eq!(back.materials.as_ref().unwrap().names[material_of(&back, [0, 1, 2]) as usize], "red");
+}

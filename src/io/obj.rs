@@ -34,7 +34,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
             totals[k] += 1;
         }
     }
-    let mut reader = Reader { totals, normals_consistent: true, ..Reader::default() };
+    let mut reader = Reader { totals, normals_consistent: true, current_material: u32::MAX, ..Reader::default() };
     for (line, content) in logical_lines(text) {
         let content = content.split('#').next().unwrap_or("");
         reader.statement(content).map_err(|msg| Error::parse(path, Location::Line(line), msg))?;
@@ -369,8 +369,16 @@ pub fn write(mesh: &Mesh, w: &mut dyn Write) -> std::io::Result<()> {
             writeln!(w, "vt {u} {v}")?;
         }
     }
+    // Faces with no material can only come before the first `usemtl`: where one follows a
+    // material's face (a level's faces are in any order), they are written first.
+    let unnamed = |f: usize| mesh.materials.as_ref().is_some_and(|m| m.faces[f] == u32::MAX);
+    let mut order: Vec<usize> = (0..mesh.face_count()).collect();
+    if order.windows(2).any(|w| !unnamed(w[0]) && unnamed(w[1])) {
+        order.sort_by_key(|&f| !unnamed(f));
+    }
     let mut material = u32::MAX;
-    for (f, t) in mesh.triangles.iter().enumerate() {
+    for f in order {
+        let t = &mesh.triangles[f];
         if let Some(m) = &mesh.materials {
             if m.faces[f] != material && m.faces[f] != u32::MAX {
                 material = m.faces[f];
