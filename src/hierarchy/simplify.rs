@@ -66,7 +66,11 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
     prepared?;
     let (store, quadrics) = (store?, quadrics?);
     let n = mesh.vertex_count();
-    let Features { feature, kept, lines } = features_and_kept(&working, options, &crate::mesh::uv::seam_edges(mesh))?;
+    // Texture seams and material borders: lines of the build, and what each level's
+    // faces take their UVs by (found once for both).
+    let seams = crate::mesh::uv::seam_edges(mesh);
+    let Features { feature, kept, lines } = features_and_kept(&working, options, &seams)?;
+    let wedges = Wedges::of(mesh, &seams);
     // Planning needs only the working positions; the copy's faces go now.
     let working_positions = {
         let copy = working;
@@ -130,7 +134,7 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
         fix_threshold: options.fix_threshold_degrees.to_radians(),
         seconds: started.elapsed().as_secs_f64(),
         stages,
-        wedges: Wedges::of(mesh),
+        wedges,
     })
 }
 

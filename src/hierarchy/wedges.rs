@@ -20,7 +20,7 @@ use rustc_hash::FxHashMap;
 
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
-use crate::mesh::uv::{CornerUvs, Materials, seam_edges};
+use crate::mesh::uv::{CornerUvs, Materials};
 
 /// The input's corner UVs and materials, and what finding wedges needs.
 #[derive(Debug, Clone)]
@@ -68,8 +68,9 @@ struct Target<'a> {
 }
 
 impl Wedges {
-    /// The wedges of `input`; `None` when it has neither UVs nor materials.
-    pub fn of(input: &Mesh) -> Option<Self> {
+    /// The wedges of `input`, whose seam edges are `seams` ([`crate::mesh::uv::seam_edges`]); `None` when it
+    /// has neither UVs nor materials.
+    pub fn of(input: &Mesh, seams: &[[u32; 2]]) -> Option<Self> {
         if input.uvs.is_none() && input.materials.is_none() {
             return None;
         }
@@ -83,7 +84,7 @@ impl Wedges {
             }
         }
         let mut seam_neighbours = vec![Vec::new(); n];
-        for [a, b] in seam_edges(input) {
+        for &[a, b] in seams {
             seam_neighbours[a as usize].push(b);
             seam_neighbours[b as usize].push(a);
         }
@@ -266,22 +267,28 @@ impl Target<'_> {
     /// The seam path from `a` towards `b` through vertices absent here: the first vertex
     /// after `a` and the last before `b`, if it reaches `b`.
     fn seam_path_ends(&self, a: u32, b: u32) -> Option<[u32; 2]> {
-        for &first in &self.seams[a as usize] {
-            let (mut previous, mut current) = (a, first);
-            let mut guard = self.seams.len();
-            while current != b && !self.present[current as usize] && guard > 0 {
-                let ahead = &self.seams[current as usize];
-                let Some(&next) = ahead.iter().find(|&&w| w != previous).filter(|_| ahead.len() == 2) else {
-                    break;
-                };
-                (previous, current) = (current, next);
-                guard -= 1;
-            }
-            if current == b {
-                return Some([first, previous]);
-            }
+        self.seams[a as usize].iter().find_map(|&first| {
+            let (previous, current) = self.walk_seam(a, first, |w| w == b);
+            (current == b).then_some([first, previous])
+        })
+    }
+
+    /// Walks the seam from `from` through `first` while the vertices are absent here and on
+    /// a line (two seam neighbours), stopping early at a vertex `stop` accepts; returns the
+    /// last two vertices (the walk's end is `.1`: present, stopped at, or where the seam
+    /// branches or ends).
+    fn walk_seam(&self, from: u32, first: u32, stop: impl Fn(u32) -> bool) -> (u32, u32) {
+        let (mut previous, mut current) = (from, first);
+        let mut guard = self.seams.len();
+        while !stop(current) && !self.present[current as usize] && guard > 0 {
+            let ahead = &self.seams[current as usize];
+            let Some(&next) = ahead.iter().find(|&&w| w != previous).filter(|_| ahead.len() == 2) else {
+                break;
+            };
+            (previous, current) = (current, next);
+            guard -= 1;
         }
-        None
+        (previous, current)
     }
 
     /// Made vertex `w` takes the place of `v`'s seam neighbour `old`.
@@ -302,16 +309,7 @@ impl Target<'_> {
                 continue;
             }
             for &first in &self.seams[v] {
-                let (mut previous, mut current) = (v as u32, first);
-                let mut guard = self.seams.len();
-                while !self.present[current as usize] && guard > 0 {
-                    let ahead = &self.seams[current as usize];
-                    let Some(&next) = ahead.iter().find(|&&w| w != previous).filter(|_| ahead.len() == 2) else {
-                        break;
-                    };
-                    (previous, current) = (current, next);
-                    guard -= 1;
-                }
+                let (_, current) = self.walk_seam(v as u32, first, |_| false);
                 if self.present[current as usize] {
                     steps.entry([v as u32, current]).or_insert(first);
                 }
