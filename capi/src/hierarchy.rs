@@ -138,7 +138,10 @@ impl BuiltHierarchy {
             let start = std::time::Instant::now();
             let mask = mask_of(inside, self.input.vertex_count())?;
             let mut region = refine_region(&self.inner, base_level, &|v| mask[v as usize])?;
-            with_uvs_if_found(&self.inner, &mut region.mesh);
+            // A face whose wedge is not found (a seam vertex placed off its seam by
+            // Algorithm 2's search) leaves the UVs out: the C++ result then has no
+            // texcoords, as `hierarchy.hpp` documents.
+            let _ = self.inner.attach_attributes(&mut region.mesh, &[]);
             let report = Report {
                 input_vertices: self.input.vertex_count(),
                 output_vertices: region.mesh.ids.len(),
@@ -253,18 +256,9 @@ impl Refinement<'_> {
     pub fn result(&self) -> Result<LevelArrays, String> {
         guarded(|| {
             let mut level = self.refiner.mesh()?;
-            with_uvs_if_found(&self.hierarchy.inner, &mut level);
+            // As in `refine_region`: UVs left out where a wedge is not found.
+            let _ = self.hierarchy.inner.attach_attributes(&mut level, &[]);
             Ok(level_arrays(&level))
         })
-    }
-}
-
-/// The input's UVs on a refinement's faces; none where a face's wedge is not found (a
-/// seam vertex placed off its seam by Algorithm 2's search), which leaves the UVs out.
-fn with_uvs_if_found(hierarchy: &Hierarchy, level: &mut asperity::hierarchy::LevelMesh) {
-    if let Some(wedges) = &hierarchy.wedges {
-        if let Ok((uvs, materials)) = wedges.level(&level.triangles_in_ids(), &[]) {
-            (level.mesh.uvs, level.mesh.materials) = (uvs, materials);
-        }
     }
 }

@@ -63,11 +63,8 @@ pub fn run(args: RefineArgs, ctx: super::Context) -> Result<()> {
     let mut refined = refine_region(&hierarchy, args.base_level, &|v| inside[v as usize])?;
     // The input's UVs and materials on the refined faces. A face whose wedge cannot be
     // found (Algorithm 2's search put a seam vertex off its seam) leaves them out, said.
-    if let Some(wedges) = &hierarchy.wedges {
-        match wedges.level(&refined.mesh.triangles_in_ids(), &[]) {
-            Ok((uvs, materials)) => (refined.mesh.mesh.uvs, refined.mesh.mesh.materials) = (uvs, materials),
-            Err(e) => ctx.note(&format!("UVs and materials not carried: {e}")),
-        }
+    if let Err(e) = hierarchy.attach_attributes(&mut refined.mesh, &[]) {
+        ctx.note(&format!("UVs and materials not carried: {e}"));
     }
     super::relocate_material_libraries(&mut refined.mesh.mesh, &args.input, &args.output);
     let out = &refined.mesh.mesh;

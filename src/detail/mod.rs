@@ -261,7 +261,7 @@ pub fn apply_with(
 
 /// Gives the detailed mesh the input's attributes (#22 B3): colours and scalars by vertex
 /// (a vertex made by local subdivision takes the mean of its edge's ends), UVs and
-/// materials per face corner through [`crate::hierarchy::Wedges::level`] (a made
+/// materials per face corner through [`Hierarchy::attach_attributes`] (a made
 /// vertex's UV is the mean of its edge's ends' on each side), and normals recomputed on
 /// the deformed surface when the input had normals. Returns a note for what could not be
 /// carried.
@@ -288,13 +288,10 @@ fn carry_attributes(hierarchy: &Hierarchy, input: &Mesh, splits: &[[u32; 2]], re
             result.ids.iter().map(|&id| [0, 1, 2].map(|c| channels[c][id as usize].round() as u8)).collect(),
         );
     }
-    if let Some(wedges) = &hierarchy.wedges {
-        // A wedge not found is a bug; the detailed mesh is still good, so it is written
-        // without UVs and the note says why rather than the whole run failing.
-        match wedges.level(&result.triangles_in_ids(), splits) {
-            Ok((uvs, materials)) => (result.mesh.uvs, result.mesh.materials) = (uvs, materials),
-            Err(e) => notes.push(format!("UVs and materials not carried: {e}")),
-        }
+    // A wedge not found is a bug; the detailed mesh is still good, so it is written
+    // without UVs and the note says why rather than the whole run failing.
+    if let Err(e) = hierarchy.attach_attributes(result, splits) {
+        notes.push(format!("UVs and materials not carried: {e}"));
     }
     if input.normals.is_some() {
         let adjacency = crate::mesh::Adjacency::of(&result.mesh);

@@ -295,17 +295,27 @@ impl Hierarchy {
     }
 
     /// `level` (a level's or a refinement's mesh of input vertices) with the input's UVs
-    /// and materials on its faces (see [`Wedges`]); unchanged when the input has neither.
+    /// and materials on its faces (see [`Hierarchy::attach_attributes`]).
     ///
     /// # Errors
-    /// [`crate::Error::Internal`] when a face lies in no wedge of a seam vertex.
+    /// As [`Hierarchy::attach_attributes`].
     pub fn with_attributes(&self, mut level: LevelMesh) -> crate::Result<LevelMesh> {
-        if let Some(wedges) = &self.wedges {
-            let (uvs, materials) = wedges.level(&level.triangles_in_ids(), &[])?;
-            level.mesh.uvs = uvs;
-            level.mesh.materials = materials;
-        }
+        self.attach_attributes(&mut level, &[])?;
         Ok(level)
+    }
+
+    /// Puts the input's UVs and materials on the faces of `level`, a level's or a
+    /// refinement's mesh whose vertices are input vertices and those made by `splits`
+    /// (see [`Wedges::level`]); nothing changes when the input has neither.
+    ///
+    /// # Errors
+    /// [`crate::Error::Internal`] when a face lies in no wedge of a seam vertex; `level`
+    /// is then left as it was.
+    pub fn attach_attributes(&self, level: &mut LevelMesh, splits: &[[u32; 2]]) -> crate::Result<()> {
+        if let Some(wedges) = &self.wedges {
+            (level.mesh.uvs, level.mesh.materials) = wedges.level(&level.triangles_in_ids(), splits)?;
+        }
+        Ok(())
     }
 
     /// Every input vertex's base-domain point and level (base vertices sit on a corner of
