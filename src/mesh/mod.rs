@@ -124,6 +124,24 @@ impl Mesh {
         self.triangles.extend(other.triangles.iter().map(|t| t.map(|v| v + offset)));
     }
 
+    /// Keeps the faces `keep` marks (one flag per face), in order, with their UVs and
+    /// materials; returns how many went.
+    pub fn retain_faces(&mut self, keep: &[bool]) -> usize {
+        fn retain<T>(values: &mut Vec<T>, keep: &[bool]) {
+            let mut k = keep.iter();
+            values.retain(|_| *k.next().expect("one flag per face"));
+        }
+        let before = self.triangles.len();
+        retain(&mut self.triangles, keep);
+        if let Some(uvs) = &mut self.uvs {
+            retain(&mut uvs.corners, keep);
+        }
+        if let Some(m) = &mut self.materials {
+            retain(&mut m.faces, keep);
+        }
+        before - self.triangles.len()
+    }
+
     /// Axis-aligned bounding box `(min, max)`; `None` for a mesh without vertices.
     pub fn bounding_box(&self) -> Option<(DVec3, DVec3)> {
         let first = *self.positions.first()?;

@@ -159,14 +159,11 @@ pub fn remove_degenerate_faces(mesh: &mut Mesh) -> DegenerateRemoval {
         }
     }
     let Degenerates { triangles, alive, report, uv_corners, .. } = state;
+    mesh.triangles = triangles;
     if let (Some(uvs), Some(corners)) = (&mut mesh.uvs, uv_corners) {
         uvs.corners = corners;
-        uvs.retain_faces(&alive);
     }
-    if let Some(m) = &mut mesh.materials {
-        m.retain_faces(&alive);
-    }
-    mesh.triangles = triangles.into_iter().zip(alive).filter_map(|(t, a)| a.then_some(t)).collect();
+    mesh.retain_faces(&alive);
     report
 }
 
@@ -336,20 +333,7 @@ pub fn remove_duplicate_faces(mesh: &mut Mesh) -> usize {
             seen.insert(key)
         })
         .collect();
-    retain_faces(mesh, &keep)
-}
-
-fn retain_faces(mesh: &mut Mesh, keep: &[bool]) -> usize {
-    let before = mesh.triangles.len();
-    if let Some(uvs) = &mut mesh.uvs {
-        uvs.retain_faces(keep);
-    }
-    if let Some(m) = &mut mesh.materials {
-        m.retain_faces(keep);
-    }
-    let mut k = keep.iter();
-    mesh.triangles.retain(|_| *k.next().expect("one flag per face"));
-    before - mesh.triangles.len()
+    mesh.retain_faces(&keep)
 }
 
 /// Gives every fan of face corners around a vertex, beyond the first, its own vertex.

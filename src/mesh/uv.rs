@@ -64,20 +64,6 @@ impl CornerUvs {
         }
         Ok(())
     }
-
-    /// The UVs of the faces `keep` marks, in order (values unchanged).
-    pub fn retain_faces(&mut self, keep: &[bool]) {
-        let mut k = keep.iter();
-        self.corners.retain(|_| *k.next().expect("one flag per face"));
-    }
-}
-
-impl Materials {
-    /// The materials of the faces `keep` marks, in order.
-    pub fn retain_faces(&mut self, keep: &[bool]) {
-        let mut k = keep.iter();
-        self.faces.retain(|_| *k.next().expect("one flag per face"));
-    }
 }
 
 /// Bit pattern of a UV, for comparing by value (−0 and 0 differ: a file that wrote both
@@ -168,23 +154,6 @@ pub fn split_by_uv(mesh: &Mesh) -> (Mesh, Vec<u32>) {
     (split, source)
 }
 
-/// Whether every vertex has one UV (so a per-vertex format holds the UVs as they are).
-pub fn is_per_vertex(mesh: &Mesh) -> bool {
-    let Some(uvs) = &mesh.uvs else { return true };
-    let mut seen: Vec<Option<[u64; 2]>> = vec![None; mesh.vertex_count()];
-    for (f, t) in mesh.triangles.iter().enumerate() {
-        for k in 0..3 {
-            let uv = bits(uvs.at(f, k));
-            match &mut seen[t[k] as usize] {
-                slot @ None => *slot = Some(uv),
-                Some(s) if *s != uv => return false,
-                Some(_) => {}
-            }
-        }
-    }
-    true
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -207,7 +176,6 @@ mod tests {
     fn a_seam_is_an_edge_whose_faces_disagree_on_a_uv() {
         assert!(seam_edges(&two_faces(false)).is_empty());
         assert_eq!(seam_edges(&two_faces(true)), vec![[1, 2]]);
-        assert!(is_per_vertex(&two_faces(false)) && !is_per_vertex(&two_faces(true)));
     }
 
     #[test]
@@ -215,9 +183,9 @@ mod tests {
         let (split, source) = split_by_uv(&two_faces(true));
         assert_eq!(split.vertex_count(), 5);
         assert_eq!(source, vec![0, 1, 2, 3, 2]);
+        // One UV per vertex: each corner reads its vertex's (checked corner by corner below).
         let (same, identity) = split_by_uv(&two_faces(false));
         assert_eq!((same.positions, identity), (two_faces(false).positions, vec![0, 1, 2, 3]));
-        assert!(is_per_vertex(&split));
         let uvs = split.uvs.as_ref().unwrap();
         for (f, t) in split.triangles.iter().enumerate() {
             for k in 0..3 {
