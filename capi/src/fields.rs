@@ -5,7 +5,6 @@
 
 use asperity::analysis::{AnalysisOptions, analyze as analyze_mesh};
 use asperity::cli::{self, parse_flags};
-use asperity::noise::Frame;
 use asperity::{Error, Result};
 use glam::DVec3;
 
@@ -55,14 +54,11 @@ pub fn noise(points: &[f64], dimension: usize, flags: &Vec<String>) -> Result<Ve
         }
         let args: cli::noise::NoiseArgs =
             parse_flags("noise", &["-o", "<points>.f32"], flags.clone(), &["--size", "--scale", "--range"], member)?;
-        let (field, _scale) = args.field()?;
-        Ok(if dimension == 2 {
-            points.chunks_exact(2).map(|p| field.sample2(p[0], p[1])).collect()
-        } else {
-            let points: Vec<DVec3> = points.chunks_exact(3).map(|p| DVec3::new(p[0], p[1], p[2])).collect();
-            let frames = vec![Frame { tangent: DVec3::X, bitangent: DVec3::Y }; points.len()];
-            field.sample3_batch(&points, &frames)
-        })
+        let points: Vec<DVec3> = match dimension {
+            2 => points.chunks_exact(2).map(|p| DVec3::new(p[0], p[1], 0.0)).collect(),
+            _ => points.chunks_exact(3).map(|p| DVec3::new(p[0], p[1], p[2])).collect(),
+        };
+        args.values_at(&points, dimension == 2)
     })
 }
 

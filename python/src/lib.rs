@@ -440,17 +440,7 @@ fn noise<'py>(
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let args: cli::noise::NoiseArgs = parse("noise", &["-o", "<array>.f32"], flags, &["--size", "--scale", "--range"])?;
     let (dimension, points) = points_of(&points)?;
-    let values = run(py, false, move || {
-        let (field, _scale) = args.field()?;
-        Ok(match dimension {
-            2 => points.iter().map(|p| field.sample2(p.x, p.y)).collect::<Vec<f64>>(),
-            _ => {
-                let frame = asperity::noise::Frame { tangent: glam::DVec3::X, bitangent: glam::DVec3::Y };
-                let frames = vec![frame; points.len()];
-                field.sample3_batch(&points, &frames)
-            }
-        })
-    })?;
+    let values = run(py, false, move || args.values_at(&points, dimension == 2))?;
     Ok(PyArray1::from_vec(py, values))
 }
 

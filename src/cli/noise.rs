@@ -70,6 +70,22 @@ pub struct NoiseArgs {
 }
 
 impl NoiseArgs {
+    /// The noise the flags describe at `points` (the embeddings' batch evaluation): in
+    /// the plane as `asperity noise` samples its pictures (x, y) when `planar`, else in
+    /// space with the global frame.
+    ///
+    /// # Errors
+    /// As [`NoiseArgs::field`].
+    pub fn values_at(&self, points: &[glam::DVec3], planar: bool) -> Result<Vec<f64>> {
+        let (field, _scale) = self.field()?;
+        Ok(if planar {
+            points.iter().map(|p| field.sample2(p.x, p.y)).collect()
+        } else {
+            let frames = vec![crate::noise::Frame { tangent: glam::DVec3::X, bitangent: glam::DVec3::Y }; points.len()];
+            field.sample3_batch(points, &frames)
+        })
+    }
+
     /// The noise the flags describe, and the image's sample spacing (`--scale`).
     ///
     /// # Errors
