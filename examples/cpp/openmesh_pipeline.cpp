@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <string>
 
@@ -97,6 +98,20 @@ static void levels_and_parametrization(const asperity::Hierarchy<Mesh>& h, Mesh&
     expect(std::abs(bary[v][0] + bary[v][1] + bary[v][2] - 1.0) < 1e-9, "barycentrics sum to 1");
   }
   expect(at_base == base.n_vertices(), "level 0 vertices are the base domain's");
+  // keep_vertices: a vertex the first hierarchy removed stays in the base when kept.
+  int removed = -1;
+  for (auto v : input.vertices()) {
+    if (level[v] > 0) removed = v.idx();
+  }
+  asperity::HierarchyOptions keep;
+  keep.target_vertices = input.n_vertices() / 20;
+  keep.keep_features = "none";
+  keep.keep_vertices = {std::uint32_t(removed)};
+  Mesh kept_base = asperity::Hierarchy<Mesh>(input, keep).level(0);
+  auto kept_id = OpenMesh::getProperty<OpenMesh::VertexHandle, int>(kept_base, "asperity:id");
+  bool found = false;
+  for (auto v : kept_base.vertices()) found |= kept_id[v] == removed;
+  expect(found, "keep_vertices keeps the vertex in the base domain");
   std::cout << "parametrization: " << at_base << " base vertices, every vertex on a base face\n";
 }
 
@@ -264,6 +279,101 @@ static void recipe_and_terrain(const Mesh& input, const std::string& out) {
   if (!OpenMesh::IO::write_mesh(land, out + "/cpp-terrain.off", colours)) throw std::runtime_error("cannot write terrain");
 }
 
+/// 6b. Every option of the options structs reaches asperity: set alone on a small base,
+/// it changes the result (a misspelt flag would be refused instead).
+static void every_option_counts() {
+  using T = asperity::TerrainOptions;
+  auto terrain_of = [](const T& o) {
+    Mesh m = asperity::terrain<Mesh>(o);
+    std::vector<float> values;
+    for (auto v : m.vertices()) {
+      for (int k = 0; k < 3; ++k) values.push_back(m.point(v)[k]);
+      for (int k = 0; k < 3; ++k) values.push_back(m.color(v)[k]);
+    }
+    return values;
+  };
+  T classic;
+  classic.size = 17;
+  T dual;
+  dual.method = "dual";
+  dual.levels = 3;
+  T eroded = classic;
+  eroded.erode = "thermal";
+  eroded.talus = 5.0;
+  T tiled = classic;
+  tiled.size = 33;
+  tiled.tile = std::array<std::uint64_t, 2>{0, 0};
+  tiled.tile_size = 17;
+  const std::vector<std::pair<T, std::function<void(T&)>>> cases = {
+      {classic, [](T& o) { o.method = "smooth"; }},
+      {classic, [](T& o) { o.size = 9; }},
+      {classic, [](T& o) { o.hurst = 0.3; }},
+      {classic, [](T& o) { o.sigma = 2.0; }},
+      {classic, [](T& o) { o.seed = 5; }},
+      {classic, [](T& o) { o.distribution = "uniform"; }},
+      {classic, [](T& o) { o.mean = 0.5; }},
+      {classic, [](T& o) { o.variance = 3.0; }},
+      {classic, [](T& o) { o.corners = std::array<double, 4>{1, 2, 3, 4}; }},
+      {classic, [](T& o) { o.applet = true; }},
+      {classic, [](T& o) { o.width = 3.0; }},
+      {classic, [](T& o) { o.depth = 3.0; }},
+      {classic, [](T& o) { o.max_height = 2.0; }},
+      {classic, [](T& o) { o.sea_level = 0.0; }},
+      {classic, [](T& o) { o.colors = std::array<std::array<std::uint32_t, 3>, 5>{{{1, 2, 3}, {4, 5, 6}, {7, 8, 9}, {10, 11, 12}, {13, 14, 15}}}; }},
+      {classic, [](T& o) { o.peak_height = 0.1; }},
+      {classic, [](T& o) { o.grid = "triangle"; }},
+      {classic, [](T& o) { o.erode = "thermal"; }},
+      {eroded, [](T& o) { o.erode_iterations = 3; }},
+      {eroded, [](T& o) { o.talus = 60.0; }},
+      {tiled, [](T& o) { o.tile = std::array<std::uint64_t, 2>{1, 0}; }},
+      {tiled, [](T& o) { o.tile_size = 9; }},
+      {dual, [](T& o) { o.x = std::array<double, 3>{2, 0, 0}; }},
+      {dual, [](T& o) { o.y = std::array<double, 3>{0, 2, 0}; }},
+      {dual, [](T& o) { o.levels = 4; }},
+      {dual, [](T& o) { o.deterministic = true; }},
+      {dual, [](T& o) { o.cross_product = true; }},
+      {dual, [](T& o) { o.no_mean_correction = true; }},
+  };
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    T changed = cases[i].first;
+    cases[i].second(changed);
+    expect(terrain_of(changed) != terrain_of(cases[i].first), "terrain option case " + std::to_string(i) + " changes the mesh");
+  }
+  using N = asperity::NoiseOptions;
+  const std::vector<asperity::Vec3> points = {{0.1, 0.2, 0.3}, {1.7, -0.4, 2.2}, {3.1, 0.9, -1.3}, {-2.5, 1.5, 0.7}};
+  N fbm;
+  fbm.kind = "fbm";
+  N multifractal;
+  multifractal.kind = "multifractal";
+  N gabor;
+  gabor.kind = "gabor";
+  gabor.f0 = 0.5;
+  N phasor = gabor;
+  phasor.kind = "phasor";
+  const std::vector<std::pair<N, std::function<void(N&)>>> noise_cases = {
+      {N(), [](N& o) { o.kind = "turbulence"; }},
+      {N(), [](N& o) { o.seed = 3; }},
+      {fbm, [](N& o) { o.octaves = 2; }},
+      {fbm, [](N& o) { o.lacunarity = 3.0; }},
+      {fbm, [](N& o) { o.gain = 0.8; }},
+      {multifractal, [](N& o) { o.offset = 0.5; }},
+      {gabor, [](N& o) { o.k = 2.0; }},
+      {gabor, [](N& o) { o.a = 0.08; }},
+      {gabor, [](N& o) { o.f0 = 0.7; }},
+      {gabor, [](N& o) { o.omega = 0.3; }},
+      {gabor, [](N& o) { o.impulses = 16.0; }},
+      {gabor, [](N& o) { o.isotropic = true; }},
+      {phasor, [](N& o) { o.profile = "square"; }},
+  };
+  for (std::size_t i = 0; i < noise_cases.size(); ++i) {
+    N changed = noise_cases[i].first;
+    noise_cases[i].second(changed);
+    expect(asperity::noise(points, changed) != asperity::noise(points, noise_cases[i].first),
+           "noise option case " + std::to_string(i) + " changes the values");
+  }
+  std::cout << "options: " << cases.size() << " terrain and " << noise_cases.size() << " noise options each change the result\n";
+}
+
 /// 7. Bad input: typed exceptions with asperity's messages.
 static void bad_input(const Mesh& input) {
   auto refused = [](const char* what, auto&& call) {
@@ -327,6 +437,7 @@ int main(int argc, char** argv) {
     textured_levels(input, out);
     analysis_and_noise(input);
     recipe_and_terrain(input, out);
+    every_option_counts();
     bad_input(input);
   } catch (const Failed& e) {
     std::cerr << "failed: " << e.what() << "\n";
