@@ -66,7 +66,9 @@ fn read<'py>(
     let mut outcome = run(py, false, move || asperity::io::read(&path))?;
     // The Python mesh has no place for them yet: said, not dropped unseen.
     if outcome.mesh.uvs.is_some() || outcome.mesh.materials.is_some() {
-        outcome.notes.push("texture coordinates and materials are not handed to Python (the command line keeps them)".into());
+        outcome
+            .notes
+            .push("texture coordinates and materials are not handed to Python (the command line keeps them)".into());
     }
     let mesh = outcome.mesh;
     let scalars = PyDict::new(py);
@@ -384,7 +386,7 @@ fn hausdorff(
     run(py, false, move || asperity::hierarchy::compare::relative_hausdorff(&reference, &other))
 }
 
-/// `asperity compare`'s rows, as JSON.
+/// `asperity compare`'s report (both tables), as JSON.
 #[pyfunction]
 fn compare(
     py: Python<'_>,
@@ -395,8 +397,8 @@ fn compare(
 ) -> PyResult<String> {
     let args: cli::compare::CompareArgs = parse("compare", &["<array>"], flags, &[])?;
     let mesh = mesh_of(&positions, &triangles)?;
-    let rows = run(py, progress, move || args.compare(&repaired(mesh, args.repair())?))?;
-    Ok(serde_json::to_string(&rows).expect("rows serialise"))
+    let report = run(py, progress, move || args.compare(&repaired(mesh, args.repair())?))?;
+    Ok(serde_json::to_string(&report).expect("the report serialises"))
 }
 
 /// `asperity terrain`'s heights as a rows × columns array.

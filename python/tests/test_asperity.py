@@ -198,7 +198,9 @@ def test_terrain_noise_render_clouds_compare_repair():
     assert picture.shape == (60, 80, 4) and picture.dtype == np.uint8 and picture[..., 3].max() == 255
     sky, cover = asperity.clouds(size=65, seed=1)
     assert sky.shape == (65, 65, 3) and 0 < cover < 1
-    rows = asperity.compare((positions, triangles), target_vertices=40, methods=["asperity", "meshoptimizer"])
+    report = asperity.compare((positions, triangles), target_vertices=40, methods=["asperity", "meshoptimizer"])
+    rows = report["at_target"]
+    assert report["target_vertices"] == 40 and report["at_common_count"] is None
     assert [r["method"] for r in rows] == ["asperity", "meshoptimizer"]
     assert all(r["vertices"] <= 41 for r in rows) and all(r["hausdorff"] > 0 for r in rows)
     doubled = np.vstack([triangles, triangles[:5]])
@@ -292,9 +294,10 @@ def test_results_are_the_command_lines_bit_for_bit(meshes, cli, tmp_path):
     # render: the PNG's pixels.
     run_cli(cli, "render", str(femur), "--size", "96,64", "-o", "r.png", cwd=tmp_path)
     np.testing.assert_array_equal(asperity.render(mesh, size=(96, 64)), read_png_rgba(tmp_path / "r.png"))
-    # compare: the JSON rows, timings aside.
+    # compare: the JSON report (both tables), timings aside.
     out = run_cli(cli, "compare", str(femur), "--target-vertices", "300", "--methods", "asperity,meshoptimizer", "--json", cwd=tmp_path)
-    strip = lambda rows: [{k: v for k, v in r.items() if "second" not in k} for r in rows]
+    rows = lambda rows: [{k: v for k, v in r.items() if "second" not in k} for r in rows]
+    strip = lambda report: (rows(report["at_target"]), report["at_common_count"] and rows(report["at_common_count"]["rows"]))
     assert strip(json.loads(out)) == strip(asperity.compare(mesh, target_vertices=300, methods=["asperity", "meshoptimizer"]))
 
 
@@ -377,7 +380,10 @@ def test_trimesh_agrees_on_areas_and_volumes(meshes):
     assert refined.area == pytest.approx(reference.area, rel=1e-12)
     assert refined.volume == pytest.approx(reference.volume, rel=1e-12)
     base = trimesh.Trimesh(*h.level(0), process=False)
-    assert base.is_watertight and base.volume == pytest.approx(reference.volume, rel=0.2)
+    # 32 vertices of a genus-2 surface (#34: the target is reached now, at meshoptimizer's
+    # Hausdorff distance): about two thirds of the volume is left.
+    assert len(h.level(0)[0]) == 32
+    assert base.is_watertight and base.volume == pytest.approx(reference.volume, rel=0.4)
     detailed, _ = asperity.detail(reference)
     assert trimesh.Trimesh(detailed.positions, detailed.triangles, process=False).area == pytest.approx(reference.area, rel=1e-12)
 

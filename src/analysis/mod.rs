@@ -13,7 +13,8 @@ use serde::{Deserialize, Serialize};
 
 pub use curvature::{Curvatures, angle_deficits, curvatures};
 pub use features::{
-    FeatureClass, FeatureOptions, VotingTensor, classify, propagate_features, symmetric_eigen3, voting_tensors,
+    FeatureClass, FeatureOptions, VotingTensor, classify, classify_at_two_scales, propagate_features, symmetric_eigen3,
+    voting_tensors, wide_voting_tensors,
 };
 pub use gradient::face_gradients;
 pub use normals::{FaceGeometry, NormalWeighting, face_normals, vertex_normals};

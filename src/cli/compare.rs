@@ -1,5 +1,6 @@
 //! `asperity compare IN --target-vertices V [--json]`: ours against OpenMesh, CGAL and
-//! meshoptimizer at the same vertex count, one line each.
+//! meshoptimizer, one line each, at the requested target and, where the counts differ,
+//! again at the smallest count all reached (#34).
 
 use std::path::PathBuf;
 
@@ -7,7 +8,7 @@ use clap::Args;
 
 use crate::error::Result;
 use crate::hierarchy::SimplifyOptions;
-use crate::hierarchy::compare::{METHODS, compare};
+use crate::hierarchy::compare::{CompareReport, CompareRow, METHODS, compare_report};
 
 /// The subcommand's flags (`CompareArgs`).
 #[derive(Debug, Args)]
@@ -36,7 +37,7 @@ impl CompareArgs {
     ///
     /// # Errors
     /// Invalid flags; the methods' errors.
-    pub fn compare(&self, mesh: &crate::mesh::Mesh) -> Result<Vec<crate::hierarchy::compare::CompareRow>> {
+    pub fn compare(&self, mesh: &crate::mesh::Mesh) -> Result<CompareReport> {
         let target = super::simplify::resolve_target(&self.target_vertices, mesh.vertex_count())?;
         let methods: Vec<&str> = self.methods.iter().map(String::as_str).collect();
         let keep_features = self.keep_features.into();
@@ -45,7 +46,7 @@ impl CompareArgs {
             feature_vertices: super::simplify::resolve_feature_vertices(self.feature_vertices, keep_features)?,
             ..SimplifyOptions::default()
         };
-        compare(mesh, target, &methods, &ours)
+        compare_report(mesh, target, &methods, &ours)
     }
 
     /// Whether `--repair` was given.
@@ -57,38 +58,59 @@ impl CompareArgs {
 /// Runs the subcommand.
 pub fn run(args: CompareArgs, ctx: super::Context) -> Result<()> {
     let mesh = super::input::read_input(&args.input, args.repair, ctx)?.read.mesh;
-    let target = super::simplify::resolve_target(&args.target_vertices, mesh.vertex_count())?;
     let methods: Vec<&str> = args.methods.iter().map(String::as_str).collect();
-    let rows = ctx
+    let report = ctx
         .spin("compare", &methods.join(", "), || args.compare(&mesh))
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;
     if ctx.json {
-        println!("{}", serde_json::to_string_pretty(&rows).expect("report serialises"));
+        println!("{}", serde_json::to_string_pretty(&report).expect("report serialises"));
     } else if !ctx.quiet {
-        for r in &rows {
+        println!("at the requested target ({} vertices):", report.target_vertices);
+        print_rows(&report.at_target, mesh.face_count(), true);
+        if let Some(common) = &report.at_common_count {
+            let short: Vec<&str> = report
+                .at_target
+                .iter()
+                .filter(|r| !crate::hierarchy::compare::same_count(r.vertices, report.target_vertices))
+                .map(|r| r.method.as_str())
+                .collect();
             println!(
-                "{:<13} {} tris => {} tris, {} vertices (hausdorff {:.3}%, rms {:.4}%, min angle {:.2}°, p1 angle {:.2}°, slivers {:.2}%, {} features kept) in {:.0} ms",
-                format!("{}:", r.method),
-                mesh.face_count(),
-                r.faces,
-                r.vertices,
-                r.hausdorff * 100.0,
-                r.rms * 100.0,
-                r.min_angle_deg,
-                r.min_angle_p1_deg,
-                r.sliver_share * 100.0,
-                r.features_kept,
-                r.seconds * 1e3
+                "at {} vertices, the smallest count all reached (like with like; {} stopped short of {}):",
+                common.vertices,
+                short.join(", "),
+                report.target_vertices
             );
-        }
-        let rerun: Vec<&str> = rows.iter().filter(|r| r.target_vertices != target).map(|r| r.method.as_str()).collect();
-        if let Some(r) = rows.iter().find(|r| r.target_vertices != target) {
-            println!(
-                "note: a method stopped above {target} vertices, so {} ran again to {} vertices (like with like)",
-                rerun.join(", "),
-                r.target_vertices
-            );
+            print_rows(&common.rows, mesh.face_count(), false);
         }
     }
     Ok(())
+}
+
+/// One line per method; with `notes`, what gave way in ours and why it stopped short.
+fn print_rows(rows: &[CompareRow], input_faces: usize, notes: bool) {
+    for r in rows {
+        println!(
+            "{:<13} {} tris => {} tris, {} vertices (hausdorff {:.3}%, rms {:.4}%, min angle {:.2}°, p1 angle {:.2}°, slivers {:.2}%, {} features kept) in {:.0} ms",
+            format!("{}:", r.method),
+            input_faces,
+            r.faces,
+            r.vertices,
+            r.hausdorff * 100.0,
+            r.rms * 100.0,
+            r.min_angle_deg,
+            r.min_angle_p1_deg,
+            r.sliver_share * 100.0,
+            r.features_kept,
+            r.seconds * 1e3
+        );
+        if !notes {
+            continue;
+        }
+        if let Some(gave_way) = r.gave_way.as_deref().filter(|g| *g != "nothing") {
+            println!("{:<13} gave way: {gave_way}", "");
+        }
+        if let Some(stopped_by) = &r.stopped_by {
+            println!("note: {} stopped short of {} vertices: {stopped_by}", r.method, r.target_vertices);
+        }
+    }
 }

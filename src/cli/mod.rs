@@ -53,7 +53,7 @@ enum Command {
     Clouds(clouds::CloudArgs),
     /// Print a mesh's validation report (counts, boundaries, manifoldness, genus).
     Info(info::InfoArgs),
-    /// Simplify with asperity, OpenMesh, CGAL and meshoptimizer to the same vertex count.
+    /// Simplify with asperity, OpenMesh, CGAL and meshoptimizer: each at the target, then like with like.
     Compare(compare::CompareArgs),
     /// Convert a mesh between OBJ, PLY, OFF, STL and glTF binary (format by extension).
     Convert(convert::ConvertArgs),

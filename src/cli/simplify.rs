@@ -265,6 +265,7 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
             "feature_vertices_kept": hierarchy.feature_vertices,
             "stage_seconds": hierarchy.stages,
             "hausdorff": hausdorff,
+            "target": hierarchy.target,
             "min_angle_deg": shape.min_angle_deg,
             "sliver_share": shape.sliver_share,
             "repair": input.repair_json(),
@@ -284,8 +285,26 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
             shape.sliver_share * 100.0,
             super::millis(start)
         );
+        print_target_notes(&hierarchy.target, base.vertex_count());
     }
     Ok(())
+}
+
+/// The human lines of a build's [`crate::hierarchy::TargetReport`]: what gave way to reach the target, and
+/// a `note:` when it was not reached.
+pub fn print_target_notes(target: &crate::hierarchy::TargetReport, vertices: usize) {
+    let Some(asked) = target.target_vertices else { return };
+    let gave_way = target.gave_way();
+    if gave_way != "nothing" {
+        println!("target: {asked} vertices asked, {vertices} reached; gave way: {gave_way}");
+    }
+    if !target.reached {
+        println!(
+            "note: the target of {asked} vertices was not reached ({vertices} vertices; the topology allows {}): stopped by {}",
+            target.floor_vertices,
+            target.stopped_by.as_deref().unwrap_or("nothing left to remove")
+        );
+    }
 }
 
 /// Every level as DIR/level_NN.ply, or in the input's format when it carries UVs or

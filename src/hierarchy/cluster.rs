@@ -171,6 +171,19 @@ pub fn widest_link_edge(centre: DVec3, ring: &[u32], positions: &[DVec3], thresh
 /// makes, reached by cutting the ears farthest from that vertex first) are tried, and the
 /// cheapest valid one is kept.
 pub fn plan_cluster(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules: &ClusterRules) -> Option<ClusterPlan> {
+    plan_cluster_with(v, rings, geometry, rules, false)
+}
+
+/// [`plan_cluster`] for `v` as if it were released from its feature lines (`free`): an
+/// inside vertex planned like a surface vertex, a boundary vertex along its boundary
+/// alone. What the give-way ladder measures before it releases a feature vertex.
+pub fn plan_cluster_with(
+    v: u32,
+    rings: &Rings,
+    geometry: LevelGeometry<'_>,
+    rules: &ClusterRules,
+    free: bool,
+) -> Option<ClusterPlan> {
     let ring = RingVec::from_slice(rings.ring(v));
     let d = ring.len();
     let boundary = rings.is_boundary(v);
@@ -182,10 +195,14 @@ pub fn plan_cluster(v: u32, rings: &Rings, geometry: LevelGeometry<'_>, rules: &
     let ring_points: RingVec<DVec3> = ring.iter().map(|&r| pos[r as usize]).collect();
     let flat = Flattening::of_star(pv, &ring_points, boundary)?.points;
     let faces = if boundary { d - 1 } else { d };
-    let line = match geometry.lines.neighbours(v, rings) {
-        Some((ends, bound)) => Some((ends.map(|e| ring.iter().position(|&r| r == e).expect("a ring vertex")), bound)),
-        None if geometry.lines.is_on_line(v) || boundary => return None,
-        None => None,
+    let line = match (free, geometry.lines.neighbours(v, rings)) {
+        (true, _) if boundary => Some(([0, d - 1], geometry.lines.bound_between(v, ring[0], ring[d - 1]))),
+        (true, _) => None,
+        (false, Some((ends, bound))) => {
+            Some((ends.map(|e| ring.iter().position(|&r| r == e).expect("a ring vertex")), bound))
+        }
+        (false, None) if geometry.lines.is_on_line(v) || boundary => return None,
+        (false, None) => None,
     };
     // A boundary vertex goes along its boundary: its line neighbours are its ring's ends.
     if boundary && line.is_none_or(|([a, b], _)| [a.min(b), a.max(b)] != [0, d - 1]) {

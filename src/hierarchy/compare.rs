@@ -9,7 +9,7 @@ use std::time::Instant;
 use glam::DVec3;
 use serde::Serialize;
 
-use super::{LevelMesh, SimplifyOptions, build};
+use super::{LevelMesh, SimplifyOptions, TargetReport, build};
 use crate::analysis::{FaceGeometry, classify, voting_tensors};
 use crate::error::Result;
 use crate::ffi::{self, HausdorffOptions};
@@ -41,6 +41,11 @@ pub struct CompareRow {
     /// The vertex count the method was asked for: the requested budget, or the count
     /// another method stopped at above it (then this row was run again to match).
     pub target_vertices: usize,
+    /// Ours: what gave way to reach the target ("nothing" when nothing did); `None` for
+    /// the reference methods.
+    pub gave_way: Option<String>,
+    /// Ours, when it stopped short of the target: what stopped it.
+    pub stopped_by: Option<String>,
 }
 
 /// The reference decimators run by [`compare`].
@@ -54,60 +59,104 @@ pub fn same_count(a: usize, b: usize) -> bool {
     a.abs_diff(b) as f64 <= SAME_COUNT * a.max(b) as f64
 }
 
-/// Runs `methods` (names from [`METHODS`]) on `mesh` down to `target_vertices`; ours with
-/// the options `ours` (its target replaced; its kept features can stop it above the
-/// budget). Rows compare like with
-/// like: when a method stops above the budget, the methods below its count are run again
-/// to it (their [`CompareRow::target_vertices`] says so), until every count is within
-/// [`SAME_COUNT`] of the highest or no method moves.
+/// Both tables of a comparison (#34): every method at the requested target, so a method
+/// that stops short shows it there, and, where the counts differ by more than
+/// [`SAME_COUNT`], every method again at the smallest count all reached (like with like).
+#[derive(Debug, Clone, Serialize)]
+pub struct CompareReport {
+    /// The vertex count asked for.
+    pub target_vertices: usize,
+    /// Each method asked for the target.
+    pub at_target: Vec<CompareRow>,
+    /// Each method at the smallest count every method reached, when the counts at the
+    /// target differ.
+    pub at_common_count: Option<CommonCount>,
+}
+
+/// The like-with-like table of a [`CompareReport`].
+#[derive(Debug, Clone, Serialize)]
+pub struct CommonCount {
+    /// The smallest vertex count every method reached at the target.
+    pub vertices: usize,
+    /// Each method at that count (rows already there are those of the target's table).
+    pub rows: Vec<CompareRow>,
+}
+
+impl CompareReport {
+    /// The rows that compare like with like: the common count's table when there is
+    /// one, else the target's.
+    pub fn like_with_like(&self) -> &[CompareRow] {
+        self.at_common_count.as_ref().map_or(&self.at_target, |c| &c.rows)
+    }
+}
+
+/// The like-with-like rows of [`compare_report`] (see [`CompareReport::like_with_like`]).
 ///
 /// # Errors
-/// Whatever a decimator or a measure reports for this mesh.
+/// As [`compare_report`].
 pub fn compare(
     mesh: &Mesh,
     target_vertices: usize,
     methods: &[&str],
     ours: &SimplifyOptions,
 ) -> Result<Vec<CompareRow>> {
+    Ok(compare_report(mesh, target_vertices, methods, ours)?.like_with_like().to_vec())
+}
+
+/// Runs `methods` (names from [`METHODS`]) on `mesh` down to `target_vertices`, ours with
+/// the options `ours` (its target replaced), then, when their counts differ by more than
+/// [`SAME_COUNT`], runs each method not already there again to the largest count among
+/// them (the smallest count all reached).
+///
+/// # Errors
+/// Whatever a decimator or a measure reports for this mesh.
+pub fn compare_report(
+    mesh: &Mesh,
+    target_vertices: usize,
+    methods: &[&str],
+    ours: &SimplifyOptions,
+) -> Result<CompareReport> {
     let reference = Reference::of(mesh)?;
     let run = |method: &str, target: usize| -> Result<CompareRow> {
         let start = Instant::now();
-        let result = decimate(mesh, method, target, ours)?;
-        reference.row(method, target, &result, start.elapsed().as_secs_f64())
+        let (result, report) = decimate(mesh, method, target, ours)?;
+        let mut row = reference.row(method, target, &result, start.elapsed().as_secs_f64())?;
+        if let Some(report) = report {
+            row.gave_way = Some(report.gave_way());
+            row.stopped_by = report.stopped_by;
+        }
+        Ok(row)
     };
-    let mut rows = Vec::with_capacity(methods.len());
+    let mut at_target = Vec::with_capacity(methods.len());
     crate::progress::report("compare", 0, methods.len() as u64);
     for &method in methods {
-        rows.push(run(method, target_vertices)?);
-        crate::progress::report("compare", rows.len() as u64, methods.len() as u64);
+        at_target.push(run(method, target_vertices)?);
+        crate::progress::report("compare", at_target.len() as u64, methods.len() as u64);
     }
-    for _ in 0..3 {
-        let Some(top) = rows.iter().map(|r| r.vertices).max() else { break };
-        if top <= target_vertices || rows.iter().all(|r| same_count(r.vertices, top)) {
-            break;
-        }
-        let mut moved = false;
-        for row in rows.iter_mut().filter(|r| !same_count(r.vertices, top) && r.target_vertices != top) {
-            *row = run(&row.method.clone(), top)?;
-            moved = true;
-        }
-        if !moved {
-            break;
-        }
-    }
-    Ok(rows)
+    let top = at_target.iter().map(|r| r.vertices).max().unwrap_or(0);
+    let at_common_count = if at_target.iter().all(|r| same_count(r.vertices, top)) {
+        None
+    } else {
+        let rows = at_target
+            .iter()
+            .map(|row| if same_count(row.vertices, top) { Ok(row.clone()) } else { run(&row.method, top) })
+            .collect::<Result<Vec<_>>>()?;
+        Some(CommonCount { vertices: top, rows })
+    };
+    Ok(CompareReport { target_vertices, at_target, at_common_count })
 }
 
-/// One method's simplification of `mesh` to `target` vertices.
-fn decimate(mesh: &Mesh, method: &str, target: usize, ours: &SimplifyOptions) -> Result<Mesh> {
+/// One method's simplification of `mesh` to `target` vertices, with ours' target report.
+fn decimate(mesh: &Mesh, method: &str, target: usize, ours: &SimplifyOptions) -> Result<(Mesh, Option<TargetReport>)> {
     Ok(match method {
         "asperity" => {
             let options = SimplifyOptions { target_vertices: Some(target), record_levels: false, ..ours.clone() };
-            build(mesh, &options)?.base_mesh().mesh
+            let hierarchy = build(mesh, &options)?;
+            (hierarchy.base_mesh().mesh, Some(hierarchy.target))
         }
-        "openmesh" => ffi::openmesh_decimate(mesh, target)?,
-        "cgal" => ffi::cgal_decimate(mesh, target)?,
-        "meshoptimizer" => meshopt_to_vertices(mesh, target),
+        "openmesh" => (ffi::openmesh_decimate(mesh, target)?, None),
+        "cgal" => (ffi::cgal_decimate(mesh, target)?, None),
+        "meshoptimizer" => (meshopt_to_vertices(mesh, target), None),
         other => {
             return Err(crate::Error::InvalidInput(format!(
                 "unknown method '{other}' (expected one of {})",
@@ -175,6 +224,8 @@ impl Reference {
             sliver_share: shape.sliver_share,
             min_angle_p1_deg: shape.min_angle_p1_deg,
             target_vertices: target,
+            gave_way: None,
+            stopped_by: None,
         })
     }
 }

@@ -109,6 +109,55 @@ impl FeatureLines {
         (count == 2).then_some((found, bound))
     }
 
+    /// Whether `v` is a line vertex that can no longer go along its line: the level's ring
+    /// of `v` holds other than two of its feature edges (a line neighbour went, or a
+    /// released junction beside it).
+    pub fn is_stranded(&self, v: u32, rings: &Rings) -> bool {
+        self.is_on_line(v) && self.neighbours(v, rings).is_none()
+    }
+
+    /// Releases `v` (#34: the target comes first): a boundary vertex keeps only its two
+    /// boundary edges as feature edges and goes along its boundary; an inside vertex with
+    /// exactly two feature edges goes along them; any other loses its feature edges and may
+    /// be removed like a surface vertex.
+    pub fn release(&mut self, v: u32, rings: &Rings) {
+        let ring = rings.ring(v);
+        if rings.is_boundary(v) {
+            if let [_, inner @ .., _] = ring {
+                for &r in inner {
+                    self.edges.remove(&key(v, r));
+                }
+            }
+            self.on_line[v as usize] = true;
+            return;
+        }
+        let on_edges = ring.iter().filter(|&&r| self.edges.contains_key(&key(v, r))).count();
+        if on_edges == 2 {
+            self.on_line[v as usize] = true;
+        } else {
+            for &r in ring {
+                self.edges.remove(&key(v, r));
+            }
+            self.on_line[v as usize] = false;
+        }
+    }
+
+    /// The larger bound of the feature edges `v`–`a` and `v`–`b` (0 for an edge that is
+    /// not a feature edge).
+    pub fn bound_between(&self, v: u32, a: u32, b: u32) -> f64 {
+        let bound = |w: u32| self.edges.get(&key(v, w)).copied().unwrap_or(0.0);
+        bound(a).max(bound(b))
+    }
+
+    /// Lets the inside line vertex `v` off its line (the give-way ladder's last release):
+    /// its feature edges go, and it may be removed like a surface vertex.
+    pub fn leave(&mut self, v: u32, rings: &Rings) {
+        for &r in rings.ring(v) {
+            self.edges.remove(&key(v, r));
+        }
+        self.on_line[v as usize] = false;
+    }
+
     /// Records the removal of the line vertex `v` along its line: its feature edges to
     /// `ends` become the edge between them, with bound `bound`.
     pub fn merge(&mut self, v: u32, ends: [u32; 2], bound: f64) {

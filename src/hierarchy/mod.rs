@@ -13,6 +13,7 @@ mod cluster;
 pub mod compare;
 mod conformal;
 mod cost;
+mod give_way;
 mod guard;
 mod lines;
 mod param;
@@ -28,6 +29,7 @@ use serde::{Deserialize, Serialize};
 
 pub use cluster::{ClusterPlan, ClusterRules, nearest_edge, widest_link_edge};
 pub use conformal::{Flattening, barycentric, clamp_barycentric, interpolate, locate};
+pub use give_way::{TargetReport, topological_floor};
 pub use param::ParamPoint;
 pub use refine::{LevelMesh, LevelReport, Refiner, connectivity_match};
 pub use rings::{RingVec, Rings};
@@ -219,6 +221,8 @@ pub struct Hierarchy {
     /// The input's UVs and materials, for carrying them to every level (`None` when it has
     /// neither).
     pub wedges: Option<Wedges>,
+    /// Whether the vertex target was reached, and what gave way to reach it.
+    pub target: TargetReport,
 }
 
 /// Seconds [`build`] spent in each stage (summed over levels): a one-line report of where

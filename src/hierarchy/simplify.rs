@@ -10,15 +10,16 @@ use rayon::prelude::*;
 
 use rustc_hash::FxHashSet;
 
-use super::wedges::Wedges;
 use super::cluster::{ClusterPlan, ClusterRules, LevelGeometry, apply_plan, plan_cluster, plan_still_applies};
+use super::give_way::{GiveWay, Rung, topological_floor};
 use super::guard::guard_plans;
 use super::lines::FeatureLines;
 use super::param::ParamBuckets;
 use super::record::{Recorded, Recorder};
 use super::rings::Rings;
+use super::wedges::Wedges;
 use super::{BuildStages, FeatureVertices, Hierarchy, KeepFeatures, SimplifyOptions, used_vertices};
-use crate::analysis::{FaceGeometry, FeatureClass, classify, voting_tensors};
+use crate::analysis::{FaceGeometry, FeatureClass, classify_at_two_scales, voting_tensors, wide_voting_tensors};
 use crate::error::{Error, Result};
 use crate::ffi::{self, HalfEdgeMesh, OpStatus};
 use crate::mesh::{Adjacency, FaceId, Mesh, UnitFrame, ValidationReport, is_degenerate_face};
@@ -69,7 +70,7 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
     // Texture seams and material borders: lines of the build, and what each level's
     // faces take their UVs by (found once for both).
     let seams = crate::mesh::uv::seam_edges(mesh);
-    let Features { feature, kept, lines } = features_and_kept(&working, options, &seams)?;
+    let Features { feature, kept, lines, give_way } = features_and_kept(&working, options, &seams)?;
     let wedges = Wedges::of(mesh, &seams);
     // Planning needs only the working positions; the copy's faces go now.
     let working_positions = {
@@ -85,7 +86,9 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
     let mut planner = Planner {
         positions: &working_positions,
         options,
-        kept: &kept,
+        kept,
+        give_way,
+        stopped_by: None,
         quadrics,
         rings,
         live,
@@ -119,6 +122,13 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
         check_agreement(&exported_triangles(store)?, &base_triangles)?;
     }
     let feature_vertices = planner.live.iter().filter(|&&v| feature[v as usize]).count();
+    let target = planner.give_way.report(
+        options.target_vertices,
+        planner.live.len(),
+        topological_floor(n, &mesh.triangles),
+        planner.stopped_by.take(),
+    );
+    let kept = std::mem::take(&mut planner.kept);
     lap(&mut clock, &mut stages.export);
     Ok(Hierarchy {
         positions: mesh.positions.clone(),
@@ -135,6 +145,7 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
         seconds: started.elapsed().as_secs_f64(),
         stages,
         wedges,
+        target,
     })
 }
 
@@ -147,7 +158,12 @@ struct Planner<'a> {
     /// Positions in the unit frame (the build's working copy).
     positions: &'a [DVec3],
     options: &'a SimplifyOptions,
-    kept: &'a [bool],
+    /// Vertices not removed (features not on a line, boundary junctions, user marks) until
+    /// the give-way ladder releases them.
+    kept: Vec<bool>,
+    give_way: GiveWay,
+    /// Why the build stopped short of its target, when it did.
+    stopped_by: Option<String>,
     quadrics: Vec<ffi::Quadric>,
     rings: Rings,
     live: Vec<u32>,
@@ -168,10 +184,10 @@ impl Planner<'_> {
         mut record: impl FnMut(LevelPlans) -> bool,
     ) -> Result<()> {
         let options = self.options;
-        let rules = ClusterRules {
+        let mut rules = ClusterRules {
             removal_weight: options.removal_weight,
             swap_weight: options.swap_weight,
-            min_angle: MIN_ANGLE_DEGREES.to_radians(),
+            min_angle: self.give_way.floor().to_radians(),
         };
         // Planning is in the unit frame (diagonal 1): fractions of the input's diagonal are
         // distances there.
@@ -182,6 +198,9 @@ impl Planner<'_> {
         let first_live = self.live.len();
         let to_remove = first_live.saturating_sub(options.target_vertices.unwrap_or(0)).max(1) as u64;
         crate::progress::report("simplify", 0, to_remove);
+        if let Some(target) = options.target_vertices.filter(|_| options.max_error.is_none()) {
+            self.give_way.release_to_budget(target, &self.live, &mut self.kept, &mut self.lines, &self.rings);
+        }
         // Vertices whose plans the guard dropped on the last level (or the last tries).
         let mut waiting: FxHashSet<u32> = FxHashSet::default();
         while options.levels.is_none_or(|l| steps < l) {
@@ -195,12 +214,35 @@ impl Planner<'_> {
                 params: &self.params,
                 lines: &self.lines,
             };
-            let mut ranked = ranked_candidates(&self.live, &self.rings, self.kept, geometry, &rules);
+            let mut ranked = ranked_candidates(&self.live, &self.rings, &self.kept, geometry, &rules);
             // The last level's offenders wait a level: planned again at once they would
             // likely offend again and take the place of clusters that can go.
             ranked.retain(|(_, v)| !waiting.contains(v));
             let need = options.target_vertices.map_or(usize::MAX, |t| self.live.len().saturating_sub(t));
             let limit = level_error_limit(&ranked, need, tolerance).min(max_error.unwrap_or(f64::INFINITY));
+            if options.target_vertices.is_some() && options.max_error.is_none() && limit.is_finite() {
+                let cheap = self.give_way.cheap_to_release(
+                    &self.live,
+                    &waiting,
+                    &self.kept,
+                    &self.rings,
+                    geometry,
+                    &rules,
+                    limit,
+                );
+                if !cheap.is_empty() {
+                    self.give_way.release_planned(&cheap, &mut self.kept, &mut self.lines, &self.rings);
+                    ranked.extend(cheap);
+                    ranked.par_sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                }
+            }
+            let geometry = LevelGeometry {
+                positions: self.positions,
+                quadrics: &self.quadrics,
+                tolerance,
+                params: &self.params,
+                lines: &self.lines,
+            };
             lap(clock, &mut stages.ranking);
             let level_faces = if options.prevent_intersections { self.rings.faces(&self.live) } else { Vec::new() };
             lap(clock, &mut stages.guard);
@@ -228,11 +270,34 @@ impl Planner<'_> {
             if plans.is_empty() {
                 // A level whose every plan offended is retried without them (and without
                 // the earlier tries' offenders), a few times.
-                if offenders.is_empty() || retries == MAX_RETRIES {
+                if !offenders.is_empty() && retries < MAX_RETRIES {
+                    retries += 1;
+                    waiting.extend(offenders);
+                    continue;
+                }
+                // Short of the target: something gives way (`give_way`), or the build
+                // stops and says why.
+                let Some(target) = options.target_vertices.filter(|&t| self.live.len() > t) else { break };
+                if options.max_error.is_some() {
+                    self.stopped_by = Some("the error bound (max_error) is reached first".to_string());
                     break;
                 }
-                retries += 1;
-                waiting.extend(offenders);
+                let need = self.live.len() - target;
+                match self.give_way.next(need, &self.live, &mut self.kept, &mut self.lines, &self.rings) {
+                    Some(Rung::Floor(degrees)) => rules.min_angle = degrees.to_radians(),
+                    Some(Rung::Released(_)) => rules.min_angle = self.give_way.floor().to_radians(),
+                    None => {
+                        self.stopped_by = Some(if offenders.is_empty() {
+                            "no valid cluster is left: every remaining removal would flip or fold a face, make an edge that exists (genus, manifoldness) or close a boundary loop".to_string()
+                        } else {
+                            "the intersection guard: every remaining cluster would make the surface cut itself"
+                                .to_string()
+                        });
+                        break;
+                    }
+                }
+                retries = 0;
+                waiting.clear();
                 continue;
             }
             retries = 0;
@@ -345,14 +410,16 @@ fn features_and_kept(mesh: &Mesh, options: &SimplifyOptions, seams: &[[u32; 2]])
     let n = mesh.vertex_count();
     let mut feature = vec![false; n];
     let mut corner = vec![false; n];
+    let mut strength = vec![0.0; n];
     if options.keep_features != KeepFeatures::None {
         let adjacency = Adjacency::of(mesh);
-        let classes = classify(
-            &mesh.positions,
-            &adjacency,
-            &voting_tensors(mesh, &adjacency, &FaceGeometry::of(mesh)),
-            &Default::default(),
-        );
+        let geometry = FaceGeometry::of(mesh);
+        let tensors = voting_tensors(mesh, &adjacency, &geometry);
+        let wide = wide_voting_tensors(mesh, &adjacency, &geometry);
+        for (v, t) in tensors.iter().enumerate() {
+            strength[v] = t.strength().min(wide[v].strength());
+        }
+        let classes = classify_at_two_scales(&mesh.positions, &adjacency, &tensors, &wide, &Default::default());
         for (v, class) in classes.into_iter().enumerate() {
             feature[v] = match options.keep_features {
                 KeepFeatures::None => false,
@@ -366,13 +433,17 @@ fn features_and_kept(mesh: &Mesh, options: &SimplifyOptions, seams: &[[u32; 2]])
     let lines = FeatureLines::new(&feature, &corner, &mesh.triangles, along, seams);
     let line_like = |v: u32| feature[v as usize] || lines.is_boundary(v) || lines.is_on_seam(v);
     let mut kept: Vec<bool> = (0..n as u32).map(|v| line_like(v) && !lines.is_on_line(v)).collect();
+    // What never gives way to the target: texture seams, the user's marks, and the
+    // feature vertices `--feature-vertices keep` asks to keep.
+    let mut fixed: Vec<bool> = (0..n as u32).map(|v| lines.is_on_seam(v) || (!along && feature[v as usize])).collect();
     for &v in &options.keep_vertices {
         let slot = kept
             .get_mut(v as usize)
             .ok_or_else(|| Error::InvalidInput(format!("vertex {v} marked to keep is out of range ({n} vertices)")))?;
         *slot = true;
+        fixed[v as usize] = true;
     }
-    Ok(Features { feature, kept, lines })
+    Ok(Features { feature, kept, lines, give_way: GiveWay::new(strength, fixed) })
 }
 
 /// What [`features_and_kept`] finds.
@@ -380,10 +451,9 @@ struct Features {
     feature: Vec<bool>,
     kept: Vec<bool>,
     lines: FeatureLines,
+    /// The ladder of what may give way to the target, with each vertex's feature strength.
+    give_way: GiveWay,
 }
-
-/// The smallest angle a cluster may make (unless its star had a smaller one), degrees.
-const MIN_ANGLE_DEGREES: f64 = 5.0;
 
 /// How often a level whose every plan offended the intersection guard is tried again.
 const MAX_RETRIES: usize = 4;
