@@ -122,12 +122,12 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
         check_agreement(&exported_triangles(store)?, &base_triangles)?;
     }
     let feature_vertices = planner.live.iter().filter(|&&v| feature[v as usize]).count();
-    let target = planner.give_way.report(
-        options.target_vertices,
-        planner.live.len(),
-        topological_floor(n, &mesh.triangles),
-        planner.stopped_by.take(),
-    );
+    // A build that ended without saying why stopped at its level limit.
+    let stopped_by = planner.stopped_by.take().or_else(|| {
+        options.levels.map(|l| format!("the level limit (levels = {l}) came first"))
+    });
+    let target =
+        planner.give_way.report(options.target_vertices, planner.live.len(), topological_floor(n, &mesh.triangles), stopped_by);
     let kept = std::mem::take(&mut planner.kept);
     lap(&mut clock, &mut stages.export);
     Ok(Hierarchy {
