@@ -178,6 +178,9 @@ fn main() {
                 ours.gave_way.as_deref().unwrap_or(""),
                 if outcome.reached { "" } else { " — TARGET NOT REACHED" }
             );
+            if let Some(why) = &ours.stopped_by {
+                println!("{:<24} stopped by {why}", "");
+            }
             outcomes.push(outcome);
         }
     }

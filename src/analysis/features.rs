@@ -322,13 +322,14 @@ pub fn classify(
         .collect()
 }
 
-/// Algorithm 1's classes at two scales: a vertex keeps a sharp class (corner, strong edge)
-/// only as far as its tensor over the two-ring (`wide`, [`wide_voting_tensors`]) agrees,
-/// so its class is the lower of the two. A CAD corner or crease is one at both scales
-/// (the same planes meet there); the noise of a rough scan is not: one bent face tilts a
-/// one-ring tensor, and the two-ring averages it with the faces around. The thesis'
-/// thresholds are kept, applied to each normalised tensor (#34; on the shared femur scan
-/// the corners fall from 557 to the ones measured in `docs/ARCHITECTURE.md`).
+/// Algorithm 1's classes at two scales: a vertex keeps its sharp class (corner, strong
+/// edge) only where its tensor over normals averaged at the one-ring's scale (`wide`,
+/// [`wide_voting_tensors`]) is sharp too; otherwise it takes that tensor's class. A CAD
+/// corner or crease is sharp at both scales (the same planes meet there, more than 40°
+/// apart); the noise of a rough scan is not: one bent face tilts a one-ring tensor, and
+/// the averaged normals smooth it out. Both use the thesis' thresholds raised above the
+/// mesh's noise ([`FeatureOptions::calibrated`]; #34: on the shared femur scan the corners
+/// fall from 557 to 26, see `docs/ARCHITECTURE.md`).
 pub fn classify_at_two_scales(
     positions: &[glam::DVec3],
     adjacency: &Adjacency,

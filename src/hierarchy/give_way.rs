@@ -139,6 +139,11 @@ impl GiveWay {
         }
     }
 
+    /// Whether `v` never gives way (a user mark, a texture seam, a kept feature).
+    pub(super) fn is_fixed(&self, v: u32) -> bool {
+        self.fixed[v as usize]
+    }
+
     /// The current angle floor, degrees.
     pub(super) fn floor(&self) -> f64 {
         if self.exhausted { FLOORS_AFTER_RELEASE[self.floor_step] } else { FLOORS_BEFORE_RELEASE[self.floor_step] }

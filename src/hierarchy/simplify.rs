@@ -287,12 +287,19 @@ impl Planner<'_> {
                     Some(Rung::Floor(degrees)) => rules.min_angle = degrees.to_radians(),
                     Some(Rung::Released(_)) => rules.min_angle = self.give_way.floor().to_radians(),
                     None => {
+                        let fixed = self.live.iter().filter(|&&v| self.give_way.is_fixed(v)).count();
+                        let held = match fixed {
+                            0 => String::new(),
+                            n => format!(
+                                "; {n} vertices that never give way are kept (--feature-vertices keep, texture seams, marked vertices)"
+                            ),
+                        };
                         self.stopped_by = Some(if offenders.is_empty() {
                             "no valid cluster is left: every remaining removal would flip or fold a face, make an edge that exists (genus, manifoldness) or close a boundary loop".to_string()
                         } else {
                             "the intersection guard: every remaining cluster would make the surface cut itself"
                                 .to_string()
-                        });
+                        } + &held);
                         break;
                     }
                 }
@@ -403,7 +410,8 @@ fn prepare_input(mesh: &Mesh) -> Result<()> {
 }
 
 /// The feature vertices (§4.4.1.1, Algorithm 1 classes chosen by `keep_features`), their
-/// lines, the boundary loops and the texture `seams`, and the vertices never removed:
+/// lines, the boundary loops and the texture `seams`, and the vertices kept until the
+/// give-way ladder releases them (see `give_way`):
 /// corners, the feature, boundary and seam vertices not on a line (every one with
 /// [`FeatureVertices::Keep`]) and those the user marked.
 fn features_and_kept(mesh: &Mesh, options: &SimplifyOptions, seams: &[[u32; 2]]) -> Result<Features> {
