@@ -195,14 +195,13 @@ impl GiveWay {
         lines: &mut FeatureLines,
         rings: &Rings,
     ) -> usize {
-        let budget = target;
         let mut candidates: Vec<u32> =
             live.iter().copied().filter(|&v| !self.fixed[v as usize] && kept[v as usize]).collect();
-        if candidates.len() <= budget {
+        if candidates.len() <= target {
             return 0;
         }
-        candidates.sort_by(|&a, &b| self.strength[a as usize].total_cmp(&self.strength[b as usize]).then(a.cmp(&b)));
-        let excess = candidates.len() - budget;
+        self.weakest_first(&mut candidates);
+        let excess = candidates.len() - target;
         self.release_these(&candidates[..excess], kept, lines, rings);
         excess
     }
@@ -232,7 +231,6 @@ impl GiveWay {
                 !self.fixed[v as usize]
                     && !waiting.contains(&v)
                     && (kept[v as usize] || lines.is_stranded(v, rings))
-                    && rings.degree(v) >= if rings.is_boundary(v) { 3 } else { 4 }
             })
             .filter_map(|v| {
                 plan_cluster_with(v, rings, geometry, rules, true).filter(|p| p.error <= bar).map(|p| (p.error, v))
@@ -279,6 +277,11 @@ impl GiveWay {
         }
     }
 
+    /// Sorts `vertices` weakest first by feature strength, ties by id.
+    fn weakest_first(&self, vertices: &mut [u32]) {
+        vertices.sort_by(|&a, &b| self.strength[a as usize].total_cmp(&self.strength[b as usize]).then(a.cmp(&b)));
+    }
+
     fn lowered(&mut self) -> Rung {
         let floor = self.floor();
         self.lowest_floor = self.lowest_floor.min(floor);
@@ -303,7 +306,7 @@ impl GiveWay {
         };
         let mut candidates: Vec<u32> =
             live.iter().copied().filter(|&v| !self.fixed[v as usize] && releasable(v)).collect();
-        candidates.sort_by(|&a, &b| self.strength[a as usize].total_cmp(&self.strength[b as usize]).then(a.cmp(&b)));
+        self.weakest_first(&mut candidates);
         let batch = need.max(16).saturating_mul(1 << self.rounds.min(20));
         self.rounds += 1;
         candidates.truncate(batch);
