@@ -164,3 +164,60 @@ fn simplify_reports_what_gave_way_and_a_note_when_the_target_is_out_of_reach() {
     let mesh = asperity::io::read(&fandisk).unwrap().mesh;
     assert!(!build(&mesh, &keep).unwrap().target.reached);
 }
+
+/// A tube as CAD exports it: `segments` around, its walls `height` tall and its two end
+/// annuli each split into triangles across (every annulus edge from rim to rim joins two
+/// crease vertices without following a crease), all faces facing out.
+fn cad_tube(segments: u32, height: f64) -> Mesh {
+    let (outer, inner) = (1.0, 0.6);
+    let mut positions = Vec::new();
+    for ring in 0..4u32 {
+        let (radius, z) = [(outer, height), (inner, height), (outer, 0.0), (inner, 0.0)][ring as usize];
+        for i in 0..segments {
+            let a = std::f64::consts::TAU * f64::from(i) / f64::from(segments);
+            positions.push(DVec3::new(radius * a.cos(), radius * a.sin(), z));
+        }
+    }
+    let id = |ring: u32, i: u32| ring * segments + i % segments;
+    let mut triangles = Vec::new();
+    let mut quad = |q: [u32; 4], out: DVec3| {
+        let [a, b, c, d] = q.map(|v| positions[v as usize]);
+        let normal = (b - a).cross(c - a) + (c - a).cross(d - a);
+        let q = if normal.dot(out) >= 0.0 { q } else { [q[3], q[2], q[1], q[0]] };
+        triangles.push([q[0], q[1], q[2]]);
+        triangles.push([q[0], q[2], q[3]]);
+    };
+    for i in 0..segments {
+        let a = std::f64::consts::TAU * (f64::from(i) + 0.5) / f64::from(segments);
+        let radial = DVec3::new(a.cos(), a.sin(), 0.0);
+        quad([id(0, i), id(0, i + 1), id(1, i + 1), id(1, i)], DVec3::Z);
+        quad([id(2, i), id(2, i + 1), id(3, i + 1), id(3, i)], -DVec3::Z);
+        quad([id(2, i), id(2, i + 1), id(0, i + 1), id(0, i)], radial);
+        quad([id(3, i), id(3, i + 1), id(1, i + 1), id(1, i)], -radial);
+    }
+    Mesh::new(positions, triangles)
+}
+
+#[test]
+fn a_cad_tube_simplifies_along_its_rims_without_releasing_a_feature() {
+    // Walls of slivers (an angle of 1.1° to 1.9°), as a CAD exporter makes a tall tube.
+    let mesh = cad_tube(96, 3.0);
+    let input = mesh.validate();
+    assert_eq!((input.genus, input.boundary_loops, input.inconsistently_oriented_edges), (Some(1), 0, 0));
+    let target = 96; // 24 per rim
+    let options = SimplifyOptions { target_vertices: Some(target), ..SimplifyOptions::default() };
+    let report = asperity::hierarchy::compare::compare_report(&mesh, target, &["asperity", "meshoptimizer"], &options)
+        .unwrap();
+    let (ours, mo) = (&report.at_target[0], &report.at_target[1]);
+    eprintln!("cad tube to {target}: ours {} vertices, Hausdorff {:.4} ({}); meshoptimizer {} vertices, {:.4}",
+        ours.vertices, ours.hausdorff, ours.gave_way.as_deref().unwrap_or(""), mo.vertices, mo.hausdorff);
+    let h = build(&mesh, &options).unwrap();
+    assert_eq!(h.base_vertex_count(), target, "{:?}", h.target);
+    // The rims are four lines, each a crease: no vertex of them is a junction to release.
+    assert_eq!(h.target.released_feature_vertices, 0, "{:?}", h.target);
+    // 24 segments per rim cut a chord at most 1 − cos(π/24) of the radius inside it.
+    let chord = 1.0 - (std::f64::consts::PI / 24.0).cos();
+    let diagonal = (2.0f64 * 2.0 * 2.0 + 3.0 * 3.0).sqrt();
+    assert!(ours.hausdorff <= 1.5 * chord / diagonal, "{} > {}", ours.hausdorff, 1.5 * chord / diagonal);
+    assert!(ours.hausdorff <= mo.hausdorff * 1.0 + 1e-9, "ours {} vs meshoptimizer {}", ours.hausdorff, mo.hausdorff);
+}

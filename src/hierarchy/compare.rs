@@ -201,6 +201,25 @@ impl Reference {
     /// Distances are measured in the input's unit frame: they come out as fractions of its
     /// diagonal and stay finite whatever the model's units.
     fn row(&self, method: &str, target: usize, result: &Mesh, seconds: f64) -> Result<CompareRow> {
+        if result.face_count() == 0 {
+            // A method that dropped every face (meshoptimizer can, on a small assembly)
+            // has no distance to measure: it is infinitely far, and says so.
+            return Ok(CompareRow {
+                method: method.to_string(),
+                vertices: result.vertex_count(),
+                faces: 0,
+                seconds,
+                hausdorff: f64::INFINITY,
+                rms: f64::INFINITY,
+                min_angle_deg: 0.0,
+                features_kept: 0,
+                sliver_share: 0.0,
+                min_angle_p1_deg: 0.0,
+                target_vertices: target,
+                gave_way: None,
+                stopped_by: Some("the result has no faces left".to_string()),
+            });
+        }
         let result_unit = self.unit.apply(result);
         let hausdorff = ffi::hausdorff_distance(&self.input_unit, &result_unit, HausdorffOptions::default())?;
         let there = ffi::point_distances(&self.input_unit.positions, &result_unit)?;

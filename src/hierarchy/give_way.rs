@@ -72,6 +72,9 @@ pub struct TargetReport {
     /// Vertices of inside feature lines let off their lines (removed like surface
     /// vertices), once no kept vertex was left to release.
     pub released_line_vertices: usize,
+    /// Clusters whose new triangles went below the angle floor (down to 0.5°) because
+    /// they were nearly free (see `cluster::NEARLY_FREE_FLOOR_DEGREES`).
+    pub clusters_under_floor: usize,
     /// When the target was not reached: what stopped the build.
     pub stopped_by: Option<String>,
 }
@@ -82,6 +85,9 @@ impl TargetReport {
         let mut parts = Vec::new();
         if self.min_angle_floor_deg < FLOORS_BEFORE_RELEASE[0] {
             parts.push(format!("angle floor relaxed to {}°", self.min_angle_floor_deg));
+        }
+        if self.clusters_under_floor > 0 {
+            parts.push(format!("{} nearly free clusters under the floor (≥ 0.5°)", self.clusters_under_floor));
         }
         if self.released_feature_vertices > 0 {
             parts.push(format!("{} feature vertices released", self.released_feature_vertices));
@@ -110,6 +116,8 @@ pub(super) struct GiveWay {
     /// Releases so far (the next batch doubles).
     rounds: u32,
     lowest_floor: f64,
+    /// Clusters carried out below the floor (nearly free ones).
+    pub(super) under_floor: usize,
     released_feature: usize,
     released_boundary: usize,
     released_line: usize,
@@ -133,6 +141,7 @@ impl GiveWay {
             exhausted: false,
             rounds: 0,
             lowest_floor: FLOORS_BEFORE_RELEASE[0],
+            under_floor: 0,
             released_feature: 0,
             released_boundary: 0,
             released_line: 0,
@@ -338,6 +347,7 @@ impl GiveWay {
             released_feature_vertices: self.released_feature,
             released_boundary_vertices: self.released_boundary,
             released_line_vertices: self.released_line,
+            clusters_under_floor: self.under_floor,
             stopped_by: if reached { None } else { stopped_by },
         }
     }

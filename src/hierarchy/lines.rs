@@ -2,7 +2,8 @@
 //! whose literal rule keeps every feature vertex).
 //!
 //! The feature edges are the edges joining two feature vertices of the input (Algorithm 1's
-//! classes chosen by `--keep-features`), the boundary edges and the texture seams (#22: the
+//! classes chosen by `--keep-features`) that follow the feature (the caller's test: see
+//! `simplify::follows_feature`), the boundary edges and the texture seams (#22: the
 //! edges whose faces disagree on a UV or a material, [`crate::mesh::uv::seam_edges`]). A feature or boundary vertex
 //! with exactly two feature edges lies on a line; one with any other count is a junction or
 //! an end and, like a corner, is never removed. A line vertex may be removed only by the
@@ -39,8 +40,16 @@ impl FeatureLines {
     /// with its boundary loops and the `seams` (edges, any order of ends) as lines too.
     /// Corners are never line vertices, and none is when `along` is false (the lines are then
     /// only reported); vertices whose removal the caller forbids are left to the caller's
-    /// `kept` flags.
-    pub fn new(feature: &[bool], corner: &[bool], triangles: &[[u32; 3]], along: bool, seams: &[[u32; 2]]) -> Self {
+    /// `kept` flags. An edge joining two feature vertices is a feature edge only where
+    /// `follows(a, b)` (it runs along the feature, not across a face between two features).
+    pub fn new(
+        feature: &[bool],
+        corner: &[bool],
+        triangles: &[[u32; 3]],
+        along: bool,
+        seams: &[[u32; 2]],
+        follows: impl Fn(u32, u32) -> bool,
+    ) -> Self {
         let n = feature.len();
         let directed: rustc_hash::FxHashSet<[u32; 2]> =
             triangles.iter().flat_map(|t| (0..3).map(move |k| [t[k], t[(k + 1) % 3]])).collect();
@@ -52,7 +61,7 @@ impl FeatureLines {
                 boundary[a as usize] = true;
                 boundary[b as usize] = true;
             }
-            if open || (feature[a as usize] && feature[b as usize]) {
+            if open || (a < b && feature[a as usize] && feature[b as usize] && follows(a, b)) {
                 edges.insert(key(a, b), 0.0);
             }
         }

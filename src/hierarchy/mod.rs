@@ -22,6 +22,7 @@ mod refine;
 pub mod region;
 mod rings;
 mod simplify;
+mod sliver_budget;
 mod wedges;
 
 use glam::DVec3;

@@ -8,7 +8,8 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use rustc_hash::FxHashSet;
+use rustc_hash::{FxHashMap, FxHashSet};
+use smallvec::SmallVec;
 
 use super::cluster::{ClusterPlan, ClusterRules, LevelGeometry, apply_plan, plan_cluster, plan_still_applies};
 use super::give_way::{GiveWay, Rung, topological_floor};
@@ -17,9 +18,10 @@ use super::lines::FeatureLines;
 use super::param::ParamBuckets;
 use super::record::{Recorded, Recorder};
 use super::rings::Rings;
+use super::sliver_budget::SliverBudget;
 use super::wedges::Wedges;
 use super::{BuildStages, FeatureVertices, Hierarchy, KeepFeatures, SimplifyOptions, used_vertices};
-use crate::analysis::{FaceGeometry, FeatureClass, classify_at_two_scales, voting_tensors, wide_voting_tensors};
+use crate::analysis::{FaceGeometry, FeatureClass, FeatureOptions, classify_at_two_scales, voting_tensors, wide_voting_tensors};
 use crate::error::{Error, Result};
 use crate::ffi::{self, HalfEdgeMesh, OpStatus};
 use crate::mesh::{Adjacency, FaceId, Mesh, UnitFrame, ValidationReport, is_degenerate_face};
@@ -95,6 +97,7 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
         locked: vec![false; n],
         lines,
         params: ParamBuckets::new(n),
+        slivers: SliverBudget::new(&working_positions, &mesh.triangles),
     };
     // Planning runs here; the record (the removal records, and the OpenMesh replay when
     // asked) follows a level behind on its own thread. The channel holds nothing: a level's
@@ -172,6 +175,8 @@ struct Planner<'a> {
     lines: FeatureLines,
     /// Where every removed vertex lies on the current level (MAPS).
     params: ParamBuckets,
+    /// How many slivers clusters under the angle floor may still make.
+    slivers: SliverBudget,
 }
 
 impl Planner<'_> {
@@ -188,6 +193,7 @@ impl Planner<'_> {
             removal_weight: options.removal_weight,
             swap_weight: options.swap_weight,
             min_angle: self.give_way.floor().to_radians(),
+            under_floor: false,
         };
         // Planning is in the unit frame (diagonal 1): fractions of the input's diagonal are
         // distances there.
@@ -214,6 +220,7 @@ impl Planner<'_> {
                 params: &self.params,
                 lines: &self.lines,
             };
+            rules.under_floor = self.slivers.has_room();
             let mut ranked = ranked_candidates(&self.live, &self.rings, &self.kept, geometry, &rules);
             // The last level's offenders wait a level: planned again at once they would
             // likely offend again and take the place of clusters that can go.
@@ -256,6 +263,7 @@ impl Planner<'_> {
                 self.live.len(),
                 options,
                 limit,
+                &self.slivers,
             )?;
             for &v in &self.live {
                 self.locked[v as usize] = false;
@@ -308,6 +316,10 @@ impl Planner<'_> {
                 continue;
             }
             retries = 0;
+            self.give_way.under_floor += plans.iter().filter(|p| p.under_floor).count();
+            for plan in &plans {
+                self.slivers.apply(plan, self.positions);
+            }
             waiting = offenders;
             for plan in &plans {
                 let q = self.quadrics[plan.vertex as usize];
@@ -419,6 +431,7 @@ fn features_and_kept(mesh: &Mesh, options: &SimplifyOptions, seams: &[[u32; 2]])
     let mut feature = vec![false; n];
     let mut corner = vec![false; n];
     let mut strength = vec![0.0; n];
+    let mut direction: Vec<Option<DVec3>> = vec![None; n];
     if options.keep_features != KeepFeatures::None {
         let adjacency = Adjacency::of(mesh);
         let geometry = FaceGeometry::of(mesh);
@@ -435,10 +448,12 @@ fn features_and_kept(mesh: &Mesh, options: &SimplifyOptions, seams: &[[u32; 2]])
                 KeepFeatures::All => class != FeatureClass::Face,
             };
             corner[v] = class == FeatureClass::Corner;
+            direction[v] = (feature[v] && !corner[v]).then_some(tensors[v].diffusion);
         }
     }
     let along = options.feature_vertices == FeatureVertices::AlongLines;
-    let lines = FeatureLines::new(&feature, &corner, &mesh.triangles, along, seams);
+    let follows = follows_feature(mesh, &corner, &direction);
+    let lines = FeatureLines::new(&feature, &corner, &mesh.triangles, along, seams, follows);
     let line_like = |v: u32| feature[v as usize] || lines.is_boundary(v) || lines.is_on_seam(v);
     let mut kept: Vec<bool> = (0..n as u32).map(|v| line_like(v) && !lines.is_on_line(v)).collect();
     // What never gives way to the target: texture seams, the user's marks, and the
@@ -453,6 +468,45 @@ fn features_and_kept(mesh: &Mesh, options: &SimplifyOptions, seams: &[[u32; 2]])
     }
     Ok(Features { feature, kept, lines, give_way: GiveWay::new(strength, fixed) })
 }
+
+/// Whether the edge a–b between two feature vertices runs along their feature (#34): within
+/// NVC's "along" angle (`nvc_along_degrees`, 30°) of the principal diffusion direction —
+/// the crease's direction — at each end that is not a corner, and, between two corners,
+/// over a dihedral angle of at least [`CORNER_EDGE_DEGREES`]. An edge across a face between
+/// two creases (a CAD fan joining the two rims of an annulus) is no feature edge: counted as
+/// one, it made every rim vertex a junction, kept until the target forced it out.
+fn follows_feature<'a>(
+    mesh: &'a Mesh,
+    corner: &'a [bool],
+    direction: &'a [Option<DVec3>],
+) -> impl Fn(u32, u32) -> bool + 'a {
+    let cos_along = FeatureOptions::default().nvc_along_degrees.to_radians().cos();
+    let mut corner_edges: FxHashMap<[u32; 2], SmallVec<[DVec3; 2]>> = FxHashMap::default();
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
+        let normal = (b - a).cross(c - a).normalize_or_zero();
+        for k in 0..3 {
+            let (u, w) = (t[k], t[(k + 1) % 3]);
+            if corner[u as usize] && corner[w as usize] {
+                corner_edges.entry([u.min(w), u.max(w)]).or_default().push(normal);
+            }
+        }
+    }
+    let cos_corner = CORNER_EDGE_DEGREES.to_radians().cos();
+    move |a, b| {
+        let along = (mesh.positions[b as usize] - mesh.positions[a as usize]).normalize_or_zero();
+        match (direction[a as usize], direction[b as usize]) {
+            (None, None) => corner_edges
+                .get(&[a.min(b), a.max(b)])
+                .is_some_and(|n| n.len() == 2 && n[0].dot(n[1]) <= cos_corner),
+            (da, db) => [da, db].into_iter().flatten().all(|d| d.dot(along).abs() >= cos_along),
+        }
+    }
+}
+
+/// The smallest dihedral angle (between face normals) of an edge joining two corners that
+/// makes it a feature edge, degrees.
+const CORNER_EDGE_DEGREES: f64 = 20.0;
 
 /// What [`features_and_kept`] finds.
 struct Features {
@@ -512,7 +566,9 @@ fn select_clusters(
     live: usize,
     options: &SimplifyOptions,
     limit: f64,
+    slivers: &SliverBudget,
 ) -> Result<Vec<ClusterPlan>> {
+    let mut slivers = slivers.clone();
     let within = ranked.partition_point(|&(e, _)| e <= limit);
     let planned: Vec<Option<ClusterPlan>> = {
         let rings: &Rings = rings;
@@ -533,6 +589,10 @@ fn select_clusters(
                 _ => continue,
             },
         };
+        if !slivers.admits(&plan, geometry.positions) {
+            continue;
+        }
+        slivers.apply(&plan, geometry.positions);
         apply_plan(&plan, rings)?;
         locked[v as usize] = true;
         for &r in &plan.ring {
