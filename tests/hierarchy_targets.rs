@@ -206,11 +206,17 @@ fn a_cad_tube_simplifies_along_its_rims_without_releasing_a_feature() {
     assert_eq!((input.genus, input.boundary_loops, input.inconsistently_oriented_edges), (Some(1), 0, 0));
     let target = 96; // 24 per rim
     let options = SimplifyOptions { target_vertices: Some(target), ..SimplifyOptions::default() };
-    let report = asperity::hierarchy::compare::compare_report(&mesh, target, &["asperity", "meshoptimizer"], &options)
-        .unwrap();
+    let report =
+        asperity::hierarchy::compare::compare_report(&mesh, target, &["asperity", "meshoptimizer"], &options).unwrap();
     let (ours, mo) = (&report.at_target[0], &report.at_target[1]);
-    eprintln!("cad tube to {target}: ours {} vertices, Hausdorff {:.4} ({}); meshoptimizer {} vertices, {:.4}",
-        ours.vertices, ours.hausdorff, ours.gave_way.as_deref().unwrap_or(""), mo.vertices, mo.hausdorff);
+    eprintln!(
+        "cad tube to {target}: ours {} vertices, Hausdorff {:.4} ({}); meshoptimizer {} vertices, {:.4}",
+        ours.vertices,
+        ours.hausdorff,
+        ours.gave_way.as_deref().unwrap_or(""),
+        mo.vertices,
+        mo.hausdorff
+    );
     let h = build(&mesh, &options).unwrap();
     assert_eq!(h.base_vertex_count(), target, "{:?}", h.target);
     // The rims are four lines, each a crease: no vertex of them is a junction to release.

@@ -18,6 +18,7 @@ use smallvec::SmallVec;
 
 use super::conformal::{Flattening, interpolate, locate, orient};
 use super::cost::{Choice, choose, crossing_error, min_angle_sine, point_triangle_distance_squared, spoke_crossing};
+use super::give_way::FEATURE_PREMIUM;
 use super::lines::FeatureLines;
 use super::param::ParamBuckets;
 use super::rings::{RingVec, Rings};
@@ -34,7 +35,7 @@ pub struct ClusterRules {
     /// replace already had a smaller one.
     pub min_angle: f64,
     /// Whether a cluster with none at `min_angle` may go down to
-    /// [`NEARLY_FREE_FLOOR_DEGREES`], at [`UNDER_FLOOR_PREMIUM`] (while the level's slivers
+    /// [`NEARLY_FREE_FLOOR_DEGREES`], at `give_way::FEATURE_PREMIUM` (while the level's slivers
     /// stay within the input's share: `sliver_budget`).
     pub under_floor: bool,
 }
@@ -222,37 +223,32 @@ pub fn plan_cluster_with(
     if let Some(plan) = star.best_plan() {
         return Some(plan);
     }
-    // No cluster at the floor: one down to the nearly-free floor, at the premium (#34).
+    // No cluster at the floor: one down to the nearly-free floor, at the premium a feature
+    // vertex pays (#34), so it is taken only where it moves the surface at most half as far
+    // as the level allows elsewhere. On sliver-ridden CAD output the 5° floor otherwise
+    // leaves a flat face's vertices without a cluster while the level removes dearer ones
+    // (tardis at 25 %: 79 of 462 vertices without one).
     let soft = NEARLY_FREE_FLOOR_DEGREES.to_radians();
     if !rules.under_floor || rules.min_angle <= soft {
         return None;
     }
     star.floor.rule = soft.sin();
-    star.best_plan().map(|plan| ClusterPlan { error: plan.error * UNDER_FLOOR_PREMIUM, under_floor: true, ..plan })
+    star.best_plan().map(|plan| ClusterPlan { error: plan.error * FEATURE_PREMIUM, under_floor: true, ..plan })
 }
 
 /// The smallest angle a cluster may make below the angle floor, degrees: 0.5, the
 /// smallest angle #34 asks of any mesh whose input has none smaller.
 pub const NEARLY_FREE_FLOOR_DEGREES: f64 = 0.5;
 
-/// The factor on the error of a cluster that goes below the angle floor (down to
-/// [`NEARLY_FREE_FLOOR_DEGREES`]): 4, the premium a feature vertex pays
-/// (`give_way::FEATURE_PREMIUM`), so such a cluster is taken only where it moves the surface
-/// at most half as far as the level allows elsewhere. On sliver-ridden CAD output the 5°
-/// floor otherwise leaves a flat face's vertices without a cluster while the level removes
-/// dearer ones (tardis at 25 %: 79 of 462 vertices without one).
-const UNDER_FLOOR_PREMIUM: f64 = 4.0;
-
 impl Star<'_> {
     /// The cheapest plan at the star's floor: greedy spoke flips, else the cheapest fan.
     fn best_plan(&self) -> Option<ClusterPlan> {
-        let star = self;
-        let (boundary, d) = (self.boundary, self.ring.len());
-        if let Some(plan) = star.greedy_ears().and_then(|ears| star.weld(ears)) {
+        if let Some(plan) = self.greedy_ears().and_then(|ears| self.weld(ears)) {
             return Some(plan);
         }
-        let fans = if boundary { 1..d - 1 } else { 0..d };
-        fans.filter_map(|j| star.fan_ears(j).and_then(|ears| star.weld(ears)))
+        let d = self.ring.len();
+        let fans = if self.boundary { 1..d - 1 } else { 0..d };
+        fans.filter_map(|j| self.fan_ears(j).and_then(|ears| self.weld(ears)))
             .min_by(|a, b| a.error.total_cmp(&b.error))
     }
 }

@@ -87,7 +87,11 @@ impl TargetReport {
             parts.push(format!("angle floor relaxed to {}°", self.min_angle_floor_deg));
         }
         if self.clusters_under_floor > 0 {
-            parts.push(format!("{} nearly free clusters under the floor (≥ 0.5°)", self.clusters_under_floor));
+            parts.push(format!(
+                "{} nearly free clusters under the floor (≥ {}°)",
+                self.clusters_under_floor,
+                super::cluster::NEARLY_FREE_FLOOR_DEGREES
+            ));
         }
         if self.released_feature_vertices > 0 {
             parts.push(format!("{} feature vertices released", self.released_feature_vertices));
@@ -237,9 +241,7 @@ impl GiveWay {
         live.par_iter()
             .copied()
             .filter(|&v| {
-                !self.fixed[v as usize]
-                    && !waiting.contains(&v)
-                    && (kept[v as usize] || lines.is_stranded(v, rings))
+                !self.fixed[v as usize] && !waiting.contains(&v) && (kept[v as usize] || lines.is_stranded(v, rings))
             })
             .filter_map(|v| {
                 plan_cluster_with(v, rings, geometry, rules, true).filter(|p| p.error <= bar).map(|p| (p.error, v))

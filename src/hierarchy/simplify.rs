@@ -21,7 +21,9 @@ use super::rings::Rings;
 use super::sliver_budget::SliverBudget;
 use super::wedges::Wedges;
 use super::{BuildStages, FeatureVertices, Hierarchy, KeepFeatures, SimplifyOptions, used_vertices};
-use crate::analysis::{FaceGeometry, FeatureClass, FeatureOptions, classify_at_two_scales, voting_tensors, wide_voting_tensors};
+use crate::analysis::{
+    FaceGeometry, FeatureClass, FeatureOptions, classify_at_two_scales, voting_tensors, wide_voting_tensors,
+};
 use crate::error::{Error, Result};
 use crate::ffi::{self, HalfEdgeMesh, OpStatus};
 use crate::mesh::{Adjacency, FaceId, Mesh, UnitFrame, ValidationReport, is_degenerate_face};
@@ -126,11 +128,16 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
     }
     let feature_vertices = planner.live.iter().filter(|&&v| feature[v as usize]).count();
     // A build that ended without saying why stopped at its level limit.
-    let stopped_by = planner.stopped_by.take().or_else(|| {
-        options.levels.map(|l| format!("the level limit (levels = {l}) came first"))
-    });
-    let target =
-        planner.give_way.report(options.target_vertices, planner.live.len(), topological_floor(n, &mesh.triangles), stopped_by);
+    let stopped_by = planner
+        .stopped_by
+        .take()
+        .or_else(|| options.levels.map(|l| format!("the level limit (levels = {l}) came first")));
+    let target = planner.give_way.report(
+        options.target_vertices,
+        planner.live.len(),
+        topological_floor(n, &mesh.triangles),
+        stopped_by,
+    );
     let kept = std::mem::take(&mut planner.kept);
     lap(&mut clock, &mut stages.export);
     Ok(Hierarchy {
@@ -302,12 +309,14 @@ impl Planner<'_> {
                                 "; {n} vertices that never give way are kept (--feature-vertices keep, texture seams, marked vertices)"
                             ),
                         };
-                        self.stopped_by = Some(if offenders.is_empty() {
-                            "no valid cluster is left: every remaining removal would flip or fold a face, make an edge that exists (genus, manifoldness) or close a boundary loop".to_string()
-                        } else {
-                            "the intersection guard: every remaining cluster would make the surface cut itself"
-                                .to_string()
-                        } + &held);
+                        self.stopped_by = Some(
+                            if offenders.is_empty() {
+                                "no valid cluster is left: every remaining removal would flip or fold a face, make an edge that exists (genus, manifoldness) or close a boundary loop".to_string()
+                            } else {
+                                "the intersection guard: every remaining cluster would make the surface cut itself"
+                                    .to_string()
+                            } + &held,
+                        );
                         break;
                     }
                 }
@@ -317,9 +326,7 @@ impl Planner<'_> {
             }
             retries = 0;
             self.give_way.under_floor += plans.iter().filter(|p| p.under_floor).count();
-            for plan in &plans {
-                self.slivers.apply(plan, self.positions);
-            }
+            self.slivers.apply(&plans, self.positions);
             waiting = offenders;
             for plan in &plans {
                 let q = self.quadrics[plan.vertex as usize];
@@ -496,9 +503,9 @@ fn follows_feature<'a>(
     move |a, b| {
         let along = (mesh.positions[b as usize] - mesh.positions[a as usize]).normalize_or_zero();
         match (direction[a as usize], direction[b as usize]) {
-            (None, None) => corner_edges
-                .get(&[a.min(b), a.max(b)])
-                .is_some_and(|n| n.len() == 2 && n[0].dot(n[1]) <= cos_corner),
+            (None, None) => {
+                corner_edges.get(&[a.min(b), a.max(b)]).is_some_and(|n| n.len() == 2 && n[0].dot(n[1]) <= cos_corner)
+            }
             (da, db) => [da, db].into_iter().flatten().all(|d| d.dot(along).abs() >= cos_along),
         }
     }
@@ -589,10 +596,9 @@ fn select_clusters(
                 _ => continue,
             },
         };
-        if !slivers.admits(&plan, geometry.positions) {
+        if !slivers.take(&plan, geometry.positions) {
             continue;
         }
-        slivers.apply(&plan, geometry.positions);
         apply_plan(&plan, rings)?;
         locked[v as usize] = true;
         for &r in &plan.ring {

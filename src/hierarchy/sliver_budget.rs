@@ -8,6 +8,7 @@
 //! it worse than it came.
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 use super::cluster::ClusterPlan;
 use super::cost::min_angle_sine;
@@ -31,8 +32,10 @@ impl SliverBudget {
     /// The budget of a build of `triangles` over `positions`.
     pub(super) fn new(positions: &[DVec3], triangles: &[[u32; 3]]) -> Self {
         let faces = triangles.len();
-        let slivers =
-            triangles.iter().filter(|t| is_sliver(positions[t[0] as usize], positions[t[1] as usize], positions[t[2] as usize])).count();
+        let slivers = triangles
+            .iter()
+            .filter(|t| is_sliver(positions[t[0] as usize], positions[t[1] as usize], positions[t[2] as usize]))
+            .count();
         let share = if faces == 0 { 0.0 } else { slivers as f64 / faces as f64 };
         SliverBudget { faces, slivers, share }
     }
@@ -58,19 +61,25 @@ impl SliverBudget {
         self.share * faces as f64
     }
 
-    /// Whether `plan` may be carried out: any plan at the floor; one under it only while
-    /// the slivers stay within the input's share.
-    pub(super) fn admits(&self, plan: &ClusterPlan, positions: &[DVec3]) -> bool {
-        if !plan.under_floor {
-            return true;
-        }
+    /// Counts `plan` as carried out if it may be: any plan at the floor; one under it only
+    /// while the slivers stay within the input's share. Whether it was.
+    pub(super) fn take(&mut self, plan: &ClusterPlan, positions: &[DVec3]) -> bool {
         let (lost, more) = Self::change(plan, positions);
-        (self.slivers as isize + more) as f64 <= self.allowed(self.faces - lost)
+        if plan.under_floor && (self.slivers as isize + more) as f64 > self.allowed(self.faces - lost) {
+            return false;
+        }
+        self.count(lost, more);
+        true
     }
 
-    /// Counts `plan` as carried out.
-    pub(super) fn apply(&mut self, plan: &ClusterPlan, positions: &[DVec3]) {
-        let (lost, more) = Self::change(plan, positions);
+    /// Counts a level's `plans` as carried out (their changes measured in parallel).
+    pub(super) fn apply(&mut self, plans: &[ClusterPlan], positions: &[DVec3]) {
+        let (lost, more) =
+            plans.par_iter().map(|plan| Self::change(plan, positions)).reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+        self.count(lost, more);
+    }
+
+    fn count(&mut self, lost: usize, more: isize) {
         self.faces -= lost;
         self.slivers = (self.slivers as isize + more).max(0) as usize;
     }
