@@ -35,7 +35,7 @@ pub struct ClusterRules {
     /// replace already had a smaller one.
     pub min_angle: f64,
     /// Whether a cluster with none at `min_angle` may go down to
-    /// [`NEARLY_FREE_FLOOR_DEGREES`], at `give_way::FEATURE_PREMIUM` (while the level's slivers
+    /// `cluster::NEARLY_FREE_FLOOR_DEGREES`, at `give_way::FEATURE_PREMIUM` (while the level's slivers
     /// stay within the input's share: `sliver_budget`).
     pub under_floor: bool,
 }
@@ -85,7 +85,7 @@ pub struct ClusterPlan {
     /// the diagonal) and the new feature edge's distance bound.
     pub along_line: Option<([u32; 2], f64)>,
     /// Whether a new triangle is below the angle floor (down to
-    /// [`NEARLY_FREE_FLOOR_DEGREES`]); `error` then includes the premium.
+    /// `cluster::NEARLY_FREE_FLOOR_DEGREES`); `error` then includes the premium.
     pub under_floor: bool,
 }
 
