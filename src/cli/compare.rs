@@ -65,7 +65,10 @@ pub fn run(args: CompareArgs, ctx: super::Context) -> Result<()> {
     if ctx.json {
         println!("{}", serde_json::to_string_pretty(&report).expect("report serialises"));
     } else if !ctx.quiet {
-        println!("at the requested target ({} vertices):", report.target_vertices);
+        println!(
+            "at the requested target ({} vertices; the input cuts itself at {} face pairs):",
+            report.target_vertices, report.input_self_intersections
+        );
         print_rows(&report.at_target, mesh.face_count(), true);
         if let Some(common) = &report.at_common_count {
             let short: Vec<&str> = report
@@ -90,7 +93,7 @@ pub fn run(args: CompareArgs, ctx: super::Context) -> Result<()> {
 fn print_rows(rows: &[CompareRow], input_faces: usize, notes: bool) {
     for r in rows {
         println!(
-            "{:<13} {} tris => {} tris, {} vertices (hausdorff {:.3}%, rms {:.4}%, min angle {:.2}°, p1 angle {:.2}°, slivers {:.2}%, {} features kept) in {:.0} ms",
+            "{:<13} {} tris => {} tris, {} vertices (hausdorff {:.3}%, rms {:.4}%, min angle {:.2}°, p1 angle {:.2}°, slivers {:.2}%, {} features kept, cuts itself at {} face pairs) in {:.0} ms",
             format!("{}:", r.method),
             input_faces,
             r.faces,
@@ -101,6 +104,7 @@ fn print_rows(rows: &[CompareRow], input_faces: usize, notes: bool) {
             r.min_angle_p1_deg,
             r.sliver_share * 100.0,
             r.features_kept,
+            r.self_intersections,
             r.seconds * 1e3
         );
         if !notes {

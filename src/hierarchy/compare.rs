@@ -36,6 +36,10 @@ pub struct CompareRow {
     pub features_kept: usize,
     /// Share of the triangles with an angle under 5° (slivers).
     pub sliver_share: f64,
+    /// Pairs of the result's faces that intersect beyond a shared vertex or edge (CGAL's
+    /// exact predicates): a surface that cuts itself. Compare with
+    /// [`CompareReport::input_self_intersections`], the input's own.
+    pub self_intersections: usize,
     /// The 1st percentile of the triangles' smallest angles, degrees.
     pub min_angle_p1_deg: f64,
     /// The vertex count the method was asked for: the requested budget, or the count
@@ -66,6 +70,10 @@ pub fn same_count(a: usize, b: usize) -> bool {
 pub struct CompareReport {
     /// The vertex count asked for.
     pub target_vertices: usize,
+    /// Pairs of the input's faces that intersect beyond a shared vertex or edge (an
+    /// assembly's touching parts): a result's [`CompareRow::self_intersections`] beyond
+    /// these are cuts the method made.
+    pub input_self_intersections: usize,
     /// Each method asked for the target.
     pub at_target: Vec<CompareRow>,
     /// Each method at the smallest count every method reached, when the counts at the
@@ -143,7 +151,8 @@ pub fn compare_report(
             .collect::<Result<Vec<_>>>()?;
         Some(CommonCount { vertices: top, rows })
     };
-    Ok(CompareReport { target_vertices, at_target, at_common_count })
+    let input_self_intersections = reference.self_intersections;
+    Ok(CompareReport { target_vertices, input_self_intersections, at_target, at_common_count })
 }
 
 /// One method's simplification of `mesh` to `target` vertices, with ours' target report.
@@ -178,11 +187,17 @@ pub fn relative_hausdorff(reference: &Mesh, other: &Mesh) -> Result<f64> {
 }
 
 /// The input of a comparison, prepared once for measuring every result: its unit frame,
-/// its copy in that frame, and its feature vertices' positions.
+/// its copy in that frame, its feature vertices' positions and how often it cuts itself.
 struct Reference {
     unit: UnitFrame,
     input_unit: Mesh,
     features: Vec<DVec3>,
+    self_intersections: usize,
+}
+
+/// Pairs of `mesh`'s faces that intersect beyond a shared vertex or edge.
+fn self_intersection_count(mesh: &Mesh) -> Result<usize> {
+    Ok(ffi::added_triangle_intersections(&mesh.positions, &[], &mesh.triangles)?.len())
 }
 
 impl Reference {
@@ -194,7 +209,8 @@ impl Reference {
         let features =
             classes.iter().enumerate().filter(|(_, c)| c.is_sharp()).map(|(v, _)| input.positions[v]).collect();
         let unit = UnitFrame::of(input)?;
-        Ok(Reference { unit, input_unit: unit.apply(input), features })
+        let self_intersections = self_intersection_count(input)?;
+        Ok(Reference { unit, input_unit: unit.apply(input), features, self_intersections })
     }
 
     /// `method`'s row for `result`, asked for `target` vertices, made in `seconds`.
@@ -214,6 +230,7 @@ impl Reference {
                 min_angle_deg: 0.0,
                 features_kept: 0,
                 sliver_share: 0.0,
+                self_intersections: 0,
                 min_angle_p1_deg: 0.0,
                 target_vertices: target,
                 gave_way: None,
@@ -241,6 +258,7 @@ impl Reference {
             min_angle_deg: shape.min_angle_deg,
             features_kept,
             sliver_share: shape.sliver_share,
+            self_intersections: self_intersection_count(result)?,
             min_angle_p1_deg: shape.min_angle_p1_deg,
             target_vertices: target,
             gave_way: None,

@@ -216,6 +216,7 @@ impl Planner<'_> {
         }
         // Vertices whose plans the guard dropped on the last level (or the last tries).
         let mut waiting: FxHashSet<u32> = FxHashSet::default();
+        let mut waiting_retried = false;
         while options.levels.is_none_or(|l| steps < l) {
             if options.target_vertices.is_some_and(|t| self.live.len() <= t) {
                 break;
@@ -301,6 +302,13 @@ impl Planner<'_> {
                 match self.give_way.next(need, &self.live, &mut self.kept, &mut self.lines, &self.rings) {
                     Some(Rung::Floor(degrees)) => rules.min_angle = degrees.to_radians(),
                     Some(Rung::Released(_)) => rules.min_angle = self.give_way.floor().to_radians(),
+                    // The last level's offenders sat this level out: before stopping,
+                    // they are planned again once (the level has changed around them).
+                    None if !waiting.is_empty() && !waiting_retried => {
+                        waiting_retried = true;
+                        waiting.clear();
+                        continue;
+                    }
                     None => {
                         let fixed = self.live.iter().filter(|&&v| self.give_way.is_fixed(v)).count();
                         let held = match fixed {
@@ -309,8 +317,10 @@ impl Planner<'_> {
                                 "; {n} vertices that never give way are kept (--feature-vertices keep, texture seams, marked vertices)"
                             ),
                         };
+                        // The vertices left out as the last tries' offenders still have
+                        // plans: what stops the build there is the guard.
                         self.stopped_by = Some(
-                            if offenders.is_empty() {
+                            if offenders.is_empty() && waiting.is_empty() {
                                 "no valid cluster is left: every remaining removal would flip or fold a face, make an edge that exists (genus, manifoldness) or close a boundary loop".to_string()
                             } else {
                                 "the intersection guard: every remaining cluster would make the surface cut itself"
@@ -325,6 +335,7 @@ impl Planner<'_> {
                 continue;
             }
             retries = 0;
+            waiting_retried = false;
             self.give_way.under_floor += plans.iter().filter(|p| p.under_floor).count();
             self.slivers.apply(&plans, self.positions);
             waiting = offenders;
