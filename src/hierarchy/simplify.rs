@@ -89,6 +89,7 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
 
     let mut planner = Planner {
         positions: &working_positions,
+        model_positions: &mesh.positions,
         options,
         kept,
         give_way,
@@ -167,6 +168,11 @@ type LevelPlans = (Vec<ClusterPlan>, Option<Vec<[u32; 3]>>);
 struct Planner<'a> {
     /// Positions in the unit frame (the build's working copy).
     positions: &'a [DVec3],
+    /// The input's own positions, which every level keeps: the intersection guard decides
+    /// on them, since the unit frame's rounding can part faces that touch in the model
+    /// (#34: a Menger sponge's coplanar faces met at 21 face pairs of the result though the
+    /// guard, deciding in the unit frame, had found none).
+    model_positions: &'a [DVec3],
     options: &'a SimplifyOptions,
     /// Vertices not removed (features not on a line, boundary junctions, user marks) until
     /// the give-way ladder releases them.
@@ -229,11 +235,10 @@ impl Planner<'_> {
                 lines: &self.lines,
             };
             rules.under_floor = self.slivers.has_room();
-            let mut ranked = ranked_candidates(&self.live, &self.rings, &self.kept, geometry, &rules);
+            let need = options.target_vertices.map_or(usize::MAX, |t| self.live.len().saturating_sub(t));
             // The last level's offenders wait a level: planned again at once they would
             // likely offend again and take the place of clusters that can go.
-            ranked.retain(|(_, v)| !waiting.contains(v));
-            let need = options.target_vertices.map_or(usize::MAX, |t| self.live.len().saturating_sub(t));
+            let mut ranked = ranked_candidates(&self.live, &waiting, &self.rings, &self.kept, geometry, &rules, need);
             let limit = level_error_limit(&ranked, need, tolerance).min(max_error.unwrap_or(f64::INFINITY));
             if options.target_vertices.is_some() && options.max_error.is_none() && limit.is_finite() {
                 let cheap = self.give_way.cheap_to_release(
@@ -247,8 +252,17 @@ impl Planner<'_> {
                 );
                 if !cheap.is_empty() {
                     self.give_way.release_planned(&cheap, &mut self.kept, &mut self.lines, &self.rings);
-                    ranked.extend(cheap);
-                    ranked.par_sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                    // A release changes the lines of the vertex and of its ring: their
+                    // plans are made again by selection, on the lines as they now are.
+                    let touched: FxHashSet<u32> =
+                        cheap.iter().flat_map(|&(_, v)| self.rings.ring(v).iter().copied().chain([v])).collect();
+                    for candidate in &mut ranked {
+                        if touched.contains(&candidate.vertex) {
+                            candidate.plan = None;
+                        }
+                    }
+                    ranked.extend(cheap.into_iter().map(|(error, vertex)| Candidate { error, vertex, plan: None }));
+                    ranked.par_sort_unstable_by(|a, b| a.error.total_cmp(&b.error).then(a.vertex.cmp(&b.vertex)));
                 }
             }
             let geometry = LevelGeometry {
@@ -263,7 +277,7 @@ impl Planner<'_> {
             lap(clock, &mut stages.guard);
             self.rings.checkpoint();
             let mut plans = select_clusters(
-                &ranked,
+                &mut ranked,
                 &mut self.rings,
                 geometry,
                 &rules,
@@ -279,7 +293,7 @@ impl Planner<'_> {
             lap(clock, &mut stages.planning);
             let mut offenders = FxHashSet::default();
             if options.prevent_intersections {
-                (plans, offenders) = guard_plans(self.positions, &level_faces, plans, &mut self.rings)?;
+                (plans, offenders) = guard_plans(self.model_positions, &level_faces, plans, &mut self.rings)?;
                 lap(clock, &mut stages.guard);
             }
             self.rings.commit();
@@ -541,21 +555,74 @@ const MAX_RETRIES: usize = 4;
 /// Share of a level's candidates, cheapest first, whose errors set the level's limit.
 const LEVEL_QUANTILE: f64 = 0.2;
 
+/// A removable vertex with the E(v) of the cluster it would be on this level's rings, and
+/// the plan itself when ranking kept it (#35: each plan computed once per level).
+pub(super) struct Candidate {
+    pub(super) error: f64,
+    pub(super) vertex: u32,
+    pub(super) plan: Option<Box<ClusterPlan>>,
+}
+
+/// Stars sampled to estimate which plans ranking keeps ([`plan_bound`]).
+const BOUND_SAMPLE: usize = 2048;
+
+/// The largest E(v) whose plan ranking keeps for selection: a level selects only
+/// candidates within its limit ([`level_error_limit`]), so ranking keeps the plans up to an
+/// estimate of it, from every k-th eligible vertex planned first (the sample's quantile at
+/// the level's goal, with a margin of 1.25 in rank and 3 in error). A limit above the
+/// estimate costs only time: the candidates between are planned again by selection. Meshes
+/// of up to four samples keep every plan.
+fn plan_bound(eligible: &[u32], rings: &Rings, geometry: LevelGeometry<'_>, rules: &ClusterRules, need: usize) -> f64 {
+    if eligible.len() <= 4 * BOUND_SAMPLE {
+        return f64::INFINITY;
+    }
+    let stride = eligible.len().div_ceil(BOUND_SAMPLE);
+    let mut errors: Vec<f64> = eligible
+        .par_iter()
+        .step_by(stride)
+        .filter_map(|&v| plan_cluster(v, rings, geometry, rules).map(|plan| plan.error))
+        .collect();
+    if errors.is_empty() {
+        return f64::INFINITY;
+    }
+    errors.sort_unstable_by(f64::total_cmp);
+    let ranked = (errors.len() * stride) as f64;
+    let goal = (need as f64 / ranked).min(LEVEL_QUANTILE) * 1.25;
+    let at = ((goal * errors.len() as f64) as usize).min(errors.len() - 1);
+    3.0 * 1.5 * errors[at] + geometry.tolerance
+}
+
 /// Removable candidates with the E(v) of the cluster each would be on this level's rings,
-/// cheapest first (ties by vertex id); vertices with no valid cluster are left out.
+/// cheapest first (ties by vertex id), each with its plan where its error is within
+/// [`plan_bound`]; vertices with no valid cluster, and those `waiting`, are left out.
 fn ranked_candidates(
     live: &[u32],
+    waiting: &FxHashSet<u32>,
     rings: &Rings,
     kept: &[bool],
     geometry: LevelGeometry<'_>,
     rules: &ClusterRules,
-) -> Vec<(f64, u32)> {
-    let mut ranked: Vec<(f64, u32)> = live
+    need: usize,
+) -> Vec<Candidate> {
+    let eligible: Vec<u32> = live
         .par_iter()
-        .filter(|&&v| !kept[v as usize] && rings.degree(v) >= if rings.is_boundary(v) { 3 } else { 4 })
-        .filter_map(|&v| plan_cluster(v, rings, geometry, rules).map(|plan| (plan.error, v)))
+        .copied()
+        .filter(|&v| {
+            !kept[v as usize] && !waiting.contains(&v) && rings.degree(v) >= if rings.is_boundary(v) { 3 } else { 4 }
+        })
         .collect();
-    ranked.par_sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let bound = plan_bound(&eligible, rings, geometry, rules, need);
+    let mut ranked: Vec<Candidate> = eligible
+        .par_iter()
+        .filter_map(|&v| {
+            plan_cluster(v, rings, geometry, rules).map(|plan| Candidate {
+                error: plan.error,
+                vertex: v,
+                plan: (plan.error <= bound).then(|| Box::new(plan)),
+            })
+        })
+        .collect();
+    ranked.par_sort_unstable_by(|a, b| a.error.total_cmp(&b.error).then(a.vertex.cmp(&b.vertex)));
     ranked
 }
 
@@ -564,19 +631,19 @@ fn ranked_candidates(
 /// vertices still to remove or [`LEVEL_QUANTILE`] of the candidates, whichever is
 /// smaller. A level then removes only clusters among the cheap ones, so the expensive ones
 /// wait for coarser levels, where their errors are measured again.
-fn level_error_limit(ranked: &[(f64, u32)], need: usize, tolerance: f64) -> f64 {
+fn level_error_limit(ranked: &[Candidate], need: usize, tolerance: f64) -> f64 {
     let goal = need.min((ranked.len() as f64 * LEVEL_QUANTILE) as usize);
-    ranked.get(goal).map_or(f64::INFINITY, |&(e, _)| 1.5 * e + tolerance)
+    ranked.get(goal).map_or(f64::INFINITY, |c| 1.5 * c.error + tolerance)
 }
 
 /// Greedy independent set of clusters (Velho & Gomes' marking) among the candidates whose
 /// E(v) is within the level's `limit`: take the cheapest unmarked vertex, carry out its
-/// cluster, and mark it and its ring. The clusters are planned in parallel on the level's
-/// rings first; one that no longer applies once cheaper ones changed its ring's
-/// neighbourhood is planned again.
+/// cluster, and mark it and its ring. The clusters come planned from ranking, or are
+/// planned in parallel on the level's rings first where ranking did not keep them; one that
+/// no longer applies once cheaper ones changed its ring's neighbourhood is planned again.
 #[allow(clippy::too_many_arguments)]
 fn select_clusters(
-    ranked: &[(f64, u32)],
+    ranked: &mut [Candidate],
     rings: &mut Rings,
     geometry: LevelGeometry<'_>,
     rules: &ClusterRules,
@@ -587,13 +654,16 @@ fn select_clusters(
     slivers: &SliverBudget,
 ) -> Result<Vec<ClusterPlan>> {
     let mut slivers = slivers.clone();
-    let within = ranked.partition_point(|&(e, _)| e <= limit);
-    let planned: Vec<Option<ClusterPlan>> = {
+    let within = ranked.partition_point(|c| c.error <= limit);
+    {
         let rings: &Rings = rings;
-        ranked[..within].par_iter().map(|&(_, v)| plan_cluster(v, rings, geometry, rules)).collect()
-    };
+        ranked[..within].par_iter_mut().filter(|c| c.plan.is_none()).for_each(|c| {
+            c.plan = plan_cluster(c.vertex, rings, geometry, rules).map(Box::new);
+        });
+    }
     let mut plans: Vec<ClusterPlan> = Vec::new();
-    for (&(_, v), plan) in ranked[..within].iter().zip(planned) {
+    for candidate in &mut ranked[..within] {
+        let (v, plan) = (candidate.vertex, candidate.plan.take().map(|p| *p));
         if options.target_vertices.is_some_and(|t| live - plans.len() <= t) {
             break;
         }

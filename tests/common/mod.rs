@@ -95,3 +95,66 @@ pub fn thin_pancake() -> Mesh {
     }
     mesh
 }
+
+/// A Menger sponge of level 2 made of voxels (9³ cells, 400 cubes), its boundary faces
+/// triangulated and welded, turned about z by the integer matrix ((3, −4), (4, 3)) (a
+/// rotation scaled by 5, so every coordinate stays an exact integer) and scaled by
+/// `scale`: a CAD-like solid whose coplanar faces meet in exact oblique lines, where a
+/// transform's rounding decides whether two faces touch.
+pub fn menger_sponge(scale: f64) -> Mesh {
+    let filled = |c: [i64; 3]| {
+        c.iter().all(|&x| (0..9).contains(&x)) && {
+            let ones = |d: i64| c.iter().filter(|&&x| (x / d) % 3 == 1).count();
+            ones(1) < 2 && ones(3) < 2
+        }
+    };
+    let mut index: std::collections::HashMap<[i64; 3], u32> = std::collections::HashMap::new();
+    let mut positions = Vec::new();
+    let mut triangles = Vec::new();
+    let mut vertex = |p: [i64; 3], positions: &mut Vec<glam::DVec3>| {
+        *index.entry(p).or_insert_with(|| {
+            let turned = [3 * p[0] - 4 * p[1], 4 * p[0] + 3 * p[1], 5 * p[2]];
+            positions.push(glam::DVec3::new(turned[0] as f64, turned[1] as f64, turned[2] as f64) * scale);
+            positions.len() as u32 - 1
+        })
+    };
+    for x in 0..9 {
+        for y in 0..9 {
+            for z in 0..9 {
+                let c = [x, y, z];
+                if !filled(c) {
+                    continue;
+                }
+                for axis in 0..3 {
+                    for dir in [-1i64, 1] {
+                        let mut n = c;
+                        n[axis] += dir;
+                        if filled(n) {
+                            continue;
+                        }
+                        // The face's corners, counter-clockwise seen from outside.
+                        let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+                        let mut base = c;
+                        if dir > 0 {
+                            base[axis] += 1;
+                        }
+                        let corner = |du: i64, dw: i64| {
+                            let mut p = base;
+                            p[u] += du;
+                            p[w] += dw;
+                            p
+                        };
+                        let mut quad = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)];
+                        if dir < 0 {
+                            quad.reverse();
+                        }
+                        let ids = quad.map(|p| vertex(p, &mut positions));
+                        triangles.push([ids[0], ids[1], ids[2]]);
+                        triangles.push([ids[0], ids[2], ids[3]]);
+                    }
+                }
+            }
+        }
+    }
+    Mesh { positions, triangles, ..Mesh::default() }
+}
