@@ -14,7 +14,6 @@
 //! where the recorded face no longer exists.
 
 use glam::{DVec2, DVec3};
-use rustc_hash::FxHashMap;
 use smallvec::SmallVec;
 
 use super::conformal::{Flattening, interpolate, locate, orient};
@@ -251,63 +250,7 @@ impl Star<'_> {
         let fans = if self.boundary { 1..d - 1 } else { 0..d };
         fans.filter_map(|j| self.fan_ears(j).and_then(|ears| self.weld(ears)))
             .min_by(|a, b| a.error.total_cmp(&b.error))
-            .or_else(|| self.searched_plan())
     }
-
-    /// The cheapest plan over every order of ear cuts (depth first), for a star whose
-    /// greedy flips and fans all fail: a valid retriangulation of the ring is any
-    /// triangulation of its polygon whose ears can be cut one by one down to a
-    /// quadrilateral around the vertex, and the greedy order and the fans reach only some of
-    /// them. Ear cuts reaching the same remaining polygon are explored once, from the
-    /// cheapest. Bounded by [`SEARCH_BUDGET`] ear evaluations; rings over 64 slots are not
-    /// searched. On CAD parts near their topological floor, the last vertices often have
-    /// no greedy or fan plan (#34: lever, hinge, part1 stopped there).
-    fn searched_plan(&self) -> Option<ClusterPlan> {
-        if self.ring.len() > 64 {
-            return None;
-        }
-        let mut search = Search { best: None, seen: FxHashMap::default(), budget: SEARCH_BUDGET };
-        self.search(self.start(), &mut search);
-        search.best
-    }
-
-    fn search(&self, ears: Ears, search: &mut Search) {
-        if ears.current.len() == self.weld_degree() {
-            if let Some(plan) = self.weld(ears)
-                && search.best.as_ref().is_none_or(|b| plan.error < b.error)
-            {
-                search.best = Some(plan);
-            }
-            return;
-        }
-        let mask = ears.current.iter().fold(0u64, |m, &c| m | 1 << c);
-        match search.seen.get(&mask) {
-            Some(&cost) if cost <= ears.swap_error => return,
-            _ => search.seen.insert(mask, ears.swap_error),
-        };
-        for i in self.ear_positions(ears.current.len()) {
-            if search.budget == 0 {
-                return;
-            }
-            search.budget -= 1;
-            if let Some(choice) = self.ear(&ears, i) {
-                let mut next = ears.clone();
-                Self::cut(&mut next, choice);
-                self.search(next, search);
-            }
-        }
-    }
-}
-
-/// The most ear evaluations [`Star::searched_plan`] makes for one star.
-const SEARCH_BUDGET: usize = 1024;
-
-/// The state of [`Star::searched_plan`]: the cheapest plan found, the cheapest swap error
-/// each remaining polygon (a mask of ring slots) was reached with, the evaluations left.
-struct Search {
-    best: Option<ClusterPlan>,
-    seen: FxHashMap<u64, f64>,
-    budget: usize,
 }
 
 /// A vertex's star while its cluster is planned.
