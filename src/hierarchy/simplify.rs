@@ -136,7 +136,8 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
     let target = planner.give_way.report(
         options.target_vertices,
         planner.live.len(),
-        topological_floor(n, &mesh.triangles),
+        // The levels keep the input's topology, so the base's few faces give its floor.
+        topological_floor(n, &base_triangles),
         stopped_by,
     );
     let kept = std::mem::take(&mut planner.kept);
