@@ -137,7 +137,7 @@ fn report_speed_targets(mesh: &Mesh, options: &SimplifyOptions, rows: &[asperity
     let without = build(mesh, &unguarded).expect("hierarchy without the guard");
     let without_s = start.elapsed().as_secs_f64();
     println!(
-        "#20: build with the guard / meshoptimizer {:.2}x (target <= 2.5x, stretch 2x); without the guard ({} base vertices) {:.2}x (target <= 1.5x)",
+        "#35: build with the guard / meshoptimizer {:.2}x (target <= 4x, stretch 2.5x); without the guard ({} base vertices) {:.2}x (target <= 3x)",
         ours / meshopt,
         without.base_vertex_count(),
         without_s / meshopt

@@ -229,3 +229,38 @@ fn an_overlong_ply_header_is_called_overlong_not_truncated() {
     let err = io::read(&path).unwrap_err().to_string();
     assert!(err.contains("longer than that is refused") && !err.contains("truncated"), "{err}");
 }
+
+#[test]
+fn an_ascii_stl_of_several_solids_is_read_whole() {
+    // CAD exports write one solid per part, one after the other (#36: the second was
+    // dropped without a word).
+    let dir = temp_dir();
+    let facet = |z: f64| {
+        format!(
+            "facet normal 0 0 1\n outer loop\n  vertex 0 0 {z}\n  vertex 1 0 {z}\n  vertex 0 1 {z}\n endloop\nendfacet\n"
+        )
+    };
+    let text = format!("solid a\n{}endsolid a\nsolid b\n{}{}endsolid b\n", facet(0.0), facet(1.0), facet(2.0));
+    let path = dir.path().join("two.stl");
+    std::fs::write(&path, text).unwrap();
+    let read = io::read(&path).unwrap();
+    assert_eq!(read.mesh.face_count(), 3, "every solid's facets");
+    assert!(read.notes.iter().any(|n| n.contains("2 solids")), "{:?}", read.notes);
+    // Anything else after `endsolid` is an error naming its line.
+    std::fs::write(&path, format!("solid a\n{}endsolid a\nfacet\n", facet(0.0))).unwrap();
+    let message = io::read(&path).unwrap_err().to_string();
+    assert!(message.contains("line 10") && message.contains("after `endsolid`"), "{message}");
+}
+
+#[test]
+fn an_stl_whose_corners_all_coincide_counts_its_welds() {
+    // Every facet has no area and is dropped; the welds are counted over the corners read
+    // (#36: the count wrapped to 18446744073709551614).
+    let dir = temp_dir();
+    let facet = "facet normal 0 0 1\n outer loop\n  vertex 1 1 1\n  vertex 1 1 1\n  vertex 1 1 1\n endloop\nendfacet\n";
+    let path = dir.path().join("point.stl");
+    std::fs::write(&path, format!("solid p\n{facet}{facet}endsolid p\n")).unwrap();
+    let read = io::read(&path).unwrap();
+    assert_eq!(read.mesh.face_count(), 0);
+    assert!(read.notes.iter().any(|n| n == "STL: 5 duplicate corners welded"), "{:?}", read.notes);
+}

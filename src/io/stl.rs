@@ -29,6 +29,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     let mut welder = Welder::default();
     let mut triangles = Vec::new();
     let mut dropped = 0;
+    let mut solids = 1;
     if is_binary_size {
         let n = binary_count.unwrap_or(0);
         triangles.reserve(n);
@@ -49,7 +50,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
             push_facet(corners, &mut triangles, &mut dropped);
         }
     } else if looks_ascii {
-        parse_ascii(decode(bytes, path)?, path, &mut welder, &mut triangles, &mut dropped)?;
+        solids = parse_ascii(decode(bytes, path)?, path, &mut welder, &mut triangles, &mut dropped)?;
     } else if let Some(n) = binary_count {
         return Err(Error::parse(
             path,
@@ -63,9 +64,13 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     } else {
         return Err(Error::parse(path, Location::File, "too short to be a binary STL and does not start with `solid`"));
     }
-    let corners = 3 * triangles.len();
+    // Every position came from a corner read, those of dropped facets included.
+    let corners = 3 * (triangles.len() + dropped);
     let welded = corners - welder.positions.len();
     let mut notes = if welded > 0 { vec![format!("STL: {welded} duplicate corners welded")] } else { Vec::new() };
+    if solids > 1 {
+        notes.push(format!("STL: {solids} solids read into one mesh"));
+    }
     notes.extend(super::repeated_vertex_note(dropped));
     Ok(ReadOutcome { mesh: Mesh::new(welder.positions, triangles), triangulated_polygons: 0, notes })
 }
@@ -80,50 +85,74 @@ fn push_facet(corners: [u32; 3], triangles: &mut Vec<[u32; 3]>, dropped: &mut us
     }
 }
 
+/// Parses the solids of an ASCII STL (CAD exports write one per part, one after the
+/// other) into one mesh; returns how many there were.
 fn parse_ascii(
     text: &str,
     path: &Path,
     welder: &mut Welder,
     triangles: &mut Vec<[u32; 3]>,
     dropped: &mut usize,
-) -> Result<()> {
+) -> Result<usize> {
     let err = |line: usize, msg: String| Error::parse(path, Location::Line(line), msg);
     let mut lines = significant_lines(text);
     let mut last = 1;
-    let mut next = |expect: &str| -> Result<(usize, Vec<&str>)> {
-        let (n, tokens) = lines.next().ok_or_else(|| err(last, format!("the file ends before `{expect}`")))?;
-        last = n;
-        Ok((n, tokens))
+    // The next line, or the end of the file: an error while `expect` names what must come.
+    let mut line = |expect: Option<&str>| -> Result<Option<(usize, Vec<&str>)>> {
+        match (lines.next(), expect) {
+            (Some((n, tokens)), _) => {
+                last = n;
+                Ok(Some((n, tokens)))
+            }
+            (None, None) => Ok(None),
+            (None, Some(expect)) => Err(err(last, format!("the file ends before `{expect}`"))),
+        }
     };
-    let (n, first) = next("solid")?;
+    let (n, first) = line(Some("solid"))?.expect("the end is an error while a line is expected");
     if first[0] != "solid" {
         return Err(err(n, "an ASCII STL must start with `solid`".into()));
     }
+    let mut solids = 1;
     loop {
-        let (n, tokens) = next("facet")?;
+        let (n, tokens) = line(Some("facet"))?.expect("the end is an error while a line is expected");
         match tokens[0] {
-            "endsolid" => return Ok(()),
+            "endsolid" => match line(None)? {
+                None => return Ok(solids),
+                Some((_, tokens)) if tokens[0] == "solid" => {
+                    solids += 1;
+                    continue;
+                }
+                Some((n, tokens)) => {
+                    return Err(err(
+                        n,
+                        format!(
+                            "expected `solid` or the end of the file after `endsolid`, found `{}`",
+                            shorten(tokens[0])
+                        ),
+                    ));
+                }
+            },
             "facet" => {}
             other => return Err(err(n, format!("expected `facet` or `endsolid`, found `{}`", shorten(other)))),
         }
-        let (n, tokens) = next("outer loop")?;
+        let (n, tokens) = line(Some("outer loop"))?.expect("the end is an error while a line is expected");
         if tokens != ["outer", "loop"] {
             return Err(err(n, "expected `outer loop`".into()));
         }
         let mut corners = [0u32; 3];
         for corner in &mut corners {
-            let (n, tokens) = next("vertex")?;
+            let (n, tokens) = line(Some("vertex"))?.expect("the end is an error while a line is expected");
             if tokens.len() != 4 || tokens[0] != "vertex" {
                 return Err(err(n, "expected `vertex x y z`".into()));
             }
             let c = |k: usize| coordinate(tokens[k]).map_err(|m| err(n, m));
             *corner = welder.vertex(DVec3::new(c(1)?, c(2)?, c(3)?));
         }
-        let (n, tokens) = next("endloop")?;
+        let (n, tokens) = line(Some("endloop"))?.expect("the end is an error while a line is expected");
         if tokens != ["endloop"] {
             return Err(err(n, "expected `endloop` (only triangles are allowed)".into()));
         }
-        let (n, tokens) = next("endfacet")?;
+        let (n, tokens) = line(Some("endfacet"))?.expect("the end is an error while a line is expected");
         if tokens != ["endfacet"] {
             return Err(err(n, "expected `endfacet`".into()));
         }
