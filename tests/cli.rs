@@ -240,6 +240,12 @@ fn noise_writes_png16_and_raw_f32_deterministically() {
         assert_one_line_error(&run(&all, "1"), 2, words);
         assert!(!tmp.path().join("x.png").exists());
     }
+    // Octaves past the coordinates' precision are refused at once (#36: 10⁹ ran for good).
+    for octaves in ["0", "33", "1000000000"] {
+        let out = run(&["noise", "--kind", "fbm", "--size", "8", "--octaves", octaves, "-o", "x.png"], "1");
+        assert_one_line_error(&out, 2, &["--octaves", octaves, "1 to 32"]);
+        assert!(!tmp.path().join("x.png").exists());
+    }
     // --range is a PNG's grey mapping: raw values have none.
     assert_one_line_error(
         &run(&["noise", "--size", "8", "--range", "-1,1", "-o", "x.f32"], "1"),

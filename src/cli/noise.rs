@@ -15,8 +15,8 @@ pub struct NoiseArgs {
     /// Which noise.
     #[arg(long, value_enum, default_value_t = NoiseKind::Perlin)]
     kind: NoiseKind,
-    /// Octaves of the fractal kinds [default: 6; wood 1, eq. 4.13's single noise, whose
-    /// contour bands are the rings].
+    /// Octaves of the fractal kinds, 1 to 32 [default: 6; wood 1, eq. 4.13's single noise,
+    /// whose contour bands are the rings].
     #[arg(long)]
     octaves: Option<u32>,
     /// Frequency ratio between octaves (fractal kinds) [default: 2].
@@ -92,6 +92,9 @@ impl NoiseArgs {
     /// Flags of other kinds, or invalid parameters.
     pub fn field(&self) -> Result<(NoiseField, f64)> {
         refuse_other_kinds_flags(self)?;
+        if let Some(octaves) = self.octaves.filter(|&o| o == 0 || o > crate::noise::MAX_OCTAVES) {
+            return Err(Error::InvalidInput(format!("--octaves {octaves} must be 1 to {}", crate::noise::MAX_OCTAVES)));
+        }
         let fractal = Fractal::default();
         let gabor = GaborParams::default();
         let spec = NoiseSpec {
