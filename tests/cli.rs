@@ -759,3 +759,36 @@ fn long_stages_show_progress_bars_on_a_terminal_only() {
     let piped = asperity(&["terrain", "--size", "4097", "--stream", "-o", "p.raw16"], tmp.path());
     assert!(!String::from_utf8_lossy(&piped.stderr).contains("left"), "no bars when stderr is not a terminal");
 }
+
+#[test]
+fn a_target_that_would_remove_nothing_or_means_nothing_is_refused() {
+    // #36: `--target-vertices 0` acted as no target and 10⁹ removed nothing, both exit 0.
+    let tmp = temp_dir();
+    asperity::io::write(&asperity::mesh::primitives::icosphere(1.0, 2), &tmp.path().join("s.off"), Default::default())
+        .unwrap();
+    for (target, words) in [
+        ("0", &["--target-vertices", "'0'", "at least 1"][..]),
+        ("1000000000", &["--target-vertices 1000000000", "162 vertices", "nothing would be removed"]),
+        ("163", &["--target-vertices 163", "162 vertices"]),
+    ] {
+        for args in [
+            &["simplify", "s.off", "--target-vertices", target, "-o", "b.ply"][..],
+            &["compare", "s.off", "--target-vertices", target],
+        ] {
+            let out = asperity(args, tmp.path());
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+            // The message is the first line (a usage error adds clap's hint after a blank line).
+            let first = stderr.lines().next().unwrap_or("");
+            for word in words {
+                assert!(first.contains(word), "{args:?}: `{word}` in {stderr}");
+            }
+            assert!(!tmp.path().join("b.ply").exists());
+        }
+    }
+    // The input's own count and 100 % remove nothing, as asked.
+    for target in ["162", "100%"] {
+        let out = asperity(&["simplify", "s.off", "--target-vertices", target, "-o", "b.ply"], tmp.path());
+        assert!(out.status.success(), "{target}: {}", String::from_utf8_lossy(&out.stderr));
+    }
+}

@@ -115,21 +115,32 @@ fn parse_target(s: &str) -> std::result::Result<Target, String> {
         }
         Ok(Target::Percent(p))
     } else {
-        s.trim().parse().map(Target::Vertices).map_err(|_| format!("'{s}' is not a vertex count or a percentage"))
+        match s.trim().parse() {
+            Ok(0) => Err(format!(
+                "'{s}' must be at least 1 vertex (a build asked for fewer than its topology allows stops there and says so)"
+            )),
+            Ok(v) => Ok(Target::Vertices(v)),
+            Err(_) => Err(format!("'{s}' is not a vertex count or a percentage")),
+        }
     }
 }
 
 /// A `--target-vertices` value resolved against an input of `vertices` vertices.
 pub fn resolve_target(text: &str, vertices: usize) -> Result<usize> {
     let target = parse_target(text).map_err(|e| Error::InvalidInput(format!("--target-vertices: {e}")))?;
-    Ok(target.resolve(vertices))
+    target.resolve(vertices, "--target-vertices")
 }
 
 impl Target {
-    fn resolve(self, vertices: usize) -> usize {
+    /// The vertex count for an input of `vertices` vertices; a count above the input's is
+    /// refused, naming `source` (it would remove nothing, #36).
+    fn resolve(self, vertices: usize, source: &str) -> Result<usize> {
         match self {
-            Target::Vertices(v) => v,
-            Target::Percent(p) => ((vertices as f64 * p / 100.0).round() as usize).max(4),
+            Target::Vertices(v) if v > vertices => Err(Error::InvalidInput(format!(
+                "{source} {v} is more than the input's {vertices} vertices: nothing would be removed"
+            ))),
+            Target::Vertices(v) => Ok(v),
+            Target::Percent(p) => Ok(((vertices as f64 * p / 100.0).round() as usize).max(4)),
         }
     }
 }
@@ -156,10 +167,11 @@ impl HierarchyArgs {
             })?,
         };
         let target = match (self.target_vertices, section.target_vertices.as_deref()) {
-            (Some(t), _) => Some(t),
-            (None, Some(text)) => {
-                Some(parse_target(text).map_err(|e| Error::InvalidInput(format!("[hierarchy] target_vertices: {e}")))?)
-            }
+            (Some(t), _) => Some((t, "--target-vertices")),
+            (None, Some(text)) => Some((
+                parse_target(text).map_err(|e| Error::InvalidInput(format!("[hierarchy] target_vertices: {e}")))?,
+                "[hierarchy] target_vertices",
+            )),
             (None, None) => None,
         };
         let levels = self.levels.or(section.levels);
@@ -175,7 +187,7 @@ impl HierarchyArgs {
             }
         }
         let feature_vertices = resolve_feature_vertices(self.feature_vertices, keep.into())?;
-        let target_vertices = target.map(|t| t.resolve(vertices));
+        let target_vertices = target.map(|(t, source)| t.resolve(vertices, source)).transpose()?;
         Ok(SimplifyOptions {
             target_vertices,
             levels,
