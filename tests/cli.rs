@@ -792,3 +792,29 @@ fn a_target_that_would_remove_nothing_or_means_nothing_is_refused() {
         assert!(out.status.success(), "{target}: {}", String::from_utf8_lossy(&out.stderr));
     }
 }
+
+#[test]
+fn overflowing_octaves_negative_sizes_and_shared_output_paths_are_usage_errors() {
+    let tmp = temp_dir();
+    // #36: a gain whose powers overflow over the octaves was an internal error (exit 1).
+    let out = asperity(&["noise", "--kind", "fbm", "--gain", "1e300", "--size", "8", "-o", "g.png"], tmp.path());
+    assert_one_line_error(&out, 2, &["gain 1e300", "overflow"]);
+    let out = asperity(&["noise", "--kind", "fbm", "--lacunarity", "1e300", "--size", "8", "-o", "g.png"], tmp.path());
+    assert_one_line_error(&out, 2, &["lacunarity 1e300", "overflow"]);
+    assert!(!tmp.path().join("g.png").exists());
+    // A negative number is a value of its flag, refused as such (it was "unexpected argument").
+    let out = asperity(&["noise", "--size", "-5", "-o", "g.png"], tmp.path());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.lines().next().unwrap_or("").contains("invalid value '-5' for '--size"), "{stderr}");
+    // Two outputs at one path: one would overwrite the other.
+    let out = asperity(&["terrain", "--size", "33", "-o", "t.png", "--preview", "./t.png"], tmp.path());
+    assert_one_line_error(&out, 2, &["-o and --preview", "t.png"]);
+    assert!(!tmp.path().join("t.png").exists());
+    asperity::io::write(&asperity::mesh::primitives::icosphere(1.0, 2), &tmp.path().join("s.off"), Default::default())
+        .unwrap();
+    let out =
+        asperity(&["simplify", "s.off", "--target-vertices", "50", "-o", "b.ply", "--param-out", "b.ply"], tmp.path());
+    assert_one_line_error(&out, 2, &["-o and --param-out", "b.ply"]);
+    assert!(!tmp.path().join("b.ply").exists());
+}

@@ -5,9 +5,9 @@ pub mod analyze;
 pub mod clouds;
 pub mod compare;
 mod convert;
-mod embedded;
 mod demo;
 pub mod detail;
+mod embedded;
 mod info;
 pub mod input;
 pub mod noise;
@@ -103,10 +103,20 @@ fn usage_error_message(rendered: &str) -> String {
     message
 }
 
+/// The command line, every subcommand taking negative numbers as values: `--size -5` is
+/// then an invalid value of `--size`, not an unexpected argument `-5` (#36).
+fn command_line() -> clap::Command {
+    fn allow_negative_numbers(command: clap::Command) -> clap::Command {
+        command.allow_negative_numbers(true).mut_subcommands(allow_negative_numbers)
+    }
+    allow_negative_numbers(<Cli as clap::CommandFactory>::command())
+}
+
 /// Parses the arguments, runs the subcommand and returns the process exit code.
 /// Panics are caught and reported as internal errors: no panic text reaches the user.
 pub fn run() -> i32 {
-    let cli = match Cli::try_parse() {
+    let parsed = command_line().try_get_matches().and_then(|m| <Cli as clap::FromArgMatches>::from_arg_matches(&m));
+    let cli = match parsed {
         Ok(cli) => cli,
         Err(e) => {
             use clap::error::ErrorKind;
@@ -265,6 +275,31 @@ pub(crate) fn guard_overwrite(input: &std::path::Path, output: &std::path::Path,
     Ok(())
 }
 
+/// Refuses one path given to two outputs of a command (flag, path): one file would
+/// silently overwrite the other (#36: `terrain -o t.png --preview t.png`). Paths are
+/// compared made absolute, `.` and `..` resolved where the folder exists.
+pub(crate) fn distinct_outputs(outputs: &[(&str, &std::path::Path)]) -> Result<()> {
+    let resolved = |p: &std::path::Path| {
+        let absolute = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+        match (absolute.parent().and_then(|d| std::fs::canonicalize(d).ok()), absolute.file_name()) {
+            (Some(dir), Some(name)) => dir.join(name),
+            _ => absolute,
+        }
+    };
+    let paths: Vec<PathBuf> = outputs.iter().map(|(_, p)| resolved(p)).collect();
+    for (i, a) in paths.iter().enumerate() {
+        if let Some(j) = paths[..i].iter().position(|b| b == a) {
+            return Err(Error::InvalidInput(format!(
+                "{} and {} both name {}: give each output its own path",
+                outputs[j].0,
+                outputs[i].0,
+                outputs[i].1.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Milliseconds since `start`, for stage reports.
 pub(crate) fn millis(start: std::time::Instant) -> u128 {
     start.elapsed().as_millis()
@@ -302,7 +337,11 @@ pub(crate) fn require_extension(output: &std::path::Path, extensions: &[&str]) -
 /// names relative to the input's folder is named relative to the output's instead, or by
 /// its absolute path where no relative path leads there, so that the written OBJ still
 /// finds it. Names already absolute, and libraries that do not exist, are left as they are.
-pub(crate) fn relocate_material_libraries(mesh: &mut crate::mesh::Mesh, input: &std::path::Path, output: &std::path::Path) {
+pub(crate) fn relocate_material_libraries(
+    mesh: &mut crate::mesh::Mesh,
+    input: &std::path::Path,
+    output: &std::path::Path,
+) {
     let Some(materials) = &mut mesh.materials else { return };
     let folder = |p: &std::path::Path| {
         let parent = p.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));

@@ -236,6 +236,11 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     io::Format::from_path(&args.output)?;
     super::guard_overwrite(&args.input, &args.output, args.force)?;
+    let mut outputs = vec![("-o", args.output.as_path())];
+    outputs.extend(args.param_out.as_deref().map(|p| ("--param-out", p)));
+    outputs.extend(args.lod_out.as_deref().map(|p| ("--lod-out", p)));
+    outputs.extend(args.levels_out.as_deref().map(|p| ("--levels-out", p)));
+    super::distinct_outputs(&outputs)?;
     if let Some(p) = &args.param_out {
         io::Format::from_path(p)?;
         super::guard_overwrite(&args.input, p, args.force)?;

@@ -78,6 +78,38 @@ impl Fractal {
         Fractal { lacunarity: 1.1 + (l + 1.0) / 10.0, gain: 0.8 / (l + 1.0), ..self }
     }
 
+    /// Whether every octave's frequency and amplitude, and their sum's bound, are finite
+    /// numbers: a gain or lacunarity whose powers overflow over the octaves would make
+    /// every value infinite or NaN (#36: `--gain 1e300` ended as an internal error).
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidInput`] naming the parameter.
+    pub fn check(&self) -> crate::Result<()> {
+        let octaves = self.octaves.max(1);
+        let last = (octaves - 1) as i32;
+        for (name, value) in [("lacunarity", self.lacunarity), ("gain", self.gain), ("offset", self.offset)] {
+            if !value.is_finite() {
+                return Err(crate::Error::InvalidInput(format!(
+                    "fractal {name} {} must be a finite number",
+                    shown(value)
+                )));
+            }
+        }
+        if !(self.lacunarity.abs().powi(last).is_finite() && self.lacunarity != 0.0) {
+            return Err(crate::Error::InvalidInput(format!(
+                "fractal lacunarity {} over {octaves} octaves: the octaves' frequencies overflow (or vanish)",
+                shown(self.lacunarity)
+            )));
+        }
+        if !self.peak(1.0).is_finite() {
+            return Err(crate::Error::InvalidInput(format!(
+                "fractal gain {} over {octaves} octaves: the octaves' amplitudes overflow",
+                shown(self.gain)
+            )));
+        }
+        Ok(())
+    }
+
     /// The largest |value| the sum can reach over a basis bounded by `basis_peak` (#26 A4:
     /// an amplitude is the peak displacement, so values are divided by this): fBm and
     /// turbulence Σ|g|ⁱ·B over the octaves; the multifractal (|d| + B)²·Σ|g|ⁱ, since each
@@ -242,4 +274,9 @@ impl Basis for ScaledPerlin<'_> {
     fn at2(&self, s: [f64; 2]) -> [f64; 2] {
         self.perlin.sample3_lanes([self.point * s[0], self.point * s[1]])
     }
+}
+
+/// `value` as a message shows it: in exponent form when very large or small.
+fn shown(value: f64) -> String {
+    if value != 0.0 && !(1e-4..1e6).contains(&value.abs()) { format!("{value:e}") } else { format!("{value}") }
 }

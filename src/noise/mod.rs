@@ -133,10 +133,11 @@ impl NoiseField {
                 spec.fractal.octaves
             )));
         }
-        Ok(NoiseField::Perlin {
-            basis: Perlin::new(spec.seed),
-            fractal: fractal_kind.map(|kind| Fractal { kind, ..spec.fractal }),
-        })
+        let fractal = fractal_kind.map(|kind| Fractal { kind, ..spec.fractal });
+        if let Some(fractal) = &fractal {
+            fractal.check()?;
+        }
+        Ok(NoiseField::Perlin { basis: Perlin::new(spec.seed), fractal })
     }
 
     /// 2D value at (x, y).

@@ -437,6 +437,7 @@ impl Setup {
         params.generator()?;
         if let Some(preview) = &job.preview {
             crate::cli::require_extension(preview, &["png"])?;
+            crate::cli::distinct_outputs(&[("-o", job.output.as_path()), ("--preview", preview.as_path())])?;
         }
         let rect = match (job.tile, job.tile_size) {
             (Some((i, j)), Some(tile_size)) => tile_rect_in(extent, i, j, tile_size)?,
