@@ -35,7 +35,19 @@ pub fn quiet_cancellation_panics() {
 /// Runs `work` on a worker thread with the GIL released, interruptible by Ctrl-C at the
 /// library's progress reports; `progress` prints them to stderr.
 pub fn run<T: Send>(py: Python<'_>, progress: bool, work: impl FnOnce() -> asperity::Result<T> + Send) -> PyResult<T> {
-    let _one = CALL.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    // Waiting for another thread's call, this thread holds the GIL only between naps: that
+    // call's thread needs it to finish (#36: taking the lock with the GIL held deadlocked
+    // two Python threads for good).
+    let _one = loop {
+        match CALL.try_lock() {
+            Ok(guard) => break guard,
+            Err(std::sync::TryLockError::Poisoned(poisoned)) => break poisoned.into_inner(),
+            Err(std::sync::TryLockError::WouldBlock) => {
+                py.detach(|| std::thread::sleep(Duration::from_millis(1)));
+                py.check_signals()?;
+            }
+        }
+    };
     CANCEL.store(false, Ordering::SeqCst);
     let last = Mutex::new((String::new(), u64::MAX));
     asperity::progress::install(Box::new(move |stage, done, total| {

@@ -329,6 +329,37 @@ def test_long_calls_release_the_gil():
     assert ticks > 20, f"the main thread ran only {ticks} times while the hierarchy was built"
 
 
+def test_calls_from_several_threads_never_deadlock():
+    # #36: one thread held the GIL waiting for the call lock while the other held the lock
+    # waiting for the GIL: the interpreter hung for good. Run in a child with a timeout.
+    script = textwrap.dedent(
+        """
+        import sys, threading
+        sys.path.insert(0, %r)
+        import numpy as np
+        import asperity
+        from test_asperity import big_terrain_mesh
+        points = np.random.default_rng(1).random((20000, 3))
+        positions, triangles = big_terrain_mesh(65)
+        def noise():
+            for _ in range(40):
+                asperity.noise("perlin", points)
+        def build():
+            for _ in range(3):
+                asperity.Hierarchy(positions, triangles, target_vertices="5%%")
+        threads = [threading.Thread(target=f) for f in (noise, noise, build, build)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        print("all calls returned", flush=True)
+        """
+        % str(Path(__file__).parent)
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0 and "all calls returned" in done.stdout, done.stderr
+
+
 def test_ctrl_c_interrupts_a_long_call():
     script = textwrap.dedent(
         """
