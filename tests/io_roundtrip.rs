@@ -264,3 +264,31 @@ fn an_stl_whose_corners_all_coincide_counts_its_welds() {
     assert_eq!(read.mesh.face_count(), 0);
     assert!(read.notes.iter().any(|n| n == "STL: 5 duplicate corners welded"), "{:?}", read.notes);
 }
+
+#[test]
+fn a_large_obj_face_keeps_each_corner_s_texture_coordinate() {
+    // Faces of more than 32 corners look their corners' texture coordinates up in a table
+    // (#36: a search per triangle corner made a 100k-corner face take seconds).
+    let dir = temp_dir();
+    let n = 1000;
+    let mut text = String::new();
+    for i in 0..n {
+        let a = std::f64::consts::TAU * i as f64 / n as f64;
+        text += &format!("v {} {} 0\nvt {} 0.5\n", a.cos(), a.sin(), i as f64 / n as f64);
+    }
+    text += "f";
+    for i in 1..=n {
+        text += &format!(" {i}/{i}");
+    }
+    text += "\n";
+    let path = dir.path().join("disc.obj");
+    std::fs::write(&path, text).unwrap();
+    let read = io::read(&path).unwrap();
+    assert_eq!(read.mesh.face_count(), n - 2);
+    let uvs = read.mesh.uvs.as_ref().expect("every corner has a texture coordinate");
+    for (t, corners) in read.mesh.triangles.iter().zip(&uvs.corners) {
+        for (&v, &c) in t.iter().zip(corners) {
+            assert_eq!(uvs.values[c as usize][0], v as f64 / n as f64, "vertex {v}'s own coordinate");
+        }
+    }
+}
