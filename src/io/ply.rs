@@ -173,11 +173,13 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
                 if !count.is_integer() {
                     return Err(err(n, "a list count must have an integer type".into()));
                 }
+                refuse_repeated_property(element, name).map_err(|m| err(n, m))?;
                 element.properties.push(Property::List { name: name.to_string(), count, item });
             }
             ["property", ty, name] => {
                 let element = elements.last_mut().ok_or_else(|| err(n, "property before any element".into()))?;
                 let ty = ScalarType::parse(ty).ok_or_else(|| err(n, format!("unknown PLY type `{}`", shorten(ty))))?;
+                refuse_repeated_property(element, name).map_err(|m| err(n, m))?;
                 element.properties.push(Property::Scalar { name: name.to_string(), ty });
             }
             _ => return Err(err(n, format!("malformed header line `{}`", shorten(line)))),
@@ -185,6 +187,15 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
     }
     let encoding = encoding.ok_or_else(|| Error::parse(path, Location::File, "the PLY header has no `format` line"))?;
     Ok(Header { encoding, elements, body, lines: line_count + 1 })
+}
+
+/// A property named twice in one element would be read twice, the last value winning
+/// silently (#36: `x` declared twice): refused.
+fn refuse_repeated_property(element: &Element, name: &str) -> std::result::Result<(), String> {
+    match element.properties.iter().any(|p| p.name() == name) {
+        true => Err(format!("property `{}` is declared twice in element `{}`", shorten(name), shorten(&element.name))),
+        false => Ok(()),
+    }
 }
 
 fn find_subslice(haystack: &[u8], needle: &[u8]) -> Option<usize> {
