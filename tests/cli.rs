@@ -246,6 +246,10 @@ fn noise_writes_png16_and_raw_f32_deterministically() {
         assert_one_line_error(&out, 2, &["--octaves", octaves, "1 to 32"]);
         assert!(!tmp.path().join("x.png").exists());
     }
+    // Gabor impulses beyond the documented maximum are refused (#36: they were capped).
+    let out = run(&["noise", "--kind", "gabor", "--size", "8", "--impulses", "1e9", "-o", "x.png"], "1");
+    assert_one_line_error(&out, 2, &["--impulses 1000000000", "at most 10000"]);
+    assert!(!tmp.path().join("x.png").exists());
     // --range is a PNG's grey mapping: raw values have none.
     assert_one_line_error(
         &run(&["noise", "--size", "8", "--range", "-1,1", "-o", "x.f32"], "1"),

@@ -41,7 +41,7 @@ pub struct NoiseArgs {
     /// Gabor orientation ω0, radians [default: π/4].
     #[arg(long, allow_hyphen_values = true)]
     omega: Option<f64>,
-    /// Gabor impulses per kernel [default: 64].
+    /// Gabor impulses per kernel, at most 10000 [default: 64].
     #[arg(long, allow_negative_numbers = true)]
     impulses: Option<f64>,
     /// Gabor: a random orientation per impulse.
@@ -94,6 +94,12 @@ impl NoiseArgs {
         refuse_other_kinds_flags(self)?;
         if let Some(octaves) = self.octaves.filter(|&o| o == 0 || o > crate::noise::MAX_OCTAVES) {
             return Err(Error::InvalidInput(format!("--octaves {octaves} must be 1 to {}", crate::noise::MAX_OCTAVES)));
+        }
+        if let Some(impulses) = self.impulses.filter(|&i| i > crate::noise::MAX_IMPULSES_PER_KERNEL) {
+            return Err(Error::InvalidInput(format!(
+                "--impulses {impulses} must be at most {}",
+                crate::noise::MAX_IMPULSES_PER_KERNEL
+            )));
         }
         let fractal = Fractal::default();
         let gabor = GaborParams::default();

@@ -82,16 +82,27 @@ pub struct Gabor {
     inv_sigma_3d: f64,
 }
 
+/// The most impulses per kernel Gabor and phasor noise take: each sample sums about that
+/// many kernels, so 10⁴ (150 times the thesis' 64) already costs minutes for a large image
+/// (#36: larger counts were capped without a word where the Poisson draw underflowed).
+pub const MAX_IMPULSES_PER_KERNEL: f64 = 10_000.0;
+
 impl Gabor {
     /// Gabor noise with `params` and `seed`.
     ///
     /// # Errors
     /// [`Error::InvalidInput`] when K, a or the impulse count is not positive and finite,
-    /// or F0 or ω0 is not finite.
+    /// the impulse count is above [`MAX_IMPULSES_PER_KERNEL`], or F0 or ω0 is not finite.
     pub fn new(params: GaborParams, seed: u64) -> Result<Self> {
         let positive = |v: f64| v.is_finite() && v > 0.0;
         if !positive(params.k) || !positive(params.a) || !positive(params.impulses_per_kernel) {
             return Err(Error::InvalidInput("gabor: K, a and impulses per kernel must be positive".into()));
+        }
+        if params.impulses_per_kernel > MAX_IMPULSES_PER_KERNEL {
+            return Err(Error::InvalidInput(format!(
+                "gabor: {} impulses per kernel: at most {MAX_IMPULSES_PER_KERNEL} (each sample sums about that many)",
+                params.impulses_per_kernel
+            )));
         }
         if !params.f0.is_finite() || params.f0 < 0.0 || !params.omega0.is_finite() {
             return Err(Error::InvalidInput("gabor: F0 must be non-negative and ω0 finite".into()));

@@ -60,9 +60,24 @@ impl Stream {
         lo + (hi - lo) * self.unit()
     }
 
-    /// Poisson-distributed count with the given mean (Knuth's product of uniforms; fine
-    /// for the means below ~100 used here).
+    /// Poisson-distributed count with the given mean (Knuth's product of uniforms, in
+    /// chunks of [`POISSON_CHUNK`]).
     pub fn poisson(&mut self, mean: f64) -> u32 {
+        // Knuth's product stops where e^(−mean) underflows (a mean near 745), which capped
+        // large counts silently (#36): a larger mean is drawn as a sum of Poisson counts of
+        // at most POISSON_CHUNK each (a sum of independent Poisson variables is Poisson),
+        // and a mean up to it draws exactly as before.
+        let mut mean = mean;
+        let mut count = 0;
+        while mean > POISSON_CHUNK {
+            count += self.poisson_at_most_chunk(POISSON_CHUNK);
+            mean -= POISSON_CHUNK;
+        }
+        count + self.poisson_at_most_chunk(mean)
+    }
+
+    /// Knuth's multiplication method, for a mean up to [`POISSON_CHUNK`].
+    fn poisson_at_most_chunk(&mut self, mean: f64) -> u32 {
         let limit = (-mean).exp();
         let mut product = self.unit();
         let mut count = 0;
@@ -71,5 +86,28 @@ impl Stream {
             product *= self.unit();
         }
         count
+    }
+}
+
+/// The largest mean [`Stream::poisson`] draws in one product: e^(−500) is far from
+/// underflow (about 1e−217), so no product stops early.
+const POISSON_CHUNK: f64 = 500.0;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn large_poisson_means_are_honoured() {
+        // #36: Knuth's product underflowed near a mean of 745, capping larger counts.
+        let mut rng = Stream::new(7);
+        for mean in [20.0, 900.0, 5000.0] {
+            let draws = 400;
+            let total: f64 = (0..draws).map(|_| f64::from(rng.poisson(mean))).sum();
+            let average = total / draws as f64;
+            // Six standard errors of the average.
+            let margin = 6.0 * (mean / draws as f64).sqrt();
+            assert!((average - mean).abs() < margin, "mean {mean}: average {average}");
+        }
     }
 }

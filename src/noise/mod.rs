@@ -16,7 +16,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 pub use fractal::{Basis, Fractal, FractalKind, ScaledPerlin, WOOD_RING_FALL, wood_ring};
-pub use gabor::{Frame, Gabor, GaborParams};
+pub use gabor::{Frame, Gabor, GaborParams, MAX_IMPULSES_PER_KERNEL};
 pub use perlin::{PERLIN_PEAK, Perlin, plane_point};
 pub use phasor::{Phasor, Profile};
 
