@@ -5,9 +5,9 @@ pub mod analyze;
 pub mod clouds;
 pub mod compare;
 mod convert;
+mod embedded;
 mod demo;
 pub mod detail;
-mod embedded;
 mod info;
 pub mod input;
 pub mod noise;
@@ -337,11 +337,7 @@ pub(crate) fn require_extension(output: &std::path::Path, extensions: &[&str]) -
 /// names relative to the input's folder is named relative to the output's instead, or by
 /// its absolute path where no relative path leads there, so that the written OBJ still
 /// finds it. Names already absolute, and libraries that do not exist, are left as they are.
-pub(crate) fn relocate_material_libraries(
-    mesh: &mut crate::mesh::Mesh,
-    input: &std::path::Path,
-    output: &std::path::Path,
-) {
+pub(crate) fn relocate_material_libraries(mesh: &mut crate::mesh::Mesh, input: &std::path::Path, output: &std::path::Path) {
     let Some(materials) = &mut mesh.materials else { return };
     let folder = |p: &std::path::Path| {
         let parent = p.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));

@@ -44,12 +44,8 @@ pub struct RefineArgs {
 
 /// Parses `--region`: a TOML inline table's contents.
 fn parse_region(text: &str) -> Result<Selection> {
-    toml::from_str::<Selection>(text).map_err(|e| {
-        Error::InvalidInput(format!(
-            "--region: {} (expected e.g. 'box = {{ min = [0, 0, 0.5], max = [1, 1, 1] }}')",
-            e.message().trim()
-        ))
-    })
+    toml::from_str::<Selection>(text)
+        .map_err(|e| Error::InvalidInput(format!("--region: {} (expected e.g. 'box = {{ min = [0, 0, 0.5], max = [1, 1, 1] }}')", e.message().trim())))
 }
 
 /// Runs the subcommand.

@@ -208,12 +208,7 @@ impl Builder {
 
     /// A glTF mesh of `mesh`; with `alpha` (one per vertex), colours carry it and the
     /// material blends.
-    pub(crate) fn mesh_with_alpha(
-        &mut self,
-        mesh: &Mesh,
-        name: &str,
-        alpha: Option<&[f32]>,
-    ) -> Result<Index<gj::Mesh>> {
+    pub(crate) fn mesh_with_alpha(&mut self, mesh: &Mesh, name: &str, alpha: Option<&[f32]>) -> Result<Index<gj::Mesh>> {
         // glTF holds one UV per vertex: seam vertices are split.
         let split;
         let copied_alpha: Vec<f32>;

@@ -162,11 +162,7 @@ pub fn scene_glb_bytes(scene: &GlbScene) -> Result<Vec<u8>> {
     }
     let node_count = scene.nodes.len();
     let in_range = |i: usize, what: &str| {
-        if i < node_count {
-            Ok(Index::new(i as u32))
-        } else {
-            Err(Error::InvalidInput(format!("{what}: node {i} of {node_count}")))
-        }
+        if i < node_count { Ok(Index::new(i as u32)) } else { Err(Error::InvalidInput(format!("{what}: node {i} of {node_count}"))) }
     };
     for node in &scene.nodes {
         let mesh = match node.mesh {
@@ -186,8 +182,7 @@ pub fn scene_glb_bytes(scene: &GlbScene) -> Result<Vec<u8>> {
         });
     }
     let roots = scene.roots.iter().map(|&r| in_range(r, "scene root")).collect::<Result<Vec<_>>>()?;
-    let root_scene =
-        builder.root.push(gj::Scene { nodes: roots, name: Some("asperity".into()), extensions: None, extras: None });
+    let root_scene = builder.root.push(gj::Scene { nodes: roots, name: Some("asperity".into()), extensions: None, extras: None });
     builder.root.scene = Some(root_scene);
     if !scene.tracks.is_empty() {
         let animation = animation(&mut builder, &scene.tracks, node_count)?;
@@ -240,36 +235,23 @@ fn animation(builder: &mut Builder, tracks: &[Track], node_count: usize) -> Resu
                 let (lo, hi) = (times[0], times[times.len() - 1]);
                 // Animation inputs need their bounds; animation data has no buffer target.
                 let bounds = Some((vec![lo], vec![hi]));
-                let a = builder.accessor(
-                    bytemuck::cast_slice(&times),
-                    None,
-                    times.len(),
-                    ComponentType::F32,
-                    Type::Scalar,
-                    false,
-                    bounds,
-                );
+                let a = builder.accessor(bytemuck::cast_slice(&times), None, times.len(), ComponentType::F32, Type::Scalar, false, bounds);
                 time_accessors.insert(key, a);
                 a
             }
         };
         let (values, kind, path): (Vec<f32>, Type, gj::animation::Property) = match &track.keys {
-            Keys::Translation(v) => (
-                v.iter().flat_map(|p| p.as_vec3().to_array()).collect(),
-                Type::Vec3,
-                gj::animation::Property::Translation,
-            ),
-            Keys::Scale(v) => {
-                (v.iter().flat_map(|p| p.as_vec3().to_array()).collect(), Type::Vec3, gj::animation::Property::Scale)
+            Keys::Translation(v) => {
+                (v.iter().flat_map(|p| p.as_vec3().to_array()).collect(), Type::Vec3, gj::animation::Property::Translation)
             }
+            Keys::Scale(v) => (v.iter().flat_map(|p| p.as_vec3().to_array()).collect(), Type::Vec3, gj::animation::Property::Scale),
             Keys::Rotation(v) => (
                 v.iter().flat_map(|q| q.normalize().as_quat().to_array()).collect(),
                 Type::Vec4,
                 gj::animation::Property::Rotation,
             ),
         };
-        let output =
-            builder.accessor(bytemuck::cast_slice(&values), None, count, ComponentType::F32, kind, false, None);
+        let output = builder.accessor(bytemuck::cast_slice(&values), None, count, ComponentType::F32, kind, false, None);
         samplers.push(gj::animation::Sampler {
             input,
             interpolation: Valid(if track.step {
@@ -325,12 +307,7 @@ mod tests {
     fn tracks_with_bad_times_are_refused() {
         let mut doc = GlbScene::default();
         let node = doc.add_node(SceneNode::new("n", None), None);
-        doc.tracks.push(Track {
-            node,
-            times: vec![0.0, 0.0],
-            keys: Keys::Translation(vec![DVec3::ZERO; 2]),
-            step: false,
-        });
+        doc.tracks.push(Track { node, times: vec![0.0, 0.0], keys: Keys::Translation(vec![DVec3::ZERO; 2]), step: false });
         assert!(scene_glb_bytes(&doc).unwrap_err().to_string().contains("strictly increasing"));
         doc.tracks[0] = Track { node: 7, times: vec![0.0], keys: Keys::Translation(vec![DVec3::ZERO]), step: false };
         assert!(scene_glb_bytes(&doc).is_err());

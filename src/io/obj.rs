@@ -271,10 +271,7 @@ impl Reader {
         if corners_with_uv == 3 * triangle_texcoords.len() && !triangle_texcoords.is_empty() {
             mesh.uvs = Some(CornerUvs { values: self.texcoords, corners: triangle_texcoords });
             if self.texcoords_3d > 0 {
-                notes.push(format!(
-                    "{} OBJ texture coordinates have a third coordinate: kept as u v",
-                    self.texcoords_3d
-                ));
+                notes.push(format!("{} OBJ texture coordinates have a third coordinate: kept as u v", self.texcoords_3d));
             }
         } else if corners_with_uv > 0 {
             notes.push(format!(

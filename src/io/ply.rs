@@ -627,8 +627,7 @@ const UV_PROPERTIES: [[&str; 2]; 4] = [["s", "t"], ["u", "v"], ["texture_u", "te
 
 /// Moves the first pair of UV properties from the scalars into per-vertex UVs.
 fn uvs_from_scalars(mesh: &mut Mesh) {
-    let Some([u, v]) =
-        UV_PROPERTIES.iter().find(|[u, v]| mesh.scalars.contains_key(*u) && mesh.scalars.contains_key(*v))
+    let Some([u, v]) = UV_PROPERTIES.iter().find(|[u, v]| mesh.scalars.contains_key(*u) && mesh.scalars.contains_key(*v))
     else {
         return;
     };

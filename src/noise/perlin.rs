@@ -293,16 +293,12 @@ impl Perlin {
     /// path, when the lattice is the seeded one and the CPU has AVX2; returns how many
     /// points were done (0 otherwise), leaving the rest to the portable path. The sum is
     /// formed as [`super::Fractal::fbm_batch`] forms it, so the values are the same bits.
-    pub(super) fn fbm_batch_vectorised(
-        &self,
-        frequencies: &[f64],
-        gain: f64,
-        points: &[DVec3],
-        out: &mut [f64],
-    ) -> usize {
+    pub(super) fn fbm_batch_vectorised(&self, frequencies: &[f64], gain: f64, points: &[DVec3], out: &mut [f64]) -> usize {
         match &self.lattice {
             #[cfg(target_arch = "x86_64")]
-            Lattice::Hashed(seed) => super::perlin_avx2::fbm_hashed_if_available(*seed, frequencies, gain, points, out),
+            Lattice::Hashed(seed) => {
+                super::perlin_avx2::fbm_hashed_if_available(*seed, frequencies, gain, points, out)
+            }
             _ => 0,
         }
     }
