@@ -87,8 +87,8 @@ fn push_facet(corners: [u32; 3], triangles: &mut Vec<[u32; 3]>, dropped: &mut us
 
 /// Parses the solids of an ASCII STL (CAD exports write one per part, one after the
 /// other) into one mesh; returns how many there were.
-fn parse_ascii(
-    text: &str,
+fn parse_ascii<'t>(
+    text: &'t str,
     path: &Path,
     welder: &mut Welder,
     triangles: &mut Vec<[u32; 3]>,
@@ -97,26 +97,22 @@ fn parse_ascii(
     let err = |line: usize, msg: String| Error::parse(path, Location::Line(line), msg);
     let mut lines = significant_lines(text);
     let mut last = 1;
-    // The next line, or the end of the file: an error while `expect` names what must come.
-    let mut line = |expect: Option<&str>| -> Result<Option<(usize, Vec<&str>)>> {
-        match (lines.next(), expect) {
-            (Some((n, tokens)), _) => {
-                last = n;
-                Ok(Some((n, tokens)))
-            }
-            (None, None) => Ok(None),
-            (None, Some(expect)) => Err(err(last, format!("the file ends before `{expect}`"))),
-        }
+    // The next line, where the end of the file would be an error: `expect` names what must come.
+    let mut next = |lines: &mut dyn Iterator<Item = (usize, Vec<&'t str>)>, expect: &str| {
+        let (n, tokens) = lines.next().ok_or_else(|| err(last, format!("the file ends before `{expect}`")))?;
+        last = n;
+        Ok::<_, Error>((n, tokens))
     };
-    let (n, first) = line(Some("solid"))?.expect("the end is an error while a line is expected");
+    let (n, first) = next(&mut lines, "solid")?;
     if first[0] != "solid" {
         return Err(err(n, "an ASCII STL must start with `solid`".into()));
     }
     let mut solids = 1;
     loop {
-        let (n, tokens) = line(Some("facet"))?.expect("the end is an error while a line is expected");
+        let (n, tokens) = next(&mut lines, "facet")?;
         match tokens[0] {
-            "endsolid" => match line(None)? {
+            // After a solid, the file ends or another solid begins.
+            "endsolid" => match lines.next() {
                 None => return Ok(solids),
                 Some((_, tokens)) if tokens[0] == "solid" => {
                     solids += 1;
@@ -135,24 +131,24 @@ fn parse_ascii(
             "facet" => {}
             other => return Err(err(n, format!("expected `facet` or `endsolid`, found `{}`", shorten(other)))),
         }
-        let (n, tokens) = line(Some("outer loop"))?.expect("the end is an error while a line is expected");
+        let (n, tokens) = next(&mut lines, "outer loop")?;
         if tokens != ["outer", "loop"] {
             return Err(err(n, "expected `outer loop`".into()));
         }
         let mut corners = [0u32; 3];
         for corner in &mut corners {
-            let (n, tokens) = line(Some("vertex"))?.expect("the end is an error while a line is expected");
+            let (n, tokens) = next(&mut lines, "vertex")?;
             if tokens.len() != 4 || tokens[0] != "vertex" {
                 return Err(err(n, "expected `vertex x y z`".into()));
             }
             let c = |k: usize| coordinate(tokens[k]).map_err(|m| err(n, m));
             *corner = welder.vertex(DVec3::new(c(1)?, c(2)?, c(3)?));
         }
-        let (n, tokens) = line(Some("endloop"))?.expect("the end is an error while a line is expected");
+        let (n, tokens) = next(&mut lines, "endloop")?;
         if tokens != ["endloop"] {
             return Err(err(n, "expected `endloop` (only triangles are allowed)".into()));
         }
-        let (n, tokens) = line(Some("endfacet"))?.expect("the end is an error while a line is expected");
+        let (n, tokens) = next(&mut lines, "endfacet")?;
         if tokens != ["endfacet"] {
             return Err(err(n, "expected `endfacet`".into()));
         }

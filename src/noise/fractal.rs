@@ -78,13 +78,21 @@ impl Fractal {
         Fractal { lacunarity: 1.1 + (l + 1.0) / 10.0, gain: 0.8 / (l + 1.0), ..self }
     }
 
-    /// Whether every octave's frequency and amplitude, and their sum's bound, are finite
-    /// numbers: a gain or lacunarity whose powers overflow over the octaves would make
-    /// every value infinite or NaN (#36: `--gain 1e300` ended as an internal error).
+    /// Whether the octaves are at most [`super::MAX_OCTAVES`] and every octave's frequency
+    /// and amplitude, and their sum's bound, are finite numbers: a gain or lacunarity whose
+    /// powers overflow over the octaves would make every value infinite or NaN (#36:
+    /// `--gain 1e300` ended as an internal error).
     ///
     /// # Errors
     /// [`crate::Error::InvalidInput`] naming the parameter.
     pub fn check(&self) -> crate::Result<()> {
+        if self.octaves > super::MAX_OCTAVES {
+            return Err(crate::Error::InvalidInput(format!(
+                "{} octaves: at most {} (beyond, an octave's frequency leaves the precision of the coordinates)",
+                self.octaves,
+                super::MAX_OCTAVES
+            )));
+        }
         let octaves = self.octaves.max(1);
         let last = (octaves - 1) as i32;
         for (name, value) in [("lacunarity", self.lacunarity), ("gain", self.gain), ("offset", self.offset)] {

@@ -127,12 +127,6 @@ impl NoiseField {
             NoiseKind::Gabor => return Ok(NoiseField::Gabor(Gabor::new(spec.gabor, spec.seed)?)),
             NoiseKind::Phasor => return Ok(NoiseField::Phasor(Phasor::new(spec.gabor, spec.profile, spec.seed)?)),
         };
-        if fractal_kind.is_some() && spec.fractal.octaves > MAX_OCTAVES {
-            return Err(crate::Error::InvalidInput(format!(
-                "{} octaves: at most {MAX_OCTAVES} (beyond, an octave's frequency leaves the precision of the coordinates)",
-                spec.fractal.octaves
-            )));
-        }
         let fractal = fractal_kind.map(|kind| Fractal { kind, ..spec.fractal });
         if let Some(fractal) = &fractal {
             fractal.check()?;
@@ -211,7 +205,11 @@ pub const GABOR_PEAK_SIGMAS: f64 = 4.0;
 /// with its first derivative, odd, increasing, and bounded by 1.
 pub fn soft_limit(x: f64) -> f64 {
     const KNEE: f64 = 0.5;
-    if x.abs() <= KNEE { x } else { x.signum() * (KNEE + (1.0 - KNEE) * ((x.abs() - KNEE) / (1.0 - KNEE)).tanh()) }
+    if x.abs() <= KNEE {
+        x
+    } else {
+        x.signum() * (KNEE + (1.0 - KNEE) * ((x.abs() - KNEE) / (1.0 - KNEE)).tanh())
+    }
 }
 
 /// Fills `out[k] = f(k)` in parallel chunks; each value depends only on `k`, so the result
