@@ -61,7 +61,7 @@ impl Stream {
     }
 
     /// Poisson-distributed count with the given mean (Knuth's product of uniforms, in
-    /// chunks of [`POISSON_CHUNK`]).
+    /// chunks of `POISSON_CHUNK`).
     pub fn poisson(&mut self, mean: f64) -> u32 {
         // Knuth's product stops where e^(−mean) underflows (a mean near 745), which capped
         // large counts silently (#36): a larger mean is drawn as a sum of Poisson counts of
