@@ -677,6 +677,17 @@ fn a_terrain_that_cannot_fit_in_memory_is_refused_before_allocating() {
     assert!(!tmp.path().join("big.png").exists());
     let streamed = limited(&["terrain", "--size", "4097", "--stream", "-o", "streamed.raw16"]);
     assert!(streamed.status.success(), "{}", String::from_utf8_lossy(&streamed.stderr));
+    // #36: the documented largest picture, and a smoke plume of 10^9 frames, aborted on
+    // their allocation; both are refused by estimate.
+    let input = shared_meshes().join("eight.off");
+    let out = limited(&["render", input.to_str().unwrap(), "--size", "16384,16384", "-o", "huge.png"]);
+    assert_one_line_error(&out, 2, &["16384x16384", "needs about", "in memory", "--size", "--samples"]);
+    assert!(!tmp.path().join("huge.png").exists());
+    let small = limited(&["render", input.to_str().unwrap(), "--size", "64,64", "-o", "small.png"]);
+    assert!(small.status.success(), "{}", String::from_utf8_lossy(&small.stderr));
+    let out = limited(&["smoke", "--frames", "1000000000", "--resolution", "24", "-o", "plume.glb"]);
+    assert_one_line_error(&out, 2, &["1000000000 frames", "needs about", "--frames"]);
+    assert!(!tmp.path().join("plume.glb").exists());
 }
 
 #[test]

@@ -277,6 +277,26 @@ fn independent_sets_keep_their_exclusion_distance() {
     assert!(reach.iter().all(Option::is_some));
 }
 
+/// #36: ring and pass counts far past the mesh's reach end where the rings (or the marks)
+/// stop growing; they ran empty rounds for hours.
+#[test]
+fn ring_counts_past_the_mesh_end_where_the_rings_stop_growing() {
+    let mesh = icosphere(1.0, 3);
+    let view = level_view(&mesh, 0);
+    let huge = 1_000_000_000_000_u64;
+    let r = recipe(&format!(
+        "[[step]]\nop = \"noise\"\nselect = {{ around = {{ vertices = [0], rings = {huge} }}, \
+         independent = {{ exclusion = {huge} }} }}\n"
+    ));
+    let chosen = select(&r.steps[0].select, &view, &BoxFrame::of(&mesh), &[], 9).unwrap();
+    // Every vertex lies within reach of vertex 0, so the set excludes all but one.
+    assert_eq!(chosen.iter().filter(|&&c| c).count(), 1);
+    assert_eq!(view.adjacency.k_ring(0, huge as usize).len(), mesh.vertex_count() - 1);
+    let marks: Vec<bool> = (0..mesh.vertex_count()).map(|v| v < 3).collect();
+    let (after, _) = asperity::analysis::propagate_features(&view.adjacency, &marks, huge as usize);
+    assert!(after.iter().filter(|&&m| m).count() >= 3);
+}
+
 /// Σ over edges of (s_i − s_j)² / Σ s_i² for the normal displacement s: a discrete
 /// Rayleigh quotient, proportional to the squared spatial frequency of the field.
 fn displacement_frequency(out: &LevelMesh, input: &Mesh) -> f64 {

@@ -351,10 +351,17 @@ pub fn propagate_features(adjacency: &Adjacency, features: &[bool], passes: usiz
     let mut marks = features.to_vec();
     for _ in 0..passes {
         let before = marks.clone();
+        let mut grew = false;
         for (v, mark) in marks.iter_mut().enumerate() {
             if !before[v] && adjacency.neighbours(v).iter().filter(|&&w| before[w as usize]).count() >= 2 {
                 *mark = true;
+                grew = true;
             }
+        }
+        // A pass that marks nothing leaves the next ones nothing to do (#36: huge pass
+        // counts ran empty passes for hours).
+        if !grew {
+            break;
         }
     }
     let removable =

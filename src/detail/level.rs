@@ -154,7 +154,12 @@ impl LevelView {
                 frontier.push(c);
             }
         }
+        // A ring count past the mesh's reach ends where the rings stop growing (#36:
+        // `rings = 1000000000000` ran empty rounds for hours).
         for k in 1..=rings {
+            if frontier.is_empty() {
+                break;
+            }
             let mut next = Vec::new();
             for &u in &frontier {
                 let centre = reach[u].map_or(u, |(_, c)| c);

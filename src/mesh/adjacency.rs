@@ -112,14 +112,20 @@ impl Adjacency {
     }
 
     /// The vertices within `k` edges of `v` (excluding `v`), in increasing order.
+    /// A `k` past the mesh's reach ends where the rings stop growing (#36: an exclusion of
+    /// 10^12 rings ran empty rounds for hours).
     pub fn k_ring(&self, v: usize, k: usize) -> Vec<u32> {
         let mut ring = vec![v as u32];
+        let mut seen = rustc_hash::FxHashSet::from_iter([v as u32]);
         let mut frontier = vec![v as u32];
         for _ in 0..k {
+            if frontier.is_empty() {
+                break;
+            }
             let mut next = Vec::new();
             for &u in &frontier {
                 for &w in self.neighbours(u as usize) {
-                    if !ring.contains(&w) && !next.contains(&w) {
+                    if seen.insert(w) {
                         next.push(w);
                     }
                 }

@@ -281,14 +281,28 @@ pub fn smoke_frames(params: SmokeParams, warmup: usize, steps_per_frame: usize, 
     for _ in 0..warmup {
         system.step();
     }
-    let mut out = Vec::with_capacity(frames);
+    let mut out = Vec::new();
     for frame in 0..frames {
         if frame > 0 {
             for _ in 0..steps_per_frame {
                 system.step();
             }
         }
-        out.push(system.surface()?.0);
+        let mesh = system.surface()?.0;
+        // The frames are held until written: the first frame's size, times the frames
+        // asked, is refused where the machine has not that much (#36: 10^9 frames
+        // aborted on a 240 GB allocation).
+        if frame == 0 {
+            let bytes = (std::mem::size_of::<Mesh>()
+                + mesh.positions.len() * std::mem::size_of::<DVec3>()
+                + mesh.triangles.len() * std::mem::size_of::<[u32; 3]>()) as u64;
+            crate::memory::ensure_available(
+                bytes.saturating_mul(frames as u64),
+                &format!("smoke's {frames} frames ({bytes} bytes the first)"),
+                "ask for fewer frames (--frames)",
+            )?;
+        }
+        out.push(mesh);
     }
     Ok(out)
 }
