@@ -171,6 +171,26 @@ fn files_with_bom_crlf_and_comments_read() {
     assert_eq!((mesh.vertex_count(), mesh.face_count()), (3, 1));
 }
 
+/// #36: a Latin-1 byte (é = 0xE9) in a comment is read; outside a comment it is refused,
+/// naming its byte from the file's start (the byte-order mark counted).
+#[test]
+fn latin_1_bytes_read_in_comments_and_are_refused_elsewhere() {
+    let dir = temp_dir();
+    let write = |name: &str, bytes: &[u8]| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, bytes).unwrap();
+        asperity::io::read(&path)
+    };
+    let obj = b"# export\xe9 par un mod\xe8leur\nv 0 0 0\nv 1 0 0\nv 0 1 0 # coin \xe9\nf 1 2 3\n";
+    let mesh = write("latin.obj", obj).unwrap().mesh;
+    assert_eq!((mesh.vertex_count(), mesh.face_count()), (3, 1));
+    let off = b"\xef\xbb\xbfOFF\r# \xe9\r3 1 0\r0 0 0\r1 0 0\r0 1 0\r3 0 1 2\r";
+    let mesh = write("latin.off", off).unwrap().mesh;
+    assert_eq!((mesh.vertex_count(), mesh.face_count()), (3, 1));
+    let message = write("bad.obj", b"\xef\xbb\xbfv 0 0 0\nv 1 0 \xe9\n").unwrap_err().to_string();
+    assert!(message.contains("byte 17") && message.contains("not a text file"), "{message}");
+}
+
 #[test]
 fn big_endian_ply_and_other_elements_read() {
     let dir = temp_dir();

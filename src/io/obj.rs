@@ -29,13 +29,13 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     let text = decode(bytes, path)?;
     // Positive indices may refer forward, to any element of the file.
     let mut totals = [0usize; 3];
-    for (_, line) in logical_lines(text) {
+    for (_, line) in logical_lines(&text) {
         if let Some(k) = ["v", "vt", "vn"].iter().position(|&h| line.split_whitespace().next() == Some(h)) {
             totals[k] += 1;
         }
     }
     let mut reader = Reader { totals, normals_consistent: true, current_material: u32::MAX, ..Reader::default() };
-    for (line, content) in logical_lines(text) {
+    for (line, content) in logical_lines(&text) {
         let content = content.split('#').next().unwrap_or("");
         reader.statement(content).map_err(|msg| Error::parse(path, Location::Line(line), msg))?;
     }

@@ -19,7 +19,7 @@ const MIN_FACE_BYTES: usize = 8;
 pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     let text = decode(bytes, path)?;
     let err = |line: usize, msg: String| Error::parse(path, Location::Line(line), msg);
-    let mut lines = significant_lines(text);
+    let mut lines = significant_lines(&text);
 
     let (header_line, header) = lines.next().ok_or_else(|| Error::parse(path, Location::File, "no OFF header"))?;
     let keyword = header[0];

@@ -50,7 +50,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
             push_facet(corners, &mut triangles, &mut dropped);
         }
     } else if looks_ascii {
-        solids = parse_ascii(decode(bytes, path)?, path, &mut welder, &mut triangles, &mut dropped)?;
+        solids = parse_ascii(&decode(bytes, path)?, path, &mut welder, &mut triangles, &mut dropped)?;
     } else if let Some(n) = binary_count {
         return Err(Error::parse(
             path,

@@ -1,15 +1,38 @@
 //! Text input helpers: UTF-8 decoding with a clear error, BOM removal, and lines numbered
 //! from 1 whatever the line ending (`\n`, `\r\n` or a lone `\r`).
 
+use std::borrow::Cow;
 use std::path::Path;
 
 use crate::error::{Error, Location, Result};
 
-/// The file as text, without a UTF-8 byte order mark.
-pub fn decode<'a>(bytes: &'a [u8], path: &Path) -> Result<&'a str> {
-    let text = std::str::from_utf8(bytes)
-        .map_err(|e| Error::parse(path, Location::Byte(e.valid_up_to() as u64), "not a text file (invalid UTF-8)"))?;
-    Ok(text.strip_prefix('\u{feff}').unwrap_or(text))
+/// The file as text, without a UTF-8 byte order mark. Bytes that are not UTF-8 are
+/// accepted inside `#` comments, read there as Latin-1 (#36: a comment written by a
+/// Latin-1 exporter refused the whole OBJ file); anywhere else they are an error naming
+/// the first such byte.
+pub fn decode<'a>(bytes: &'a [u8], path: &Path) -> Result<Cow<'a, str>> {
+    let file_len = bytes.len();
+    let bytes = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes);
+    if let Ok(text) = std::str::from_utf8(bytes) {
+        return Ok(Cow::Borrowed(text));
+    }
+    let mut text = String::with_capacity(bytes.len());
+    // Byte offsets count from the file's first byte, the mark included.
+    let mut start = file_len - bytes.len();
+    for line in bytes.split_inclusive(|&b| b == b'\n' || b == b'\r') {
+        let hash = line.iter().position(|&b| b == b'#').unwrap_or(line.len());
+        let (content, comment) = line.split_at(hash);
+        let content = std::str::from_utf8(content).map_err(|e| {
+            Error::parse(path, Location::Byte((start + e.valid_up_to()) as u64), "not a text file (invalid UTF-8)")
+        })?;
+        text.push_str(content);
+        match std::str::from_utf8(comment) {
+            Ok(comment) => text.push_str(comment),
+            Err(_) => text.extend(comment.iter().map(|&b| char::from(b))),
+        }
+        start += line.len();
+    }
+    Ok(Cow::Owned(text))
 }
 
 /// Numbered lines, any line ending.
