@@ -49,6 +49,7 @@ fn location(at: &str) -> Location {
         Some(("line", n)) => Location::Line(n.parse().unwrap()),
         Some(("byte", n)) => Location::Byte(n.parse().unwrap()),
         Some(("mesh", n)) => Location::Element("mesh", n.parse().unwrap()),
+        Some(("node", n)) => Location::Element("node", n.parse().unwrap()),
         _ => panic!("bad `at` in expected.toml: {at}"),
     }
 }

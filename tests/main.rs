@@ -10,6 +10,7 @@ mod determinism;
 mod ffi;
 mod fuzz_regressions;
 mod glb;
+mod gltf_read;
 mod hierarchy;
 mod hierarchy_quality;
 mod hierarchy_targets;

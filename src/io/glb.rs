@@ -1,8 +1,11 @@
-//! glTF 2.0 binary (`.glb`) output through the `gltf` crate's JSON model and GLB container:
-//! positions, normals (the mesh's own, or area-weighted), vertex colours, and per-vertex
-//! scalars as application attributes (`_MEAN_CURVATURE`, ...). Several meshes (the levels
-//! of a hierarchy) become one node each, side by side along x, with node extras naming the
-//! level. Coordinates are stored as f32, as glTF requires.
+//! glTF 2.0 output through the `gltf` crate's JSON model: binary (`.glb`, the GLB
+//! container) or text (`.gltf`, its one buffer embedded as a base64 `data:` URI, so the file
+//! stands alone). Positions, normals (the mesh's own, or area-weighted), vertex colours, and
+//! per-vertex scalars as application attributes (`_MEAN_CURVATURE`, ...). Several meshes (the
+//! levels of a hierarchy) become one node each, side by side along x, with node extras naming
+//! the level. Coordinates are stored as f32, as glTF requires; a mesh far from the origin for
+//! its size (geographic coordinates) is stored about its centre, which becomes its node's
+//! translation, so its faces keep their shape (#36: at 1e6, 16 of 320 faces collapsed).
 
 use std::borrow::Cow;
 use std::collections::BTreeMap;
@@ -26,26 +29,39 @@ pub struct GlbPart<'a> {
     pub extras: serde_json::Value,
 }
 
-/// Writes one mesh as a `.glb` file, atomically.
+/// Writes one mesh as a `.glb` (or `.gltf`) file, atomically.
 ///
 /// # Errors
 /// [`Error::InvalidInput`] for an empty mesh or one too large for a GLB (4 GiB);
 /// [`Error::Io`] naming the file.
 pub fn write_glb(mesh: &Mesh, path: &Path) -> Result<()> {
-    let name = path.file_stem().map_or("mesh".into(), |s| s.to_string_lossy().into_owned());
-    write_glb_parts(&[GlbPart { mesh, name, extras: serde_json::Value::Null }], path)
+    write_mesh(mesh, path, is_text(path))
 }
 
-/// Writes several meshes as nodes of one `.glb` scene, placed left to right along x with a
-/// gap of a tenth of the widest one, atomically.
+/// Writes one mesh as glTF text (`text`) or GLB, whatever `path`'s extension.
+pub(crate) fn write_mesh(mesh: &Mesh, path: &Path, text: bool) -> Result<()> {
+    let name = path.file_stem().map_or("mesh".into(), |s| s.to_string_lossy().into_owned());
+    write_parts(&[GlbPart { mesh, name, extras: serde_json::Value::Null }], path, text)
+}
+
+fn is_text(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gltf"))
+}
+
+/// Writes several meshes as nodes of one `.glb` scene (a `.gltf` one when `path` ends so),
+/// placed left to right along x with a gap of a tenth of the widest one, atomically.
 ///
 /// # Errors
 /// As [`write_glb`].
 pub fn write_glb_parts(parts: &[GlbPart], path: &Path) -> Result<()> {
+    write_parts(parts, path, is_text(path))
+}
+
+fn write_parts(parts: &[GlbPart], path: &Path, text: bool) -> Result<()> {
     for part in parts {
-        super::fits_single_precision(part.mesh, path)?;
+        super::fits_single_precision(part.mesh, path, origin_of(part.mesh))?;
     }
-    let bytes = glb_bytes(parts)?;
+    let bytes = if text { builder_of(parts)?.finish_text()? } else { glb_bytes(parts)? };
     write_atomically(path, |out| out.write_all(&bytes))
 }
 
@@ -54,6 +70,19 @@ pub fn write_glb_parts(parts: &[GlbPart], path: &Path) -> Result<()> {
 /// # Errors
 /// As [`write_glb`].
 pub fn glb_bytes(parts: &[GlbPart]) -> Result<Vec<u8>> {
+    builder_of(parts)?.finish()
+}
+
+/// Where a mesh is stored from: the origin, or, for a mesh farther from it than 16 times its
+/// diagonal (where f32 keeps fewer than 20 bits of the mesh's own size), the centre of its
+/// box rounded to f32, so that the node's f32 translation holds it exactly.
+pub(crate) fn origin_of(mesh: &Mesh) -> DVec3 {
+    let Some((lo, hi)) = mesh.bounding_box() else { return DVec3::ZERO };
+    let far = lo.abs().max(hi.abs()).max_element();
+    if far > 16.0 * (hi - lo).length() { ((lo + hi) * 0.5).as_vec3().as_dvec3() } else { DVec3::ZERO }
+}
+
+fn builder_of(parts: &[GlbPart]) -> Result<Builder> {
     let mut builder = Builder::default();
     let width = parts.iter().filter_map(|p| p.mesh.bounding_box()).map(|(lo, hi)| hi.x - lo.x).fold(0.0, f64::max);
     let mut x = 0.0;
@@ -67,24 +96,26 @@ pub fn glb_bytes(parts: &[GlbPart]) -> Result<Vec<u8>> {
         if part.mesh.triangles.is_empty() {
             return Err(Error::InvalidInput(format!("{}: no faces to write", part.name)));
         }
-        let mesh = builder.mesh(part)?;
+        let origin = origin_of(part.mesh);
+        let mesh = builder.mesh_with_alpha(part.mesh, &part.name, None, origin)?;
         let extras = match &part.extras {
             serde_json::Value::Null => None,
             value => Some(serde_json::value::to_raw_value(value).map_err(|e| Error::Internal(e.to_string()))?),
         };
-        let offset = if parts.len() > 1 { (x - lo.x) as f32 } else { 0.0 };
+        let offset = if parts.len() > 1 { x - lo.x } else { 0.0 };
+        let translation = (origin + DVec3::new(offset, 0.0, 0.0)).as_vec3().to_array();
         nodes.push(builder.root.push(gj::Node {
             mesh: Some(mesh),
             name: Some(part.name.clone()),
             extras,
-            translation: (offset != 0.0).then_some([offset, 0.0, 0.0]),
+            translation: (translation != [0.0; 3]).then_some(translation),
             ..Default::default()
         }));
         x += (hi.x - lo.x) + 0.1 * width;
     }
     let scene = builder.root.push(gj::Scene { nodes, name: Some("asperity".into()), extensions: None, extras: None });
     builder.root.scene = Some(scene);
-    builder.finish()
+    Ok(builder)
 }
 
 /// A glTF document and its binary chunk under construction (also used by
@@ -202,13 +233,16 @@ impl Builder {
         m
     }
 
-    fn mesh(&mut self, part: &GlbPart) -> Result<Index<gj::Mesh>> {
-        self.mesh_with_alpha(part.mesh, &part.name, None)
-    }
-
-    /// A glTF mesh of `mesh`; with `alpha` (one per vertex), colours carry it and the
+    /// A glTF mesh of `mesh`, its positions stored from `origin` (which its node's
+    /// translation must add back); with `alpha` (one per vertex), colours carry it and the
     /// material blends.
-    pub(crate) fn mesh_with_alpha(&mut self, mesh: &Mesh, name: &str, alpha: Option<&[f32]>) -> Result<Index<gj::Mesh>> {
+    pub(crate) fn mesh_with_alpha(
+        &mut self,
+        mesh: &Mesh,
+        name: &str,
+        alpha: Option<&[f32]>,
+        origin: DVec3,
+    ) -> Result<Index<gj::Mesh>> {
         // glTF holds one UV per vertex: seam vertices are split.
         let split;
         let copied_alpha: Vec<f32>;
@@ -221,7 +255,7 @@ impl Builder {
             (mesh, alpha)
         };
         let mut attributes = BTreeMap::new();
-        let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.as_vec3().to_array()).collect();
+        let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|&p| (p - origin).as_vec3().to_array()).collect();
         attributes.insert(Valid(gj::mesh::Semantic::Positions), self.vec3(&positions, true));
         let normals: Vec<[f32; 3]> = match &mesh.normals {
             Some(n) => n.iter().map(|v| v.normalize_or(DVec3::Z).as_vec3().to_array()).collect(),
@@ -296,23 +330,38 @@ impl Builder {
         }))
     }
 
-    /// The GLB bytes of the document.
-    pub(crate) fn finish(mut self) -> Result<Vec<u8>> {
+    /// The document with its one buffer declared: inside the GLB container (`uri` none) or
+    /// embedded as a `data:` URI.
+    fn close(&mut self, uri: Option<String>) -> Result<Vec<u8>> {
         while self.bin.len() % 4 != 0 {
             self.bin.push(0);
         }
         if self.bin.len() > (u32::MAX as usize) - (1 << 20) {
-            return Err(Error::InvalidInput(format!("{} bytes of geometry exceed a GLB file's 4 GiB", self.bin.len())));
+            return Err(Error::InvalidInput(format!(
+                "{} bytes of geometry exceed a glTF file's 4 GiB",
+                self.bin.len()
+            )));
         }
         self.root.asset.generator = Some(format!("asperity {}", env!("CARGO_PKG_VERSION")));
         self.root.push(gj::Buffer {
             byte_length: USize64::from(self.bin.len()),
             name: None,
-            uri: None,
+            uri,
             extensions: None,
             extras: None,
         });
-        let json = gj::serialize::to_vec(&self.root).map_err(|e| Error::Internal(format!("glTF JSON: {e}")))?;
+        gj::serialize::to_vec(&self.root).map_err(|e| Error::Internal(format!("glTF JSON: {e}")))
+    }
+
+    /// The `.gltf` text of the document, its buffer embedded.
+    pub(crate) fn finish_text(mut self) -> Result<Vec<u8>> {
+        let uri = super::gltf_read::data_uri(&self.bin);
+        self.close(Some(uri))
+    }
+
+    /// The GLB bytes of the document.
+    pub(crate) fn finish(mut self) -> Result<Vec<u8>> {
+        let json = self.close(None)?;
         let glb = gltf::binary::Glb {
             header: gltf::binary::Header { magic: *b"glTF", version: 2, length: 0 },
             json: Cow::Owned(json),
@@ -329,179 +378,4 @@ fn area_weighted_normals(mesh: &Mesh) -> Vec<[f32; 3]> {
         vertex_normals(mesh, &crate::mesh::Adjacency::of(mesh), &FaceGeometry::of(mesh), NormalWeighting::Area);
     // glTF requires unit normals: a vertex without faces gets +Z.
     normals.iter().map(|n| n.try_normalize().unwrap_or(DVec3::Z).as_vec3().to_array()).collect()
-}
-
-/// The GLB container header (magic, version, total length) checked before the `gltf`
-/// crate sees it: gltf 1.4.1 subtracts the header size from the declared length unchecked
-/// and panics on a length below 12 (found by `make fuzz`, tests/data/fuzz/read_glb).
-fn check_glb_header(bytes: &[u8], path: &Path) -> Result<()> {
-    use crate::error::Location;
-    if !bytes.starts_with(b"glTF") {
-        return Ok(()); // JSON glTF, or not glTF at all: the crate says which
-    }
-    let word = |at: usize| bytes.get(at..at + 4).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
-    let (Some(version), Some(length)) = (word(4), word(8)) else {
-        return Err(Error::parse(
-            path,
-            Location::File,
-            format!("GLB: the file ends inside its 12-byte header ({} bytes)", bytes.len()),
-        ));
-    };
-    if version != 2 {
-        return Err(Error::parse(path, Location::Byte(4), format!("GLB: version {version} (only glTF 2.0 is read)")));
-    }
-    const HEADERS: u32 = 12 + 8; // file header and the JSON chunk's header
-    if length < HEADERS || length as usize > bytes.len() {
-        return Err(Error::parse(
-            path,
-            Location::Byte(8),
-            format!(
-                "GLB: the header declares {length} bytes but the file has {} (at least {HEADERS} needed)",
-                bytes.len()
-            ),
-        ));
-    }
-    Ok(())
-}
-
-/// Reads every triangle primitive of the default scene (or of all meshes without scenes),
-/// node transforms applied, into one mesh with normals and colours when all parts have them.
-/// Why an accessor's data cannot be read, if it cannot: no buffer view (sparse or
-/// all-zero accessors are not read), data in an external file, no binary chunk, or a view
-/// that runs past the binary chunk.
-fn check_accessor_data(accessor: &gltf::Accessor, blob: Option<&[u8]>) -> std::result::Result<(), String> {
-    let a = accessor.index();
-    let Some(view) = accessor.view() else {
-        return Err(format!("accessor {a} has no buffer view (sparse or all-zero accessors are not read)"));
-    };
-    match view.buffer().source() {
-        gltf::buffer::Source::Uri(uri) => Err(format!(
-            "accessor {a}'s data is in the external file `{}` (only data inside the .glb is read)",
-            super::text::shorten(uri)
-        )),
-        gltf::buffer::Source::Bin => {
-            let Some(blob) = blob else {
-                return Err(format!("accessor {a} refers to the binary chunk, and the file has none"));
-            };
-            let stride = view.stride().unwrap_or(accessor.size());
-            let needed = accessor.count().checked_sub(1).map_or(0, |last| last * stride + accessor.size());
-            let end = view.offset() + accessor.offset() + needed;
-            if end > view.offset() + view.length() || end > blob.len() {
-                return Err(format!(
-                    "accessor {a} needs bytes up to {end}, beyond its buffer view or the binary chunk ({} bytes)",
-                    blob.len()
-                ));
-            }
-            Ok(())
-        }
-    }
-}
-
-pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
-    use crate::error::Location;
-    check_glb_header(bytes, path)?;
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| Error::parse(path, Location::File, format!("glTF: {e}")))?;
-    let blob = gltf.blob.as_deref();
-    let mut out = Mesh::default();
-    let (mut normals, mut colors, mut texcoords) = (Some(Vec::new()), Some(Vec::new()), Some(Vec::new()));
-    let mut some_texcoords = false;
-    let mut notes = Vec::new();
-    let mut dropped = 0;
-    let mut stack: Vec<(gltf::Node, glam::DMat4, usize)> = match gltf.default_scene().or_else(|| gltf.scenes().next()) {
-        Some(scene) => scene.nodes().map(|n| (n, glam::DMat4::IDENTITY, 0)).collect(),
-        None => Vec::new(),
-    };
-    let node_count = gltf.nodes().len();
-    while let Some((node, parent, depth)) = stack.pop() {
-        if depth > node_count {
-            return Err(Error::parse(path, Location::Element("node", node.index()), "the node hierarchy has a cycle"));
-        }
-        let local = glam::Mat4::from_cols_array_2d(&node.transform().matrix()).as_dmat4();
-        let world = parent * local;
-        stack.extend(node.children().map(|c| (c, world, depth + 1)));
-        let Some(mesh) = node.mesh() else { continue };
-        for primitive in mesh.primitives() {
-            if primitive.mode() != gltf::mesh::Mode::Triangles {
-                notes.push(format!("mesh {}: a {:?} primitive ignored", mesh.index(), primitive.mode()));
-                continue;
-            }
-            let reader = primitive.reader(|buffer| match buffer.source() {
-                gltf::buffer::Source::Bin => blob,
-                gltf::buffer::Source::Uri(_) => None,
-            });
-            let element = Location::Element("mesh", mesh.index());
-            let at_primitive =
-                |msg: String| Error::parse(path, element.clone(), format!("primitive {}: {msg}", primitive.index()));
-            for (what, accessor) in
-                [("POSITION", primitive.get(&gltf::Semantic::Positions)), ("the indices", primitive.indices())]
-            {
-                if let Some(accessor) = accessor {
-                    check_accessor_data(&accessor, blob).map_err(|m| at_primitive(format!("{what}: {m}")))?;
-                }
-            }
-            let positions: Vec<DVec3> = reader
-                .read_positions()
-                .ok_or_else(|| at_primitive("no POSITION attribute (a triangle primitive needs one)".into()))?
-                .map(|p| world.transform_point3(glam::Vec3::from(p).as_dvec3()))
-                .collect();
-            let base = out.positions.len() as u32;
-            let count = positions.len() as u32;
-            let indices: Vec<u32> = match reader.read_indices() {
-                Some(i) => i.into_u32().collect(),
-                None => (0..count).collect(),
-            };
-            if indices.len() % 3 != 0 {
-                return Err(at_primitive(format!("{} triangle indices are not a multiple of 3", indices.len())));
-            }
-            for (k, t) in indices.chunks_exact(3).enumerate() {
-                if let Err(msg) = super::check_polygon(t, positions.len()) {
-                    return Err(at_primitive(format!("triangle {k}: {msg}")));
-                }
-                let t = [t[0], t[1], t[2]];
-                if crate::mesh::repeats_a_vertex(t) {
-                    dropped += 1;
-                    continue;
-                }
-                out.triangles.push(t.map(|v| base + v));
-            }
-            normals = match (normals, reader.read_normals()) {
-                (Some(mut all), Some(n)) => {
-                    all.extend(n.map(|v| world.transform_vector3(glam::Vec3::from(v).as_dvec3()).normalize_or_zero()));
-                    Some(all)
-                }
-                _ => None,
-            };
-            let primitive_texcoords = reader.read_tex_coords(0);
-            some_texcoords |= primitive_texcoords.is_some();
-            texcoords = match (texcoords, primitive_texcoords) {
-                // glTF's v runs down the image, asperity's up.
-                (Some(mut all), Some(t)) => {
-                    all.extend(t.into_f32().map(|[s, t]| [f64::from(s), 1.0 - f64::from(t)]));
-                    Some(all)
-                }
-                _ => None,
-            };
-            colors = match (colors, reader.read_colors(0)) {
-                (Some(mut all), Some(c)) => {
-                    all.extend(c.into_rgb_u8());
-                    Some(all)
-                }
-                _ => None,
-            };
-            out.positions.extend(positions);
-        }
-    }
-    if out.positions.is_empty() {
-        return Err(Error::parse(path, Location::File, "no triangle mesh in the default scene"));
-    }
-    out.normals = normals.filter(|n| n.len() == out.positions.len());
-    out.colors = colors.filter(|c| c.len() == out.positions.len());
-    out.uvs = texcoords
-        .filter(|t| t.len() == out.positions.len())
-        .map(|t| crate::mesh::uv::CornerUvs::per_vertex(t, &out.triangles));
-    if some_texcoords && out.uvs.is_none() {
-        notes.push("TEXCOORD_0 on only some primitives: ignored (every vertex needs one)".to_string());
-    }
-    notes.extend(super::repeated_vertex_note(dropped));
-    Ok(super::ReadOutcome { mesh: out, triangulated_polygons: 0, notes })
 }

@@ -158,7 +158,7 @@ pub fn scene_glb_bytes(scene: &GlbScene) -> Result<Vec<u8>> {
         if part.alpha.as_ref().is_some_and(|a| a.len() != part.mesh.vertex_count()) {
             return Err(Error::InvalidInput(format!("{}: one opacity per vertex needed", part.name)));
         }
-        meshes.push(builder.mesh_with_alpha(part.mesh, &part.name, part.alpha.as_deref())?);
+        meshes.push(builder.mesh_with_alpha(part.mesh, &part.name, part.alpha.as_deref(), DVec3::ZERO)?);
     }
     let node_count = scene.nodes.len();
     let in_range = |i: usize, what: &str| {
@@ -197,7 +197,7 @@ pub fn scene_glb_bytes(scene: &GlbScene) -> Result<Vec<u8>> {
 /// As [`scene_glb_bytes`]; [`Error::Io`] naming the file.
 pub fn write_scene_glb(scene: &GlbScene, path: &Path) -> Result<()> {
     for part in &scene.meshes {
-        super::fits_single_precision(part.mesh, path)?;
+        super::fits_single_precision(part.mesh, path, glam::DVec3::ZERO)?;
     }
     let bytes = scene_glb_bytes(scene)?;
     write_atomically(path, |out| out.write_all(&bytes))

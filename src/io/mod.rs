@@ -5,6 +5,7 @@
 mod atomic;
 pub mod glb;
 pub mod glb_scene;
+mod gltf_read;
 pub mod image;
 pub mod obj;
 mod off;
@@ -31,9 +32,12 @@ pub enum Format {
     /// STereoLithography, ASCII or binary.
     Stl,
     /// glTF 2.0 binary (written with normals, colours, `TEXCOORD_0` and scalars; read:
-    /// triangle meshes of the default scene with node transforms applied, and their
-    /// `TEXCOORD_0`).
+    /// triangle lists, strips and fans of the default scene with node transforms and
+    /// instancing applied, with their normals, `COLOR_0` and `TEXCOORD_0`).
     Glb,
+    /// glTF 2.0 text: read as [`Format::Glb`] is, buffers in `data:` URIs or in files beside
+    /// it; written as one file, its buffer a `data:` URI.
+    Gltf,
 }
 
 impl Format {
@@ -49,9 +53,12 @@ impl Format {
             Some("off") => Ok(Format::Off),
             Some("stl") => Ok(Format::Stl),
             Some("glb") => Ok(Format::Glb),
-            _ => {
-                Err(Error::parse(path, Location::File, "unknown mesh format (expected .obj, .ply, .off, .stl or .glb)"))
-            }
+            Some("gltf") => Ok(Format::Gltf),
+            _ => Err(Error::parse(
+                path,
+                Location::File,
+                "unknown mesh format (expected .obj, .ply, .off, .stl, .glb or .gltf)",
+            )),
         }
     }
 }
@@ -138,7 +145,7 @@ pub fn read_bytes(bytes: &[u8], format: Format, path: &Path) -> Result<ReadOutco
         Format::Ply => ply::parse(bytes, path)?,
         Format::Off => off::parse(bytes, path)?,
         Format::Stl => stl::parse(bytes, path)?,
-        Format::Glb => glb::parse(bytes, path)?,
+        Format::Glb | Format::Gltf => gltf_read::parse(bytes, path)?,
     };
     outcome.mesh.check().map_err(|e| Error::parse(path, Location::File, e.to_string()))?;
     Ok(outcome)
@@ -158,38 +165,71 @@ pub fn write(mesh: &Mesh, path: &Path, options: WriteOptions) -> Result<()> {
 /// As [`write()`].
 pub fn write_as(mesh: &Mesh, path: &Path, format: Format, options: WriteOptions) -> Result<()> {
     mesh.check()?;
-    if matches!(format, Format::Stl | Format::Glb) {
-        fits_single_precision(mesh, path)?;
+    if format == Format::Stl {
+        fits_single_precision(mesh, path, glam::DVec3::ZERO)?;
     }
-    if format == Format::Glb {
-        return glb::write_glb(mesh, path);
+    if matches!(format, Format::Glb | Format::Gltf) {
+        return glb::write_mesh(mesh, path, format == Format::Gltf);
     }
     write_atomically(path, |w| match format {
         Format::Obj => obj::write(mesh, w),
         Format::Ply => ply::write(mesh, w, options.ascii),
         Format::Off => off::write(mesh, w),
         Format::Stl => stl::write(mesh, w, options.ascii),
-        Format::Glb => unreachable!("written above"),
+        Format::Glb | Format::Gltf => unreachable!("written above"),
     })
 }
 
-/// Refuses a mesh a single-precision format (STL, glTF) cannot hold: a coordinate beyond
-/// f32's range would be written as infinity, a file our own readers refuse.
+/// Refuses a mesh a single-precision format (STL, glTF) cannot hold, its positions stored
+/// from `origin`: a coordinate beyond f32's range would be written as infinity, a file our own
+/// readers refuse; and faces whose corners f32 would merge or make collinear (coordinates like
+/// 1e6 with detail of 0.01) would come back collapsed (#36: 16 of 320 at 1e6, all at 1e9).
 ///
 /// # Errors
-/// [`Error::InvalidInput`] naming `path`, the first such vertex and its coordinate.
-pub(crate) fn fits_single_precision(mesh: &Mesh, path: &Path) -> Result<()> {
+/// [`Error::InvalidInput`] naming `path` and the first such vertex and its coordinate, or the
+/// count of faces that would collapse.
+pub(crate) fn fits_single_precision(mesh: &Mesh, path: &Path, origin: glam::DVec3) -> Result<()> {
     let limit = f64::from(f32::MAX);
-    match mesh.positions.iter().enumerate().find(|(_, p)| p.abs().max_element() > limit) {
-        None => Ok(()),
-        Some((v, p)) => Err(Error::InvalidInput(format!(
+    if let Some((v, p)) = mesh.positions.iter().enumerate().find(|(_, p)| (**p - origin).abs().max_element() > limit) {
+        return Err(Error::InvalidInput(format!(
             "vertex {v} ({:?}, {:?}, {:?}) lies beyond single precision, which {} would store; write .ply, .off or .obj to keep it",
             p.x,
             p.y,
             p.z,
             path.display()
-        ))),
+        )));
     }
+    let collapsed = faces_collapsed_in_single_precision(mesh, origin);
+    if collapsed > 0 {
+        let glb = if origin == glam::DVec3::ZERO && matches!(Format::from_path(path), Ok(Format::Stl)) {
+            ", or .glb, which stores a mesh far from the origin about its centre"
+        } else {
+            ""
+        };
+        return Err(Error::InvalidInput(format!(
+            "{collapsed} of {} faces would collapse in the single precision {} stores (coordinates too large for their detail): write .ply, .off or .obj to keep them{glb}",
+            mesh.triangles.len(),
+            path.display()
+        )));
+    }
+    Ok(())
+}
+
+/// How many faces with area keep none once their corners, less `origin`, are rounded to f32.
+pub(crate) fn faces_collapsed_in_single_precision(mesh: &Mesh, origin: glam::DVec3) -> usize {
+    use rayon::prelude::*;
+    let rounded = |v: u32| (mesh.positions[v as usize] - origin).as_vec3().as_dvec3();
+    mesh.triangles
+        .par_iter()
+        .filter(|&&[a, b, c]| {
+            let (pa, pb, pc) = (mesh.positions[a as usize], mesh.positions[b as usize], mesh.positions[c as usize]);
+            if (pb - pa).cross(pc - pa) == glam::DVec3::ZERO {
+                return false;
+            }
+            let (ra, rb, rc) = (rounded(a), rounded(b), rounded(c));
+            (rb - ra).cross(rc - ra) == glam::DVec3::ZERO
+        })
+        .count()
 }
 
 /// Bit pattern of a position for welding duplicates; adding 0.0 turns -0.0 into 0.0 so
