@@ -833,3 +833,40 @@ fn overflowing_octaves_negative_sizes_and_shared_output_paths_are_usage_errors()
     assert_one_line_error(&out, 2, &["-o and --param-out", "b.ply"]);
     assert!(!tmp.path().join("b.ply").exists());
 }
+
+#[test]
+fn a_command_whose_writes_fail_part_way_leaves_no_file_and_no_folder() {
+    // #36 item 4: on a full disk `simplify --levels-out` and `smoke` (a file per frame) left
+    // the files written before the failure. A file-size limit makes the large writes fail
+    // (EFBIG, with SIGXFSZ ignored) after the small ones succeeded.
+    use std::os::unix::process::CommandExt;
+    let tmp = temp_dir();
+    let limited = |args: &[&str], bytes: u64| {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_asperity"));
+        command.args(args).current_dir(tmp.path());
+        // SAFETY: setrlimit and signal are async-signal-safe; they change this child only.
+        unsafe {
+            command.pre_exec(move || {
+                libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+                let limit = libc::rlimit { rlim_cur: bytes, rlim_max: bytes };
+                if libc::setrlimit(libc::RLIMIT_FSIZE, &limit) == 0 { Ok(()) } else { Err(std::io::Error::last_os_error()) }
+            });
+        }
+        command.output().unwrap()
+    };
+    let input = shared_meshes().join("fandisk.off");
+    // The base (a few kB at 200 vertices) is written first and fits; the finest level does not.
+    let simplify = ["simplify", input.to_str().unwrap(), "--target-vertices", "200", "-o", "base.ply", "--levels-out", "levels/all"];
+    let out = limited(&simplify, 64 << 10);
+    assert_one_line_error(&out, 2, &["levels/all/level_"]);
+    // These frames are 265, 289 and 277 kB: the first fits, the second does not.
+    let smoke = ["smoke", "--frames", "3", "--warmup", "41", "--resolution", "20", "-o", "plume.ply"];
+    let out = limited(&smoke, 280_000);
+    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    let left: Vec<_> = std::fs::read_dir(tmp.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+    // Without the limit both write everything.
+    let out = limited(&simplify, u64::MAX);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(tmp.path().join("base.ply").is_file() && tmp.path().join("levels/all/level_00.ply").is_file());
+}

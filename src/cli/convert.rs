@@ -10,7 +10,7 @@ use crate::io::{self, WriteOptions};
 
 #[derive(Debug, Args)]
 pub struct ConvertArgs {
-    /// Input mesh (.obj, .ply, .off, .stl, .glb).
+    /// Input mesh (.obj, .ply, .off, .stl, .glb, .gltf).
     input: PathBuf,
     /// Output mesh; the format follows the extension.
     output: PathBuf,

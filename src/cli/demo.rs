@@ -46,7 +46,7 @@ const WHITE: [u8; 3] = [255, 255, 255];
 
 pub fn run(args: DemoArgs, ctx: Context) -> Result<()> {
     let start = Instant::now();
-    std::fs::create_dir_all(&args.out).map_err(|e| Error::io(&args.out, e))?;
+    crate::io::create_output_dir(&args.out)?;
     let mut demo = Demo { out: args.out, ctx, written: Vec::new() };
     let torus = primitives::torus(1.0, 0.35, 96, 48);
     let sphere = primitives::icosphere(1.0, 4);

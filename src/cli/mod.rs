@@ -55,7 +55,7 @@ enum Command {
     Info(info::InfoArgs),
     /// Simplify with asperity, OpenMesh, CGAL and meshoptimizer: each at the target, then like with like.
     Compare(compare::CompareArgs),
-    /// Convert a mesh between OBJ, PLY, OFF, STL and glTF binary (format by extension).
+    /// Convert a mesh between OBJ, PLY, OFF, STL and glTF, binary or text (format by extension).
     Convert(convert::ConvertArgs),
     /// Build the 4-k hierarchy and refine it back (the round trip; recipes add detail).
     Detail(detail::DetailArgs),
@@ -131,13 +131,17 @@ pub fn run() -> i32 {
     std::panic::set_hook(Box::new(|_| {}));
     remove_partial_outputs_on_signals();
     Context { json: cli.json, quiet: cli.quiet }.install_progress_bars();
-    let outcome = std::panic::catch_unwind(|| dispatch(cli)).unwrap_or_else(|payload| {
-        let msg = payload
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| payload.downcast_ref::<String>().cloned())
-            .unwrap_or_else(|| "panic".to_string());
-        Err(Error::Internal(msg))
+    // Every output of the command, or none (#36): files are renamed into place when it ends well.
+    let outcome = crate::io::OutputBatch::open().and_then(|batch| {
+        let outcome = std::panic::catch_unwind(|| dispatch(cli)).unwrap_or_else(|payload| {
+            let msg = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "panic".to_string());
+            Err(Error::Internal(msg))
+        });
+        outcome.and_then(|()| batch.commit())
     });
     match outcome {
         Ok(()) => 0,

@@ -85,7 +85,7 @@ impl ViewArgs {
 /// The subcommand's flags (`RenderArgs`).
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// Input mesh (.obj, .ply, .off, .stl, .glb).
+    /// Input mesh (.obj, .ply, .off, .stl, .glb, .gltf).
     input: PathBuf,
     /// Output picture (.png).
     #[arg(short, long)]

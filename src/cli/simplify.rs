@@ -327,7 +327,7 @@ pub fn print_target_notes(target: &crate::hierarchy::TargetReport, vertices: usi
 /// Every level as DIR/level_NN.ply, or in the input's format when it carries UVs or
 /// materials (an OBJ's levels keep its `vt` and `usemtl`).
 fn write_levels(hierarchy: &Hierarchy, input: &Path, dir: &Path) -> Result<()> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    crate::io::create_output_dir(dir)?;
     let steps = hierarchy.steps();
     let extension = match (&hierarchy.wedges, input.extension().and_then(|e| e.to_str())) {
         (Some(_), Some(ext)) if ["obj", "ply", "glb"].contains(&ext.to_ascii_lowercase().as_str()) => {

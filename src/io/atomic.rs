@@ -1,4 +1,7 @@
-//! Atomic output: write to a temporary file in the destination folder, then rename.
+//! Atomic output: write to a temporary file in the destination folder, then rename. Within
+//! an [`OutputBatch`] (a command's whole output: levels, frames, tiles, scenes, sidecars) the
+//! renames wait for the batch's commit, so a failure part way leaves no file, and no folder
+//! the batch created.
 
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -10,9 +13,29 @@ use crate::error::{Error, Result};
 struct Pending {
     paths: Vec<PathBuf>,
     stopping: bool,
+    /// Complete outputs waiting for their batch's commit, when a batch is open.
+    batch: Option<Staged>,
 }
 
-static PENDING: Mutex<Pending> = Mutex::new(Pending { paths: Vec::new(), stopping: false });
+/// A batch's complete temporary files, each with its destination, and the folders it made.
+#[derive(Default)]
+struct Staged {
+    files: Vec<(tempfile::TempPath, PathBuf)>,
+    folders: Vec<PathBuf>,
+}
+
+impl Staged {
+    /// Deletes the temporary files (dropping them does) and then the folders made for them,
+    /// deepest first, where nothing else went into them.
+    fn discard(self) {
+        drop(self.files);
+        for folder in self.folders.iter().rev() {
+            let _ = std::fs::remove_dir(folder);
+        }
+    }
+}
+
+static PENDING: Mutex<Pending> = Mutex::new(Pending { paths: Vec::new(), stopping: false, batch: None });
 
 fn pending() -> MutexGuard<'static, Pending> {
     PENDING.lock().unwrap_or_else(PoisonError::into_inner)
@@ -26,6 +49,71 @@ pub fn abandon_pending_outputs() {
     for path in pending.paths.drain(..) {
         let _ = std::fs::remove_file(path);
     }
+    if let Some(batch) = pending.batch.take() {
+        batch.discard();
+    }
+}
+
+/// All of a command's outputs, or none: while the batch is open, [`write_atomically`] keeps
+/// each complete file under its temporary name, and [`OutputBatch::commit`] renames them all
+/// into place. A batch dropped without its commit (an error, a panic) deletes them, and the
+/// folders [`create_output_dir`] made. One batch at a time per process: the command line
+/// opens one around each command; library calls outside a batch write each file at once.
+pub struct OutputBatch(());
+
+impl OutputBatch {
+    /// Opens the process's batch.
+    ///
+    /// # Errors
+    /// [`Error::Internal`] if a batch is open already.
+    pub fn open() -> Result<Self> {
+        let mut pending = pending();
+        if pending.batch.is_some() {
+            return Err(Error::Internal("an output batch is open already".into()));
+        }
+        pending.batch = Some(Staged::default());
+        Ok(OutputBatch(()))
+    }
+
+    /// Renames every staged file into place, in the order they were written.
+    ///
+    /// # Errors
+    /// [`Error::Io`] naming the file whose rename failed (the ones before it are in place).
+    pub fn commit(self) -> Result<()> {
+        let staged = pending().batch.take().unwrap_or_default();
+        for (tmp, path) in staged.files {
+            tmp.persist(&path).map_err(|e| Error::io(&path, e.error))?;
+        }
+        Ok(())
+    }
+}
+
+impl Drop for OutputBatch {
+    fn drop(&mut self) {
+        let staged = pending().batch.take();
+        if let Some(staged) = staged {
+            staged.discard();
+        }
+    }
+}
+
+/// Creates `dir` and its missing parents; inside an open [`OutputBatch`], the ones it made are
+/// removed again if the batch is not committed.
+///
+/// # Errors
+/// [`Error::Io`] naming the folder.
+pub fn create_output_dir(dir: &Path) -> Result<()> {
+    let mut missing = Vec::new();
+    let mut at = Some(dir);
+    while let Some(folder) = at.filter(|f| !f.as_os_str().is_empty() && !f.exists()) {
+        missing.push(folder.to_path_buf());
+        at = folder.parent();
+    }
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    if let Some(batch) = pending().batch.as_mut() {
+        batch.folders.extend(missing.into_iter().rev());
+    }
+    Ok(())
 }
 
 /// Takes a temporary file's path off the pending list when the write ends, either way.
@@ -69,7 +157,8 @@ pub fn write_atomically(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::i
         if pending.stopping {
             return Err(Error::io(path, std::io::Error::new(std::io::ErrorKind::Interrupted, "interrupted")));
         }
-        let tmp = builder.tempfile_in(dir).map_err(|e| Error::io(path, e))?;
+        // tempfile's error names its own random path: keep the operating system's words.
+        let tmp = builder.tempfile_in(dir).map_err(|e| Error::io(path, e.raw_os_error().map_or(e, std::io::Error::from_raw_os_error)))?;
         pending.paths.push(tmp.path().to_path_buf());
         let registered = Registered(tmp.path().to_path_buf());
         (tmp, registered)
@@ -78,6 +167,16 @@ pub fn write_atomically(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::i
         let mut w = BufWriter::new(tmp.as_file());
         fill(&mut w).map_err(|e| Error::io(path, e))?;
         w.flush().map_err(|e| Error::io(path, e))?;
+    }
+    let tmp = tmp.into_temp_path();
+    {
+        let mut pending = pending();
+        if let Some(batch) = pending.batch.as_mut() {
+            // A second write to one path within the batch replaces the first.
+            batch.files.retain(|(_, dest)| dest != path);
+            batch.files.push((tmp, path.to_path_buf()));
+            return Ok(());
+        }
     }
     tmp.persist(path).map_err(|e| Error::io(path, e.error))?;
     Ok(())

@@ -18,7 +18,7 @@ use std::path::Path;
 use crate::error::{Error, Location, Result};
 use crate::mesh::Mesh;
 
-pub use atomic::{abandon_pending_outputs, write_atomically};
+pub use atomic::{OutputBatch, abandon_pending_outputs, create_output_dir, write_atomically};
 
 /// A mesh file format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -15,7 +15,7 @@ const MAX_VERTICES: usize = 1 << 25;
 /// The subcommand's flags.
 #[derive(Debug, Args)]
 pub struct WaterArgs {
-    /// Terrain mesh, z up (.obj, .ply, .off, .stl, .glb).
+    /// Terrain mesh, z up (.obj, .ply, .off, .stl, .glb, .gltf).
     input: PathBuf,
     /// Sea level (z, in the terrain's units).
     #[arg(long, allow_negative_numbers = true)]

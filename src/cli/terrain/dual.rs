@@ -42,7 +42,7 @@ pub(super) fn run(job: &Job, start: Instant, ctx: crate::cli::Context) -> Result
     }
     let params = params_of(g)?;
     if let Some(dir) = &g.steps {
-        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        crate::io::create_output_dir(dir)?;
     }
     let mut step_error = None;
     let surface = dual_midpoint_displacement(&params, |level, surface| {

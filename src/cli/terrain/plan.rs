@@ -151,7 +151,7 @@ pub(super) fn run(args: PlanArgs, ctx: crate::cli::Context) -> Result<()> {
             }
         })
         .collect();
-    std::fs::create_dir_all(args.output.join("tiles")).map_err(|e| Error::io(&args.output, e))?;
+    crate::io::create_output_dir(&args.output.join("tiles"))?;
     let world = WorldPlacement::of(&setup.params, 0, 0);
     let mosaic_tiles: Vec<MosaicTile> = planned
         .iter()
@@ -288,7 +288,7 @@ pub(super) fn run_tile(dir: &Path, flag: Option<u64>, ctx: crate::cli::Context) 
         return Ok(());
     }
     if let Some(parent) = output.parent() {
-        std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
+        crate::io::create_output_dir(parent)?;
     }
     let mut job = tile_job(&plan.parameters, (tile.x, tile.y), plan.tile_size, output, &plan.format);
     job.plan = Some(fingerprint);
