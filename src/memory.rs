@@ -60,22 +60,125 @@ pub fn available_bytes() -> Option<u64> {
     limits.into_iter().min()
 }
 
-/// Refuses work that needs more memory than [`available_bytes`] says there is, before
-/// anything is allocated: `what` and `advice` make the one-line message.
+/// The process's memory budget in bytes (0: not set, see [`budget`]).
+static BUDGET: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// The share of the machine's memory (its total, or the cgroup's limit) the budget is by
+/// default: three quarters, leaving room for the system and for what estimates miss.
+pub const DEFAULT_BUDGET_SHARE: f64 = 0.75;
+
+/// Sets the process's memory budget (the command line's `--max-memory`); `None` restores
+/// the default, [`DEFAULT_BUDGET_SHARE`] of the machine's memory. Every estimate
+/// ([`ensure_available`]) is checked against it as well as against what is available.
+pub fn set_budget(bytes: Option<u64>) {
+    BUDGET.store(bytes.unwrap_or(0), std::sync::atomic::Ordering::Relaxed);
+}
+
+/// The budget set by [`set_budget`], or by default [`DEFAULT_BUDGET_SHARE`] of the machine's
+/// memory (`MemTotal`, or the cgroup's limit when lower); `None` where neither can be read.
+pub fn budget() -> Option<u64> {
+    match BUDGET.load(std::sync::atomic::Ordering::Relaxed) {
+        0 => machine_bytes().map(|total| (total as f64 * DEFAULT_BUDGET_SHARE) as u64),
+        set => Some(set),
+    }
+}
+
+/// The machine's memory: `MemTotal`, or the cgroup's limit when lower.
+fn machine_bytes() -> Option<u64> {
+    let meminfo = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let total = meminfo
+        .lines()
+        .find(|l| l.starts_with("MemTotal:"))
+        .and_then(|l| l.split_whitespace().nth(1)?.parse::<u64>().ok())
+        .map(|kib| kib * 1024)?;
+    let read_number = |path: &str| -> Option<u64> { std::fs::read_to_string(path).ok()?.trim().parse().ok() };
+    let cgroup =
+        read_number("/sys/fs/cgroup/memory.max").or_else(|| read_number("/sys/fs/cgroup/memory/memory.limit_in_bytes"));
+    Some(cgroup.map_or(total, |c| c.min(total)))
+}
+
+/// Refuses work that needs more memory than [`available_bytes`] says there is, or more than
+/// the [`budget`], before anything is allocated: `what` and `advice` make the one-line
+/// message.
 ///
 /// # Errors
-/// [`crate::Error::InvalidInput`] saying how much is needed and available.
+/// [`crate::Error::InvalidInput`] saying how much is needed and what it exceeds.
 pub fn ensure_available(needed: u64, what: &str, advice: &str) -> crate::Result<()> {
+    if let Some(budget) = budget().filter(|&b| needed > b) {
+        let source = if BUDGET.load(std::sync::atomic::Ordering::Relaxed) == 0 {
+            format!(
+                "the memory budget of {} ({:.0} % of this machine's; --max-memory sets it)",
+                human_bytes(budget),
+                DEFAULT_BUDGET_SHARE * 100.0
+            )
+        } else {
+            format!("the --max-memory budget of {}", human_bytes(budget))
+        };
+        return Err(crate::Error::InvalidInput(format!(
+            "{what} needs about {} in memory, more than {source}: {advice}",
+            human_bytes(needed)
+        )));
+    }
     match available_bytes() {
         Some(available) if needed > available => Err(crate::Error::InvalidInput(format!(
             "{what} needs about {} in memory, more than the {} available: {advice}",
-            gigabytes(needed),
-            gigabytes(available)
+            human_bytes(needed),
+            human_bytes(available)
         ))),
         _ => Ok(()),
     }
 }
 
-fn gigabytes(bytes: u64) -> String {
-    format!("{:.1} GB", bytes as f64 / 1e9)
+/// A byte count as people write it: `1500000`, `512M`, `2G`, `1.5GB`, `64KiB` (K, M, G, T
+/// are powers of 1024, with or without `B` or `iB`).
+///
+/// # Errors
+/// A message saying what is wrong.
+pub fn parse_size(text: &str) -> std::result::Result<u64, String> {
+    let trimmed = text.trim();
+    let split = trimmed.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(trimmed.len());
+    let (number, unit) = trimmed.split_at(split);
+    let number: f64 = number.parse().map_err(|_| format!("`{text}` is not a size (e.g. 512M, 2G)"))?;
+    let unit = unit.trim().to_ascii_uppercase();
+    let unit = unit.trim_end_matches("IB").trim_end_matches('B');
+    let scale: f64 = match unit {
+        "" => 1.0,
+        "K" => 1024.0,
+        "M" => 1024.0 * 1024.0,
+        "G" => 1024.0 * 1024.0 * 1024.0,
+        "T" => 1024.0 * 1024.0 * 1024.0 * 1024.0,
+        _ => return Err(format!("`{text}`: unknown unit (K, M, G or T)")),
+    };
+    let bytes = number * scale;
+    if !(1.0..1.8e19).contains(&bytes) {
+        return Err(format!("`{text}` must be at least one byte"));
+    }
+    Ok(bytes as u64)
+}
+
+fn human_bytes(bytes: u64) -> String {
+    // Binary units, as --max-memory reads them.
+    let b = bytes as f64;
+    match bytes {
+        0..=1_048_575 => format!("{:.1} KiB", b / 1024.0),
+        1_048_576..=1_073_741_823 => format!("{:.1} MiB", b / 1_048_576.0),
+        _ => format!("{:.1} GiB", b / 1_073_741_824.0),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_read_as_people_write_them() {
+        assert_eq!(parse_size("1500000"), Ok(1_500_000));
+        assert_eq!(parse_size("512M"), Ok(512 << 20));
+        assert_eq!(parse_size("2G"), Ok(2 << 30));
+        assert_eq!(parse_size("1.5GB"), Ok(3 << 29));
+        assert_eq!(parse_size("64KiB"), Ok(64 << 10));
+        assert!(parse_size("0").is_err());
+        assert!(parse_size("2X").is_err());
+        assert!(parse_size("lots").is_err());
+    }
 }

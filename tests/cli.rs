@@ -849,14 +849,27 @@ fn a_command_whose_writes_fail_part_way_leaves_no_file_and_no_folder() {
             command.pre_exec(move || {
                 libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
                 let limit = libc::rlimit { rlim_cur: bytes, rlim_max: bytes };
-                if libc::setrlimit(libc::RLIMIT_FSIZE, &limit) == 0 { Ok(()) } else { Err(std::io::Error::last_os_error()) }
+                if libc::setrlimit(libc::RLIMIT_FSIZE, &limit) == 0 {
+                    Ok(())
+                } else {
+                    Err(std::io::Error::last_os_error())
+                }
             });
         }
         command.output().unwrap()
     };
     let input = shared_meshes().join("fandisk.off");
     // The base (a few kB at 200 vertices) is written first and fits; the finest level does not.
-    let simplify = ["simplify", input.to_str().unwrap(), "--target-vertices", "200", "-o", "base.ply", "--levels-out", "levels/all"];
+    let simplify = [
+        "simplify",
+        input.to_str().unwrap(),
+        "--target-vertices",
+        "200",
+        "-o",
+        "base.ply",
+        "--levels-out",
+        "levels/all",
+    ];
     let out = limited(&simplify, 64 << 10);
     assert_one_line_error(&out, 2, &["levels/all/level_"]);
     // These frames are 265, 289 and 277 kB: the first fits, the second does not.
@@ -869,4 +882,85 @@ fn a_command_whose_writes_fail_part_way_leaves_no_file_and_no_folder() {
     let out = limited(&simplify, u64::MAX);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(tmp.path().join("base.ply").is_file() && tmp.path().join("levels/all/level_00.ply").is_file());
+}
+
+#[test]
+fn messages_name_the_parameter_or_step_that_went_too_far() {
+    use std::os::unix::process::CommandExt;
+    let tmp = temp_dir();
+    // #36: `--sigma 1e308` ended in "vertex 1 has a non-finite coordinate", naming nothing.
+    let out = asperity(&["terrain", "--sigma", "1e308", "--size", "33", "-o", "t.obj"], tmp.path());
+    assert_one_line_error(&out, 2, &["terrain heights could reach", "sigma 1e308", "lower sigma"]);
+    // 100000 erosion iterations on a whole grid need no halo: they were refused as 8965.8 GB.
+    let out = asperity(
+        &["terrain", "--size", "9", "--erode", "thermal", "--erode-iterations", "100000", "-o", "e.png"],
+        tmp.path(),
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // A grid the tiles cannot cover names the sizes they can.
+    let out = asperity(
+        &["terrain", "plan", "--preset", "unreal", "--size", "2000", "--tile-size", "505", "-o", "p"],
+        tmp.path(),
+    );
+    assert_one_line_error(&out, 2, &["tiles of 505 points do not cover a grid of 2000", "nearest sizes 1513 or 2017"]);
+    assert!(!tmp.path().join("p").exists());
+    // A recipe step that throws vertices past any mesh names the step.
+    let recipe = "[hierarchy]\ntarget_vertices = \"500\"\n\n[[step]]\nop = \"noise\"\nlevel = -1\n\
+                  noise = { kind = \"perlin\", amplitude = 1e300, frequency = 2.0 }\n";
+    std::fs::write(tmp.path().join("far.toml"), recipe).unwrap();
+    let out = asperity(&["detail", "builtin:sphere", "--recipe", "far.toml", "-o", "far.ply"], tmp.path());
+    assert_one_line_error(
+        &out,
+        2,
+        &["recipe step 1: the noise step at level", "amplitude, scale or frequency is too large"],
+    );
+    // Twelve subdivisions of the whole sphere are refused by estimate, before the memory runs out.
+    let step = "[[step]]\nop = \"subdivide\"\nlevel = -1\nsubdivide = { steps = 8 }\n\n";
+    std::fs::write(
+        tmp.path().join("deep.toml"),
+        format!("[hierarchy]\ntarget_vertices = \"500\"\n\n{}", step.repeat(12)),
+    )
+    .unwrap();
+    let mut command = Command::new(env!("CARGO_BIN_EXE_asperity"));
+    command.args(["detail", "builtin:sphere", "--recipe", "deep.toml", "-o", "deep.ply"]).current_dir(tmp.path());
+    // SAFETY: setrlimit is async-signal-safe; it only lowers this child's own limit.
+    unsafe {
+        command.pre_exec(|| {
+            let limit = libc::rlimit { rlim_cur: 1 << 30, rlim_max: 1 << 30 };
+            if libc::setrlimit(libc::RLIMIT_AS, &limit) == 0 { Ok(()) } else { Err(std::io::Error::last_os_error()) }
+        });
+    }
+    let out = command.output().unwrap();
+    assert_one_line_error(&out, 2, &["recipe step", "subdividing", "needs about", "subdivide fewer times"]);
+    let left: Vec<_> = std::fs::read_dir(tmp.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(left.len(), 3, "only e.png and the two recipes: {left:?}");
+}
+
+#[test]
+fn a_memory_budget_refuses_work_before_it_starts() {
+    // #36 item 1: one budget for every command, `--max-memory`, checked by each estimate.
+    let tmp = temp_dir();
+    let fandisk = shared_meshes().join("fandisk.off");
+    let out = asperity(&["--max-memory", "1M", "terrain", "--size", "1025", "-o", "t.png"], tmp.path());
+    assert_one_line_error(
+        &out,
+        2,
+        &["a 1025x1025 terrain built whole needs about", "the --max-memory budget of 1.0 MiB"],
+    );
+    let out = asperity(&["simplify", fandisk.to_str().unwrap(), "--max-memory", "2M", "-o", "b.ply"], tmp.path());
+    assert_one_line_error(&out, 2, &["a hierarchy of 12946 triangles needs about", "--max-memory budget"]);
+    let out = asperity(&["convert", fandisk.to_str().unwrap(), "f.glb"], tmp.path());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = asperity(&["--max-memory", "100K", "info", "f.glb"], tmp.path());
+    assert_one_line_error(&out, 2, &["f.glb", "reading 1 mesh instance(s) drawing 6475 vertices and 12946 triangles"]);
+    let out = asperity(&["--max-memory", "lots", "info", "f.glb"], tmp.path());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.lines().next().unwrap_or("").contains("invalid value 'lots' for '--max-memory"), "{stderr}");
+    // Within the budget, the same work runs.
+    let out = asperity(
+        &["--max-memory", "1G", "simplify", fandisk.to_str().unwrap(), "--target-vertices", "1000", "-o", "b.ply"],
+        tmp.path(),
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }

@@ -41,6 +41,10 @@ pub struct Cli {
     /// Print nothing but errors (and the JSON report with --json); no progress bars.
     #[arg(short, long, global = true)]
     quiet: bool,
+    /// Memory budget: work estimated to need more is refused before it starts (512M, 2G,
+    /// 1.5GB; default: three quarters of the machine's memory).
+    #[arg(long, global = true, value_name = "SIZE", value_parser = crate::memory::parse_size)]
+    max_memory: Option<u64>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -129,6 +133,7 @@ pub fn run() -> i32 {
         }
     };
     std::panic::set_hook(Box::new(|_| {}));
+    crate::memory::set_budget(cli.max_memory);
     remove_partial_outputs_on_signals();
     Context { json: cli.json, quiet: cli.quiet }.install_progress_bars();
     // Every output of the command, or none (#36): files are renamed into place when it ends well.

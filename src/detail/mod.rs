@@ -33,7 +33,7 @@ pub use smooth::{laplacian_energy, loop_beta, loop_smooth};
 pub use subdivide::{Subdivision, subdivide_around};
 
 use crate::analysis::{AnalysisOptions, FeatureClass, analyze};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::hierarchy::{Hierarchy, LevelMesh, Refiner, SimplifyOptions, build};
 use crate::mesh::Mesh;
 use crate::noise::hash::derive_seed;
@@ -224,10 +224,15 @@ pub fn apply_with(
             next.next();
             let start = Instant::now();
             let seed = derive_seed(recipe.seed, &format!("step {i}"));
-            let mut report = match recipe.steps.get(i) {
-                Some(step) => run_step(step, &mut refiner, &mut state, steps, step.seed.unwrap_or(seed))?,
-                None => run_function(&functions[i - recipe.steps.len()], &mut refiner, &state, steps, seed)?,
+            let report = match recipe.steps.get(i) {
+                Some(step) => run_step(step, &mut refiner, &mut state, steps, step.seed.unwrap_or(seed)),
+                None => run_function(&functions[i - recipe.steps.len()], &mut refiner, &state, steps, seed),
             };
+            // A step's error names the step (#36: a non-finite coordinate named neither).
+            let mut report = report.map_err(|e| match e {
+                Error::InvalidInput(m) => Error::InvalidInput(format!("recipe step {}: {m}", i + 1)),
+                e => e,
+            })?;
             report.step = i + 1;
             report.seconds = start.elapsed().as_secs_f64();
             seconds.detail += report.seconds;
@@ -349,6 +354,7 @@ fn run_function(
         chosen.par_iter().map(|&v| (step.f)(&view, v)).collect()
     };
     let moves: Vec<(usize, DVec3)> = chosen.iter().copied().zip(moved).collect();
+    check_moves(&moves, &view, &format!("the function step at level {level}"))?;
     let touched = write_moves(refiner, &view, &moves, None);
     Ok(StepReport {
         step: 0,
@@ -405,6 +411,39 @@ fn noised_regions(view: &LevelView, mut region: Vec<bool>) -> Vec<bool> {
     }
 }
 
+/// Refuses moves to a non-finite place or past [`crate::mesh::MAX_COORDINATE`], naming the
+/// vertex (by input id) and `what` made them.
+fn check_moves(moves: &[(usize, DVec3)], view: &LevelView, what: &str) -> Result<()> {
+    match moves.iter().find(|(_, p)| !(p.is_finite() && p.abs().max_element() <= crate::mesh::MAX_COORDINATE)) {
+        None => Ok(()),
+        Some(&(v, p)) => Err(Error::InvalidInput(format!(
+            "{what} moves vertex {} to ({:e}, {:e}, {:e}): its amplitude, scale or frequency is too large",
+            view.ids[v], p.x, p.y, p.z
+        ))),
+    }
+}
+
+/// Bytes a vertex of the refiner holds with everything a detail run keeps beside it (the
+/// OpenMesh store's vertex, its three edges and two faces, the level view's copy, the run's
+/// per-vertex state), rounded up.
+const DETAIL_BYTES_PER_VERTEX: u64 = 640;
+
+/// Refuses a subdivision whose vertices the memory cannot hold, before making them (#36: a
+/// recipe subdividing 12 times ran 46 s into 3.2 GB and aborted). Concentric 4-8 steps
+/// double a centre's ring each step, so a centre of degree d makes at most d·2^(steps+1)
+/// vertices.
+fn check_subdivision_fits(refiner: &Refiner, centres: &[u32], steps: usize, level: usize) -> Result<()> {
+    let rings = refiner.rings();
+    let ring_sum: u64 = centres.iter().map(|&c| rings.degree(c) as u64).sum();
+    let made = ring_sum.saturating_mul(1u64.checked_shl(steps as u32 + 1).unwrap_or(u64::MAX));
+    let vertices = (refiner.vertex_slots() as u64).saturating_add(made);
+    crate::memory::ensure_available(
+        vertices.saturating_mul(DETAIL_BYTES_PER_VERTEX),
+        &format!("subdividing {} centres {steps} times at level {level} (up to {vertices} vertices)", centres.len()),
+        "subdivide fewer times or around fewer vertices",
+    )
+}
+
 /// Runs one step on the refiner's current level.
 fn run_step(step: &Step, refiner: &mut Refiner, state: &mut RunState, steps: usize, seed: u64) -> Result<StepReport> {
     let level = refiner.level();
@@ -419,6 +458,7 @@ fn run_step(step: &Step, refiner: &mut Refiner, state: &mut RunState, steps: usi
     };
     if subdivide_steps > 0 {
         let centres: Vec<u32> = (0..selected.len()).filter(|&v| selected[v]).map(|v| view.ids[v]).collect();
+        check_subdivision_fits(refiner, &centres, subdivide_steps, level)?;
         let made = subdivide_around(refiner, &centres, subdivide_steps)?;
         for &([a, b], v) in &made.splits {
             debug_assert_eq!(v as usize, state.rest.len());
@@ -454,6 +494,7 @@ fn run_step(step: &Step, refiner: &mut Refiner, state: &mut RunState, steps: usi
         OperatorKind::Smooth => loop_smooth(&view, &selected, step.smooth.iterations),
         OperatorKind::Subdivide => Vec::new(),
     };
+    check_moves(&moves, &view, &format!("the {:?} step at level {level}", step.op).to_lowercase())?;
     let marks_noise = matches!(
         step.op,
         OperatorKind::Noise | OperatorKind::Variation | OperatorKind::Feature | OperatorKind::Organic

@@ -97,6 +97,20 @@ impl Drop for OutputBatch {
     }
 }
 
+/// The size of the output just written at `path`: its staged file's while an
+/// [`OutputBatch`] holds it, else the file's (sidecars record the size of what they describe).
+///
+/// # Errors
+/// [`Error::Io`] naming `path` when neither exists.
+pub fn written_size(path: &Path) -> Result<u64> {
+    let staged = pending()
+        .batch
+        .as_ref()
+        .and_then(|b| b.files.iter().find(|(_, dest)| dest == path).map(|(tmp, _)| tmp.to_path_buf()));
+    let file = staged.as_deref().unwrap_or(path);
+    std::fs::metadata(file).map(|m| m.len()).map_err(|e| Error::io(path, e))
+}
+
 /// Creates `dir` and its missing parents; inside an open [`OutputBatch`], the ones it made are
 /// removed again if the batch is not committed.
 ///
@@ -158,7 +172,9 @@ pub fn write_atomically(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::i
             return Err(Error::io(path, std::io::Error::new(std::io::ErrorKind::Interrupted, "interrupted")));
         }
         // tempfile's error names its own random path: keep the operating system's words.
-        let tmp = builder.tempfile_in(dir).map_err(|e| Error::io(path, e.raw_os_error().map_or(e, std::io::Error::from_raw_os_error)))?;
+        let tmp = builder
+            .tempfile_in(dir)
+            .map_err(|e| Error::io(path, e.raw_os_error().map_or(e, std::io::Error::from_raw_os_error)))?;
         pending.paths.push(tmp.path().to_path_buf());
         let registered = Registered(tmp.path().to_path_buf());
         (tmp, registered)

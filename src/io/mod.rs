@@ -18,7 +18,7 @@ use std::path::Path;
 use crate::error::{Error, Location, Result};
 use crate::mesh::Mesh;
 
-pub use atomic::{OutputBatch, abandon_pending_outputs, create_output_dir, write_atomically};
+pub use atomic::{OutputBatch, abandon_pending_outputs, create_output_dir, write_atomically, written_size};
 
 /// A mesh file format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -215,19 +215,24 @@ pub(crate) fn fits_single_precision(mesh: &Mesh, path: &Path, origin: glam::DVec
     Ok(())
 }
 
-/// How many faces with area keep none once their corners, less `origin`, are rounded to f32.
+/// How many faces of a mesh far from the origin for its size ([`glb::origin_of`]) lose their
+/// area because of where it lies: their corners, less `origin`, rounded to f32 are collinear,
+/// though rounded about the mesh's own centre they are not. Near the origin, a face too small
+/// for f32 (as marching tetrahedra make) is f32's ordinary limit, which every
+/// single-precision writer has, and is not counted.
 pub(crate) fn faces_collapsed_in_single_precision(mesh: &Mesh, origin: glam::DVec3) -> usize {
     use rayon::prelude::*;
-    let rounded = |v: u32| (mesh.positions[v as usize] - origin).as_vec3().as_dvec3();
+    let centre = glb::origin_of(mesh);
+    if centre == origin {
+        return 0;
+    }
+    let flat = |[a, b, c]: [glam::DVec3; 3]| (b - a).cross(c - a) == glam::DVec3::ZERO;
+    let round = |p: glam::DVec3, about: glam::DVec3| (p - about).as_vec3().as_dvec3();
     mesh.triangles
         .par_iter()
-        .filter(|&&[a, b, c]| {
-            let (pa, pb, pc) = (mesh.positions[a as usize], mesh.positions[b as usize], mesh.positions[c as usize]);
-            if (pb - pa).cross(pc - pa) == glam::DVec3::ZERO {
-                return false;
-            }
-            let (ra, rb, rc) = (rounded(a), rounded(b), rounded(c));
-            (rb - ra).cross(rc - ra) == glam::DVec3::ZERO
+        .filter(|t| {
+            let corners = t.map(|v| mesh.positions[v as usize]);
+            flat(corners.map(|p| round(p, origin))) && !flat(corners.map(|p| round(p, centre)))
         })
         .count()
 }

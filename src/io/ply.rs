@@ -202,10 +202,22 @@ fn find_subslice(haystack: &[u8], needle: &[u8]) -> Option<usize> {
     haystack.windows(needle.len()).position(|w| w == needle)
 }
 
-/// Where values come from: ASCII tokens with line numbers, or binary with byte offsets.
+/// Where values come from: ASCII lines, one element each, or binary with byte offsets.
 enum Body<'a> {
-    Ascii { tokens: Box<dyn Iterator<Item = (usize, &'a str)> + 'a>, line: usize },
-    Binary { bytes: &'a [u8], pos: usize, base: usize, big_endian: bool },
+    /// `lines` yields the body's numbered lines; `tokens` are what is left of `line`, the
+    /// current element's (#36: values were read across lines, so a vertex missing a value
+    /// took the next line's and the error surfaced lines later).
+    Ascii {
+        lines: Box<dyn Iterator<Item = (usize, &'a str)> + 'a>,
+        tokens: std::str::SplitWhitespace<'a>,
+        line: usize,
+    },
+    Binary {
+        bytes: &'a [u8],
+        pos: usize,
+        base: usize,
+        big_endian: bool,
+    },
 }
 
 impl<'a> Body<'a> {
@@ -216,11 +228,43 @@ impl<'a> Body<'a> {
         }
     }
 
+    /// Starts the next element: in ASCII, its line (blank lines are skipped).
+    fn begin_element(&mut self) -> std::result::Result<(), String> {
+        if let Body::Ascii { lines, tokens, line } = self {
+            let (n, text) = lines.find(|(_, l)| !l.trim().is_empty()).ok_or("the file ends early")?;
+            *line = n;
+            *tokens = text.split_whitespace();
+        }
+        Ok(())
+    }
+
+    /// Ends an element: in ASCII, its line must hold nothing more.
+    fn end_element(&mut self) -> std::result::Result<(), String> {
+        match self {
+            Body::Ascii { tokens, .. } => match tokens.next() {
+                Some(extra) => Err(format!(
+                    "`{}` is one value more than the element's properties declare (one element per line)",
+                    shorten(extra)
+                )),
+                None => Ok(()),
+            },
+            Body::Binary { .. } => Ok(()),
+        }
+    }
+
+    /// In ASCII, the first line after the last element that is not blank.
+    fn trailing_line(&mut self) -> Option<usize> {
+        match self {
+            Body::Ascii { lines, .. } => lines.find(|(_, l)| !l.trim().is_empty()).map(|(n, _)| n),
+            Body::Binary { .. } => None,
+        }
+    }
+
     fn read(&mut self, ty: ScalarType) -> std::result::Result<f64, String> {
         match self {
-            Body::Ascii { tokens, line } => {
-                let (n, token) = tokens.next().ok_or("the file ends early")?;
-                *line = n;
+            Body::Ascii { tokens, .. } => {
+                let token =
+                    tokens.next().ok_or("the line ends before the element's last value (one element per line)")?;
                 let value = if ty.is_integer() {
                     token
                         .parse::<i64>()
@@ -292,9 +336,8 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
                 Error::parse(path, Location::Byte((header.body + e.valid_up_to()) as u64), "the ASCII body is not text")
             })?;
             let offset = header.lines;
-            let tokens =
-                numbered_lines(text).flat_map(move |(n, l)| l.split_whitespace().map(move |t| (n + offset, t)));
-            Body::Ascii { tokens: Box::new(tokens), line: header.lines }
+            let lines = numbered_lines(text).map(move |(n, l)| (n + offset, l));
+            Body::Ascii { lines: Box::new(lines), tokens: "".split_whitespace(), line: header.lines }
         }
         enc => Body::Binary {
             bytes: &bytes[header.body..],
@@ -346,6 +389,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
                 for i in 0..n {
                     let (mut position, mut normal, mut color) = (DVec3::ZERO, DVec3::ZERO, [0u8; 3]);
                     let at = |body: &Body, m: String| Error::parse(path, body.location(), format!("vertex {i}: {m}"));
+                    body.begin_element().map_err(|m| at(&body, m))?;
                     for (property, slot) in element.properties.iter().zip(&slots) {
                         let value = match property {
                             Property::Scalar { ty, .. } => body.read(*ty).map_err(|m| at(&body, m))?,
@@ -370,6 +414,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
                             VertexSlot::Ignored => {}
                         }
                     }
+                    body.end_element().map_err(|m| at(&body, m))?;
                     positions.push(position);
                     if let Some(normals) = &mut normals {
                         normals.push(normal);
@@ -398,6 +443,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
                 polygon_starts.reserve(capacity);
                 for f in 0..element.count {
                     let at = |body: &Body, m: String| Error::parse(path, body.location(), format!("face {f}: {m}"));
+                    body.begin_element().map_err(|m| at(&body, m))?;
                     for (k, property) in element.properties.iter().enumerate() {
                         match property {
                             Property::Scalar { ty, .. } => {
@@ -432,24 +478,36 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
                             }
                         }
                     }
+                    body.end_element().map_err(|m| at(&body, m))?;
                 }
             }
             other => {
                 notes.push(format!("PLY element `{other}` skipped"));
                 for i in 0..element.count {
+                    let at = |body: &Body, m: String| Error::parse(path, body.location(), format!("{other} {i}: {m}"));
+                    body.begin_element().map_err(|m| at(&body, m))?;
                     for property in &element.properties {
                         let r = match property {
                             Property::Scalar { ty, .. } => body.read(*ty).map(|_| ()),
                             Property::List { count, item, .. } => skip_list(&mut body, *count, *item),
                         };
-                        r.map_err(|m| Error::parse(path, body.location(), format!("{other} {i}: {m}")))?;
+                        r.map_err(|m| at(&body, m))?;
                     }
+                    body.end_element().map_err(|m| at(&body, m))?;
                 }
             }
         }
     }
     if vertex_count.is_none() {
         return Err(Error::parse(path, Location::File, "the PLY file has no vertex element"));
+    }
+    if let Some(line) = body.trailing_line() {
+        let declared: Vec<String> = header.elements.iter().map(|e| format!("{} {}", e.count, e.name)).collect();
+        return Err(Error::parse(
+            path,
+            Location::Line(line),
+            format!("data after the last element (the header declares {})", declared.join(", ")),
+        ));
     }
 
     let ends = polygon_starts.iter().skip(1).copied().chain(std::iter::once(polygons.len()));

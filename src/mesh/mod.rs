@@ -14,6 +14,11 @@ mod unit;
 pub mod uv;
 mod validate;
 
+/// The largest coordinate a generated surface may reach (terrain heights, detail steps'
+/// moves): far above any real use, far below where squares of coordinates (normals,
+/// distances) overflow. Steps past it are refused naming their parameters.
+pub const MAX_COORDINATE: f64 = 1e100;
+
 use std::collections::BTreeMap;
 
 use glam::DVec3;

@@ -54,6 +54,9 @@ pub enum Grid {
     Hex,
 }
 
+/// The largest height a terrain may reach ([`crate::mesh::MAX_COORDINATE`]).
+pub const MAX_HEIGHT: f64 = crate::mesh::MAX_COORDINATE;
+
 /// Parameters of a terrain.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct TerrainParams {
@@ -181,6 +184,7 @@ impl TerrainParams {
         if let Some(erosion) = &self.erosion {
             erosion.validate()?;
         }
+        self.check_height_bound(levels)?;
         Ok(DiamondSquare {
             lattice: match self.grid {
                 Grid::Square => Lattice::Square,
@@ -197,6 +201,27 @@ impl TerrainParams {
             applet: self.applet,
             random: Displacements::new(self.seed, self.distribution, self.mean, self.variance),
         })
+    }
+
+    /// Refuses parameters whose heights could pass [`MAX_HEIGHT`] (#36: `--sigma 1e308` ended
+    /// in "vertex 1 has a non-finite coordinate", naming no parameter): the corners plus every
+    /// level's largest displacement, σ·2^(−H·l)·(|mean| + 40·√variance).
+    fn check_height_bound(&self, levels: u32) -> Result<()> {
+        let per_level = self.mean.abs() + 40.0 * self.variance.sqrt();
+        let sum: f64 = (0..=levels).map(|l| if self.applet { 1.0 } else { (-self.hurst * f64::from(l)).exp2() }).sum();
+        let corners = self.corners.iter().flatten().fold(0.0f64, |m, c| m.max(c.abs()));
+        let bound = (corners + self.sigma.abs() * sum * per_level) * self.height_factor.abs().max(1.0);
+        if bound.is_finite() && bound <= MAX_HEIGHT {
+            return Ok(());
+        }
+        let short = |v: f64| if v != 0.0 && !(1e-4..1e6).contains(&v.abs()) { format!("{v:e}") } else { v.to_string() };
+        Err(Error::InvalidInput(format!(
+            "terrain heights could reach about {bound:.1e} (sigma {}, mean {}, variance {}, Hurst {} over {levels} levels), beyond {MAX_HEIGHT:.0e}: lower sigma",
+            short(self.sigma),
+            short(self.mean),
+            short(self.variance),
+            short(self.hurst)
+        )))
     }
 
     /// A height scale independent of the data (so tiles agree): four times the standard
@@ -426,9 +451,16 @@ pub fn tile_rect_in(extent: u64, i: u64, j: u64, tile_size: u64) -> Result<Rect>
 pub fn tiles_per_side(extent: u64, tile_size: u64) -> Result<u64> {
     let span = tile_size.saturating_sub(1);
     let last = extent.saturating_sub(1);
-    if span == 0 || last % span != 0 {
+    if span == 0 {
+        return Err(Error::InvalidInput(format!("tile size {tile_size} must be at least 2 points")));
+    }
+    if last % span != 0 {
+        // Name the sizes that do fit (#36: the message named only the arithmetic).
+        let below = last / span * span + 1;
+        let above = below + span;
+        let sizes = if below > 1 { format!("sizes {below} or {above}") } else { format!("size {above}") };
         return Err(Error::InvalidInput(format!(
-            "tile size {tile_size} must be k·m + 1 with k·m = {last} (grid size − 1)"
+            "tiles of {tile_size} points do not cover a grid of {extent} exactly (k tiles cover k·{span} + 1 points): nearest {sizes}"
         )));
     }
     Ok(last / span)

@@ -478,8 +478,12 @@ impl Setup {
         let rows_at_once = if job.stream { band.min(rect.height()) } else { rect.height() };
         let bytes_per_point = if whole_mesh { MESH_BYTES_PER_POINT } else { HEIGHTS_BYTES_PER_POINT };
         let smoothing = if method == Method::Smooth || erosion.is_some() { 2 } else { 1 };
+        // A halo never reaches past the grid: 100000 erosion iterations on a whole 257² grid
+        // were refused as needing 8965.8 GB (#36).
+        let (rows, columns) =
+            ((rows_at_once as u64 + halo).min(grid_size), (rect.width() as u64 + halo).min(grid_size));
         crate::memory::ensure_available(
-            (rows_at_once as u64 + halo) * (rect.width() as u64 + halo) * bytes_per_point * smoothing,
+            rows * columns * bytes_per_point * smoothing,
             &format!("a {}x{} terrain built whole", rect.width(), rect.height()),
             "write a heightmap with --stream, or cut it into --tile pieces",
         )?;
@@ -588,7 +592,7 @@ fn generate(job: &Job, setup: &Setup, start: Instant, ctx: crate::cli::Context) 
 fn write_sidecar(job: &Job, setup: &Setup, heights: HeightRange) -> Result<PathBuf> {
     let mut sidecar = Sidecar::new(&setup.params, setup.rect, setup.format, setup.range, heights);
     sidecar.file = setup.output.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    sidecar.bytes = std::fs::metadata(&setup.output).map_err(|e| Error::io(&setup.output, e))?.len();
+    sidecar.bytes = io::written_size(&setup.output)?;
     sidecar.plan = job.plan.clone();
     let path = Sidecar::path_for(&setup.output);
     let text = serde_json::to_string_pretty(&sidecar).map_err(|e| Error::Internal(e.to_string()))?;
