@@ -15,6 +15,15 @@ cmake -S cpp -B target/cpp-package -DASPERITY_PACKAGE=ON -DASPERITY_CARGO_PROFIL
   -DCMAKE_INSTALL_PREFIX="$root/target/cpp-install" >/dev/null
 cmake --build target/cpp-package
 cmake --install target/cpp-package >/dev/null
+# Each installed header compiles alone after only OpenMesh's kernel header, as a user's file
+# includes it (#36: terrain.hpp used color_cast without including it).
+for header in target/cpp-install/include/asperity/*.hpp; do
+  name=$(basename "$header")
+  [ "$name" = bridge.rs.h ] && continue
+  printf '#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>\n#include <asperity/%s>\n' "$name" |
+    g++ -std=c++17 -fsyntax-only -I target/cpp-install/include -x c++ - ||
+    { echo "cpp-example: asperity/$name does not compile alone after TriMesh_ArrayKernelT.hh" >&2; exit 1; }
+done
 cmake -S examples/cpp -B target/cpp-example -DCMAKE_PREFIX_PATH="$root/target/cpp-install" >/dev/null
 cmake --build target/cpp-example
 mkdir -p target/cpp-example/out

@@ -16,7 +16,7 @@ mod pipeline;
 
 use fields::{analyze, noise, terrain_mesh};
 use hierarchy::{BuiltHierarchy, Refinement, build_hierarchy, default_hierarchy_options, start_refinement};
-use pipeline::{detail, simplify, version};
+use pipeline::{detail, repair, simplify, version};
 
 #[cxx::bridge(namespace = "asperity::ffi")]
 mod bridge {
@@ -111,6 +111,15 @@ mod bridge {
         report: Report,
     }
 
+    /// A repaired mesh: its arrays, the input vertex each of its vertices is (a split copy:
+    /// the vertex it copies), and what the repair did, as one line.
+    #[derive(Debug, Default)]
+    struct RepairOutcome {
+        mesh: MeshArrays,
+        source: Vec<u32>,
+        report: String,
+    }
+
     /// A terrain mesh with per-vertex normals (x y z) and colours (r g b).
     #[derive(Debug, Default)]
     struct TerrainMesh {
@@ -140,6 +149,9 @@ mod bridge {
             no_self_intersections: bool,
         ) -> Result<Outcome>;
 
+        /// The mesh repaired as `--repair` does (degenerate and duplicate faces, non-manifold
+        /// vertices and edges, orientation, unreferenced vertices); the report is one line.
+        fn repair(positions: &[f64], triangles: &[u32]) -> Result<RepairOutcome>;
         /// A terrain mesh from `asperity terrain`'s flags (the C++ options struct's fields).
         fn terrain_mesh(flags: &Vec<String>) -> Result<TerrainMesh>;
         /// `asperity noise`'s field at points (`dimension` 2: the image plane; 3: space).

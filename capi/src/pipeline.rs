@@ -5,7 +5,7 @@ use asperity::hierarchy::{KeepFeatures, SimplifyOptions, build};
 use asperity::{Error, Mesh};
 
 use crate::arrays::{arrays_of, mesh_of};
-use crate::bridge::{Outcome, Report};
+use crate::bridge::{Outcome, RepairOutcome, Report};
 use crate::guarded;
 
 pub fn version() -> String {
@@ -64,13 +64,9 @@ pub fn detail(
                 None => format!("recipe: {message}"),
             })
         })?;
-        let target = recipe
-            .hierarchy
-            .target_vertices
-            .as_deref()
-            .map(|t| asperity::cli::resolve_target(t, mesh.vertex_count()))
-            .transpose()?;
-        let simplify = SimplifyOptions { target_vertices: target, ..Default::default() };
+        // The recipe's whole [hierarchy] table, read as the command line reads it (#36: only
+        // target_vertices was read here).
+        let simplify = recipe.hierarchy.apply(SimplifyOptions::default(), mesh.vertex_count())?;
         let options = DetailOptions { simplify, no_self_intersections, ..Default::default() };
         let result = asperity::detail::apply(&mesh, &recipe, &options)?;
         let report = Report {
@@ -80,5 +76,13 @@ pub fn detail(
             seconds: start.elapsed().as_secs_f64(),
         };
         Ok(outcome(&result.result.mesh, report))
+    })
+}
+
+pub fn repair(positions: &[f64], triangles: &[u32]) -> Result<RepairOutcome, String> {
+    guarded(|| {
+        let mesh = mesh_of(positions, triangles)?;
+        let (repaired, report, origins) = asperity::mesh::repair_with_origins(&mesh)?;
+        Ok(RepairOutcome { mesh: arrays_of(&repaired), source: origins.source, report: report.to_string() })
     })
 }

@@ -26,6 +26,19 @@ using Report = ffi::Report;
 /// InputError for a face that is not a triangle.
 template <class Mesh>
 void to_arrays(const Mesh& mesh, std::vector<double>& positions, std::vector<std::uint32_t>& triangles) {
+  // Deleted elements keep their slots until garbage collection, so vertex indices would not
+  // be the arrays' (#36: "face refers to vertex 6474 but there are 6474 vertices").
+  std::size_t deleted = 0;
+  if (mesh.has_vertex_status()) {
+    for (auto v : mesh.all_vertices()) deleted += mesh.status(v).deleted() ? 1 : 0;
+  }
+  if (mesh.has_face_status()) {
+    for (auto f : mesh.all_faces()) deleted += mesh.status(f).deleted() ? 1 : 0;
+  }
+  if (deleted > 0) {
+    throw InputError("the mesh has " + std::to_string(deleted) +
+                     " deleted vertices or faces not yet collected: call mesh.garbage_collection() first");
+  }
   positions.clear();
   triangles.clear();
   positions.reserve(3 * mesh.n_vertices());

@@ -1,6 +1,7 @@
 // asperity for C++ programs on OpenMesh triangle meshes. This header includes the whole
 // package:
 //
+//   asperity::repair(mesh);                              // what --repair does, in place
 //   asperity::simplify(mesh, 500);                       // the base domain, in place
 //   asperity::detail(mesh, recipe_toml);                 // a recipe (docs/recipes.md)
 //   asperity::Hierarchy<Mesh> h(mesh, options);          // levels, parametrization,
@@ -52,6 +53,24 @@ Report simplify(Mesh& mesh, std::size_t target_vertices, const std::string& keep
   return impl::run_in_place(mesh, [&](auto positions, auto triangles) {
     return ffi::simplify(positions, triangles, target_vertices, keep_features);
   });
+}
+
+/// Repairs `mesh` in place as the command line's `--repair` does (degenerate and duplicate
+/// faces removed, non-manifold vertices and edges split, faces oriented, unreferenced
+/// vertices dropped), so that a mesh the other calls refuse can be used. Each vertex of the
+/// result carries the index of the input vertex it came from in the vertex property
+/// "asperity:source" (a split copy: the vertex it copies). Returns what was done, as one
+/// line ("nothing to repair" when nothing was).
+template <class Mesh>
+std::string repair(Mesh& mesh) {
+  std::vector<double> p;
+  std::vector<std::uint32_t> t;
+  to_arrays(mesh, p, t);
+  auto out = impl::call([&] { return ffi::repair(impl::slice(p), impl::slice(t)); });
+  from_arrays(mesh, out.mesh);
+  auto source = OpenMesh::getOrMakeProperty<OpenMesh::VertexHandle, int>(mesh, "asperity:source");
+  for (auto v : mesh.vertices()) source[v] = int(out.source[std::size_t(v.idx())]);
+  return std::string(out.report);
 }
 
 /// Applies a detail recipe (TOML text; see docs/recipes.md) to `mesh` in place.

@@ -7,6 +7,8 @@
 #include <optional>
 #include <string>
 
+#include <OpenMesh/Core/Utils/color_cast.hh>
+
 #include "asperity/errors.hpp"
 #include "asperity/flags.hpp"
 #include "asperity/mesh_arrays.hpp"

@@ -404,6 +404,46 @@ static void bad_input(const Mesh& input) {
     o.levels = 2;
     asperity::Hierarchy<Mesh>(input, o).level(7);
   });
+  // #36: a vertex deleted but not yet garbage-collected made "face refers to vertex N but
+  // there are N vertices"; the message now says what to do.
+  refused("deleted vertex", [&] {
+    Mesh copy = input;
+    copy.request_vertex_status();
+    copy.request_edge_status();
+    copy.request_face_status();
+    copy.delete_vertex(*copy.vertices_begin());
+    asperity::analyze(copy);
+  });
+}
+
+/// #36: what --repair does, from C++: a mesh with a vertex no face uses (which the other
+/// calls refuse) becomes one they take, each vertex naming the input vertex it came from.
+static void repair_from_cpp(const Mesh& input) {
+  Mesh broken = input;
+  broken.add_vertex(Mesh::Point(9, 9, 9));
+  const std::string report = asperity::repair(broken);
+  std::cout << "repair: " << report << "\n";
+  expect(report.find("1 unreferenced vertex dropped") != std::string::npos, "repair drops the unused vertex");
+  expect(broken.n_vertices() == input.n_vertices(), "repair keeps every used vertex");
+  auto source = OpenMesh::getProperty<OpenMesh::VertexHandle, int>(broken, "asperity:source");
+  for (auto v : broken.vertices()) expect(source[v] == v.idx(), "each vertex names the one it came from");
+  asperity::simplify(broken, input.n_vertices() / 4);
+}
+
+/// #36: C++'s detail reads the recipe's whole [hierarchy] table, as the command line does
+/// (it read only target_vertices).
+static void recipe_hierarchy_table(const Mesh& input) {
+  Mesh two = input;
+  auto r = asperity::detail(two, "[hierarchy]\nlevels = 2\n");
+  std::cout << "detail with [hierarchy] levels = 2: " << r.levels << " levels\n";
+  expect(r.levels == 2, "[hierarchy] levels is applied");
+  Mesh bad = input;
+  try {
+    asperity::detail(bad, "[hierarchy]\nkeep_features = \"most\"\n");
+    expect(false, "a bad [hierarchy] keep_features is refused");
+  } catch (const asperity::InputError& e) {
+    std::cout << "[hierarchy] keep_features refused: " << e.what() << "\n";
+  }
 }
 
 int main(int argc, char** argv) {
@@ -438,6 +478,8 @@ int main(int argc, char** argv) {
     analysis_and_noise(input);
     recipe_and_terrain(input, out);
     every_option_counts();
+    repair_from_cpp(input);
+    recipe_hierarchy_table(input);
     bad_input(input);
   } catch (const Failed& e) {
     std::cerr << "failed: " << e.what() << "\n";

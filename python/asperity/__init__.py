@@ -230,19 +230,22 @@ class Hierarchy:
     @property
     def vertex_level(self) -> np.ndarray:
         """The level at which each input vertex appears (0 for the base domain's): the
-        level of its removal."""
+        level of its removal; -1 for a vertex ``repair=True`` dropped (no face used it).
+        Every array is in the caller's numbering, repaired or not."""
         return self._native.vertex_level
 
     @property
     def base_face(self) -> np.ndarray:
         """For each input vertex, the index of the base face (in ``level(0)``'s triangles)
-        its parametrization puts it on; -1 for the base domain's own vertices."""
+        its parametrization puts it on; a base vertex's is a face it is a corner of; -1 for
+        a vertex on no face."""
         return self._parametrized()[0].copy()
 
     @property
     def barycentrics(self) -> np.ndarray:
         """Each input vertex's barycentric coordinates on its base face (n, 3), in the
-        order of that triangle's corners; NaN for the base domain's own vertices."""
+        order of that triangle's corners (a base vertex: 1 at its corner); NaN for a
+        vertex on no face."""
         return self._parametrized()[1].copy()
 
     def _parametrized(self) -> Tuple[np.ndarray, np.ndarray]:
@@ -250,20 +253,49 @@ class Hierarchy:
             self._parametrization = self._native.parametrization()
         return self._parametrization
 
-    def refine(self, region: Any = None) -> Tuple[np.ndarray, np.ndarray]:
+    def refine(self, region: Any = None, base_level: int = 0) -> Tuple[np.ndarray, np.ndarray]:
         """Refines the base domain back to full resolution — or, with ``region`` (a
-        boolean per input vertex, or input vertex indices), only those vertices: the
-        adaptive refinement. Returns positions and triangles."""
-        mask = None
-        if region is not None:
-            region = np.asarray(region)
-            if region.dtype == np.bool_:
-                mask = np.ascontiguousarray(region)
-            else:
-                mask = np.zeros(self._native.input_vertices, dtype=np.bool_)
-                mask[region.astype(np.int64)] = True
-        positions, triangles, _ = self._native.refine(mask)
+        boolean per input vertex, or input vertex indices), the region refinement of the
+        command line's ``refine --region``: the region at the input's resolution, the rest
+        at ``base_level`` (0: the base domain). Returns positions and triangles; the input
+        vertex id of each position is then ``refined_ids``, and the report
+        ``refine_report``. A region that is not booleans or distinct vertex indices in
+        range is an ``InputError``."""
+        mask = None if region is None else self._region_mask(region)
+        if isinstance(base_level, bool) or not isinstance(base_level, (int, np.integer)):
+            raise InputError(f"base_level must be an integer level, not {type(base_level).__name__}")
+        if not 0 <= base_level < self.levels:
+            raise InputError(f"base_level {base_level}: the hierarchy has levels 0 (the base domain) to {self.levels - 1}")
+        if mask is None and base_level != 0:
+            raise InputError("base_level applies to a region refinement: give region= too")
+        positions, triangles, ids, report = self._native.refine(mask, int(base_level))
+        self.refined_ids: np.ndarray = ids
+        self.refine_report: Dict[str, Any] = json.loads(report)
         return positions, triangles
+
+    def _region_mask(self, region: Any) -> np.ndarray:
+        n = self._native.input_vertices
+        values = np.asarray(region)
+        if values.ndim != 1:
+            raise InputError(f"region must be one-dimensional, not of shape {values.shape}")
+        if values.dtype == np.bool_:
+            if len(values) != n:
+                raise InputError(f"region has {len(values)} booleans for {n} vertices")
+            return np.ascontiguousarray(values)
+        if not np.issubdtype(values.dtype, np.integer):
+            raise InputError(f"region must be booleans (one per vertex) or vertex indices, not {values.dtype}")
+        bad = np.nonzero((values < 0) | (values >= n))[0]
+        if len(bad):
+            raise InputError(f"region: index {values[bad[0]]} (at {bad[0]}) is not a vertex (0 to {n - 1})")
+        unique, counts = np.unique(values, return_counts=True)
+        if (counts > 1).any():
+            raise InputError(
+                f"region repeats vertex {unique[counts > 1][0]}: vertex indices are distinct "
+                "(for a 0/1 mask, pass booleans: region.astype(bool))"
+            )
+        mask = np.zeros(n, dtype=np.bool_)
+        mask[values] = True
+        return mask
 
     @property
     def stages(self) -> Dict[str, float]:

@@ -175,11 +175,28 @@ fn analyze<'py>(
 /// The 4-k hierarchy of a mesh (`asperity simplify`'s), every level recorded.
 #[pyclass(module = "asperity._asperity", frozen)]
 struct Hierarchy {
-    input: Mesh,
     inner: asperity::hierarchy::Hierarchy,
+    /// With `repair`, where the repaired mesh's vertices came from: every array in and out
+    /// is in the caller's numbering (#36).
+    origins: Option<asperity::mesh::VertexOrigins>,
+    /// The caller's vertex count.
+    caller_vertices: usize,
 }
 
 impl Hierarchy {
+    /// The caller's id of the hierarchy's vertex `v`.
+    fn caller_id(&self, v: u32) -> u32 {
+        self.origins.as_ref().map_or(v, |o| o.source[v as usize])
+    }
+
+    /// The hierarchy's vertex that stands for the caller's vertex `u`, if any.
+    fn own_id(&self, u: usize) -> Option<u32> {
+        match &self.origins {
+            Some(o) => o.stands_for[u],
+            None => Some(u as u32),
+        }
+    }
+
     /// The base domain, its triangles in the order of `base_triangles` (which
     /// `parametrization`'s face indices count in).
     fn base(&self) -> asperity::hierarchy::LevelMesh {
@@ -201,13 +218,19 @@ impl Hierarchy {
         let flags: Vec<String> = flags.into_iter().filter(|f| f != "--repair").collect();
         let args: cli::simplify::HierarchyArgs = parse("simplify", &[], flags, &[])?;
         let mesh = mesh_of(&positions, &triangles)?;
-        let (input, inner) = run(py, progress, move || {
-            let mesh = repaired(mesh, repair)?;
+        let caller_vertices = mesh.vertex_count();
+        let (inner, origins) = run(py, progress, move || {
+            let (mesh, origins) = if repair {
+                let (mesh, _, origins) = asperity::mesh::repair_with_origins(&mesh)?;
+                (mesh, Some(origins))
+            } else {
+                (mesh, None)
+            };
             let options = args.options(mesh.vertex_count(), true)?;
             let inner = asperity::hierarchy::build(&mesh, &options)?;
-            Ok((mesh, inner))
+            Ok((inner, origins))
         })?;
-        Ok(Hierarchy { input, inner })
+        Ok(Hierarchy { inner, origins, caller_vertices })
     }
 
     /// The number of levels, the base domain and the input included.
@@ -232,85 +255,104 @@ impl Hierarchy {
             )));
         }
         let level = if l == 0 { self.base() } else { self.inner.levels[count - 1 - l].clone() };
+        let ids: Vec<u32> = level.ids.iter().map(|&v| self.caller_id(v)).collect();
         Ok((
             positions_array(py, level.mesh.positions),
             triangles_array(py, level.mesh.triangles),
-            PyArray1::from_vec(py, level.ids),
+            PyArray1::from_vec(py, ids),
         ))
     }
 
-    /// The level at which each input vertex appears (0 for the base domain's).
+    /// The level at which each of the caller's vertices appears (0 for the base domain's;
+    /// −1 for a vertex `repair` dropped because no face used it).
     #[getter]
-    fn vertex_level<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u32>> {
-        let last = (self.inner.levels.len() - 1) as u32;
-        let mut level = vec![0u32; self.inner.positions.len()];
+    fn vertex_level<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i64>> {
+        let last = (self.inner.levels.len() - 1) as i64;
+        let mut own = vec![0i64; self.inner.positions.len()];
         for r in &self.inner.removals {
-            level[r.vertex as usize] = last - r.step;
+            own[r.vertex as usize] = last - i64::from(r.step);
         }
+        let level: Vec<i64> =
+            (0..self.caller_vertices).map(|u| self.own_id(u).map_or(-1, |v| own[v as usize])).collect();
         PyArray1::from_vec(py, level)
     }
 
-    /// The parametrization: for each input vertex, the index of its base face in
-    /// `level(0)`'s triangles (−1 for base vertices) and its barycentric coordinates there.
+    /// The parametrization: for each of the caller's vertices, the index of its base face in
+    /// `level(0)`'s triangles and its barycentric coordinates there (a base vertex: a face
+    /// it is a corner of, and 1 at that corner); −1 and NaN for a vertex on no face.
     #[allow(clippy::type_complexity)]
     fn parametrization<'py>(
         &self,
         py: Python<'py>,
     ) -> PyResult<(Bound<'py, PyArray1<i64>>, Bound<'py, PyArray2<f64>>)> {
         let points = self.inner.indexed_parametrization().map_err(to_py)?;
-        let n = points.len();
+        let n = self.caller_vertices;
         let mut face = vec![-1i64; n];
         let mut bary = vec![f64::NAN; 3 * n];
-        for (v, point) in points.into_iter().enumerate() {
-            // Base vertices (level 0) have no face here: they are the base domain's corners.
-            if let Some(p) = point.filter(|p| p.level > 0) {
-                face[v] = p.face as i64;
-                bary[3 * v..3 * v + 3].copy_from_slice(&p.barycentric);
+        for u in 0..n {
+            if let Some(p) = self.own_id(u).and_then(|v| points[v as usize].as_ref()) {
+                face[u] = p.face as i64;
+                bary[3 * u..3 * u + 3].copy_from_slice(&p.barycentric);
             }
         }
         let bary = numpy::ndarray::Array2::from_shape_vec((n, 3), bary).expect("n × 3");
         Ok((PyArray1::from_vec(py, face), PyArray2::from_owned_array(py, bary)))
     }
 
-    /// Refines back to full resolution, or only the vertices `region` marks (a boolean per
-    /// input vertex): positions, triangles and input vertex ids of the result.
-    #[pyo3(signature = (region=None))]
+    /// Refines back to full resolution or, with `region` (a boolean per caller vertex), the
+    /// library's region refinement (thesis §4.6, the command line's `refine --region`): the
+    /// region at the input's resolution, the rest at `base_level`. Positions, triangles, the
+    /// caller's id of each vertex, and the report as JSON.
+    #[pyo3(signature = (region=None, base_level=0))]
     #[allow(clippy::type_complexity)]
     fn refine<'py>(
         &self,
         py: Python<'py>,
         region: Option<PyReadonlyArray1<'py, bool>>,
-    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>, Bound<'py, PyArray1<u32>>)> {
-        let n = self.inner.positions.len();
+        base_level: usize,
+    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>, Bound<'py, PyArray1<u32>>, String)> {
+        let n = self.caller_vertices;
         let region = match region {
             Some(r) => {
                 let r = r.as_slice().map_err(|e| InputError::new_err(format!("region: {e}")))?.to_vec();
                 if r.len() != n {
                     return Err(InputError::new_err(format!("region has {} values for {n} vertices", r.len())));
                 }
-                Some(r)
+                // In the hierarchy's numbering: a split copy is inside where its original is.
+                let own: Vec<bool> =
+                    (0..self.inner.positions.len() as u32).map(|v| r[self.caller_id(v) as usize]).collect();
+                Some(own)
             }
             None => None,
         };
         let hierarchy = &self.inner;
-        let level = run(py, false, move || {
-            let mut refiner = asperity::hierarchy::Refiner::new(hierarchy)?;
-            match &region {
-                None => {
-                    refiner.refine_all()?;
-                }
-                Some(mask) => {
-                    while !refiner.is_finished() {
-                        refiner.refine_level(&|v| mask.get(v as usize).copied().unwrap_or(false))?;
-                    }
-                }
+        let (level, report) = run(py, false, move || match &region {
+            None => {
+                let mut refiner = asperity::hierarchy::Refiner::new(hierarchy)?;
+                let reports = refiner.refine_all()?;
+                let report = serde_json::json!({"levels": reports.len(), "base_level": 0});
+                Ok((refiner.mesh()?, report))
             }
-            refiner.mesh()
+            Some(inside) => {
+                let refined =
+                    asperity::hierarchy::region::refine_region(hierarchy, base_level, &|v| inside[v as usize])?;
+                let t = refined.totals();
+                let report = serde_json::json!({
+                    "base_level": base_level,
+                    "region_vertices": inside.iter().filter(|&&i| i).count(),
+                    "inserted": t.inserted, "relocated": t.relocated, "flips": t.flips,
+                    "missing": refined.missing.len(), "rounds": refined.rounds,
+                    "self_intersections": refined.self_intersections,
+                });
+                Ok((refined.mesh, report))
+            }
         })?;
+        let ids: Vec<u32> = level.ids.iter().map(|&v| self.caller_id(v)).collect();
         Ok((
             positions_array(py, level.mesh.positions),
             triangles_array(py, level.mesh.triangles),
-            PyArray1::from_vec(py, level.ids),
+            PyArray1::from_vec(py, ids),
+            report.to_string(),
         ))
     }
 
@@ -319,10 +361,10 @@ impl Hierarchy {
         serde_json::to_string(&self.inner.stages).expect("stages serialise")
     }
 
-    /// The number of input vertices.
+    /// The number of the caller's vertices.
     #[getter]
     fn input_vertices(&self) -> usize {
-        self.input.vertex_count()
+        self.caller_vertices
     }
 }
 

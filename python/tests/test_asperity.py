@@ -124,25 +124,47 @@ def test_the_hierarchy_levels_parametrization_and_refinement(meshes):
     assert levels.shape == (n,) and levels.max() == h.levels - 1
     for l in (0, h.levels // 2, h.levels - 1):
         assert set(h.level_vertex_ids(l).tolist()) == set(np.nonzero(levels <= l)[0].tolist())
-    # The parametrization: every removed vertex on a base face, barycentrics summing to 1.
+    # The parametrization: every vertex on a base face, barycentrics summing to 1; a base
+    # vertex at its own corner, as the command line and C++ give it.
     face, bary = h.base_face, h.barycentrics
     removed = levels > 0
-    assert (face[removed] >= 0).all() and (face[~removed] == -1).all()
-    assert face[removed].max() < len(base_triangles)
-    np.testing.assert_allclose(bary[removed].sum(axis=1), 1.0, atol=1e-9)
-    assert np.isnan(bary[~removed]).all()
+    assert (face >= 0).all() and face.max() < len(base_triangles)
+    np.testing.assert_allclose(bary.sum(axis=1), 1.0, atol=1e-9)
+    base_ids = h.level_vertex_ids(0)
+    for k, v in enumerate(base_ids):
+        corners = list(base_triangles[face[v]])
+        assert k in corners and bary[v][corners.index(k)] == 1.0
+    assert not removed[base_ids].any()
     # Refinement gives back the input exactly; a region refines only its vertices.
     positions, triangles = h.refine()
     assert faces_as_set(positions, triangles) == faces_as_set(mesh.positions, mesh.triangles)
     region = np.zeros(n, dtype=bool)
     region[mesh.positions[:, 0] > np.median(mesh.positions[:, 0])] = True
+    # The region refinement is the library's (the command line's `refine --region`): every
+    # region vertex at its input position, the rest coarser, the caller's ids and a report.
     partial, _ = h.refine(region=region)
     assert len(base_positions) < len(partial) < n
-    wanted = set(np.nonzero(region | ~removed)[0].tolist())
-    got = {tuple(p) for p in partial}
-    assert got <= {tuple(mesh.positions[v]) for v in wanted}
+    ids = h.refined_ids
+    np.testing.assert_array_equal(partial, mesh.positions[ids])
+    report = h.refine_report
+    assert report["region_vertices"] == region.sum() and report["base_level"] == 0
+    assert region.sum() - report["missing"] <= region[ids].sum()
     same, _ = h.refine(region=np.nonzero(region)[0])
     np.testing.assert_array_equal(same, partial)
+    coarser_rest, _ = h.refine(region=region, base_level=h.levels // 2)
+    assert len(partial) < len(coarser_rest) < n
+    # Bad regions are InputErrors naming what is wrong.
+    for bad, says in [
+        (np.array([-1]), "index -1"),
+        (np.array([n]), f"index {n}"),
+        (np.array([0.5, 2.0]), "not float64"),
+        (region.astype(np.int64), "pass booleans"),
+        (region[:-1], "booleans for"),
+    ]:
+        with pytest.raises(asperity.InputError, match=says):
+            h.refine(region=bad)
+    with pytest.raises(asperity.InputError, match="base_level"):
+        h.refine(region=region, base_level=h.levels)
     assert set(h.stages) >= {"prepare", "ranking"}
 
 
@@ -457,3 +479,35 @@ def test_write_ascii_and_repair_options_do_what_they_say(tmp_path):
         with pytest.raises(asperity.InputError, match="--repair"):
             call()
         call(repair=True)
+
+
+def test_a_repaired_hierarchy_answers_in_the_callers_numbering():
+    # #36: with repair=True an unused vertex made vertex_level shorter than the caller's
+    # arrays, so its ids indexed nothing the caller had. Here: an unused vertex first, then
+    # two spheres touching at one shared vertex (repair splits it in two), the second's own
+    # copy of that point left unused.
+    positions, triangles = icosphere(2)
+    n = len(positions)
+    top = int(np.argmax(positions[:, 2]))
+    bottom = int(np.argmin(np.linalg.norm(positions + positions[top], axis=1)))
+    other = positions + (positions[top] - positions[bottom])
+    other_triangles = triangles + n
+    other_triangles[other_triangles == bottom + n] = top
+    all_positions = np.vstack([[[7.0, 7.0, 7.0]], positions, other])
+    all_triangles = np.vstack([triangles, other_triangles]) + 1
+    caller = len(all_positions)
+    h = asperity.Hierarchy((all_positions, all_triangles), target_vertices="20%", repair=True)
+    levels = h.vertex_level
+    assert levels.shape == (caller,) and levels[0] == -1 and levels[1 + n + bottom] == -1
+    assert (np.delete(levels, [0, 1 + n + bottom]) >= 0).all()
+    face, bary = h.base_face, h.barycentrics
+    assert face.shape == (caller,) and face[0] == -1 and np.isnan(bary[0]).all()
+    for l in (0, h.levels - 1):
+        positions_l, _ = h.level(l)
+        ids = h.level_vertex_ids(l)
+        assert ids.max() < caller
+        np.testing.assert_array_equal(positions_l, all_positions[ids])
+    refined, _ = h.refine()
+    np.testing.assert_array_equal(refined, all_positions[h.refined_ids])
+    # The shared vertex comes back twice (one copy per sphere), both with the caller's id.
+    assert (h.refined_ids == top + 1).sum() == 2

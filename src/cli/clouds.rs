@@ -52,6 +52,13 @@ pub fn run(args: CloudArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     super::require_extension(&args.output, &["png"])?;
     let params = args.params();
+    // The plasma's heights (f64, twice while smoothing) and the RGB picture, before allocating.
+    let points = args.size.saturating_mul(args.size);
+    crate::memory::ensure_available(
+        points.saturating_mul(2 * 8 + 3),
+        &format!("a {0}x{0} cloud picture", args.size),
+        "ask for a smaller --size",
+    )?;
     let (rgb, cover) = clouds(&params)?;
     write_png_rgb8(&args.output, &rgb, args.size as usize)?;
     ctx.report(

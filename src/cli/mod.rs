@@ -251,7 +251,9 @@ pub fn subcommand_flags() -> Vec<(String, Vec<String>)> {
             let flags = s
                 .get_arguments()
                 .filter_map(|a| a.get_long())
-                .filter(|l| !["help", "json", "quiet"].contains(l))
+                // Global flags: `--max-memory` is checked by every estimate
+                // (`cli::a_memory_budget_refuses_work_before_it_starts`).
+                .filter(|l| !["help", "json", "quiet", "max-memory"].contains(l))
                 .map(|l| format!("--{l}"))
                 .collect();
             out.push((name.clone(), flags));

@@ -151,6 +151,13 @@ pub fn run(args: NoiseArgs, ctx: super::Context) -> Result<()> {
         )));
     }
     let (field, scale) = args.field()?;
+    // The values (f64) and the encoded picture (16-bit grey or f32), before allocating.
+    let points = (args.size as u64).pow(2);
+    crate::memory::ensure_available(
+        points * (8 + 4),
+        &format!("a {0}x{0} noise picture", args.size),
+        "ask for a smaller --size",
+    )?;
     let values = field.grid2(0.0, 0.0, scale, args.size, args.size);
     let (lo, hi) = value_range(&values).ok_or_else(|| Error::Internal("noise produced no finite value".into()))?;
     if ext.as_deref() == Some("png") {

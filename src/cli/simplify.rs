@@ -10,7 +10,7 @@ use serde_json::json;
 use crate::detail::HierarchySection;
 use crate::error::{Error, Result};
 use crate::hierarchy::compare::{ShapeReport, relative_hausdorff};
-use crate::hierarchy::{FeatureVertices, Hierarchy, KeepFeatures, LevelMesh, SimplifyOptions, build};
+use crate::hierarchy::{FeatureVertices, Hierarchy, KeepFeatures, LevelMesh, SimplifyOptions, VertexTarget, build};
 use crate::io::glb::{GlbPart, write_glb_parts};
 use crate::io::{self, WriteOptions};
 use crate::mesh::Mesh;
@@ -19,8 +19,8 @@ use crate::mesh::Mesh;
 #[derive(Debug, Args)]
 pub struct HierarchyArgs {
     /// Stop at this many vertices ("377") or this share of the input's ("1%").
-    #[arg(long, value_parser = parse_target)]
-    target_vertices: Option<Target>,
+    #[arg(long, value_parser = VertexTarget::parse)]
+    target_vertices: Option<VertexTarget>,
     /// Stop after this many levels.
     #[arg(long)]
     levels: Option<usize>,
@@ -98,51 +98,10 @@ pub fn resolve_feature_vertices(arg: Option<FeatureVerticesArg>, keep: KeepFeatu
     }
 }
 
-/// A vertex budget, absolute or relative.
-#[derive(Debug, Clone, Copy)]
-pub enum Target {
-    /// A vertex count.
-    Vertices(usize),
-    /// A share of the input's vertices, in percent.
-    Percent(f64),
-}
-
-fn parse_target(s: &str) -> std::result::Result<Target, String> {
-    if let Some(p) = s.strip_suffix('%') {
-        let p: f64 = p.trim().parse().map_err(|_| format!("'{s}' is not a percentage"))?;
-        if !(p > 0.0 && p <= 100.0) {
-            return Err(format!("'{s}' must be above 0% and at most 100%"));
-        }
-        Ok(Target::Percent(p))
-    } else {
-        match s.trim().parse() {
-            Ok(0) => Err(format!(
-                "'{s}' must be at least 1 vertex (a build asked for fewer than its topology allows stops there and says so)"
-            )),
-            Ok(v) => Ok(Target::Vertices(v)),
-            Err(_) => Err(format!("'{s}' is not a vertex count or a percentage")),
-        }
-    }
-}
-
 /// A `--target-vertices` value resolved against an input of `vertices` vertices.
 pub fn resolve_target(text: &str, vertices: usize) -> Result<usize> {
-    let target = parse_target(text).map_err(|e| Error::InvalidInput(format!("--target-vertices: {e}")))?;
+    let target = VertexTarget::parse(text).map_err(|e| Error::InvalidInput(format!("--target-vertices: {e}")))?;
     target.resolve(vertices, "--target-vertices")
-}
-
-impl Target {
-    /// The vertex count for an input of `vertices` vertices; a count above the input's is
-    /// refused, naming `source` (it would remove nothing, #36).
-    fn resolve(self, vertices: usize, source: &str) -> Result<usize> {
-        match self {
-            Target::Vertices(v) if v > vertices => Err(Error::InvalidInput(format!(
-                "{source} {v} is more than the input's {vertices} vertices: nothing would be removed"
-            ))),
-            Target::Vertices(v) => Ok(v),
-            Target::Percent(p) => Ok(((vertices as f64 * p / 100.0).round() as usize).max(4)),
-        }
-    }
 }
 
 impl HierarchyArgs {
@@ -159,40 +118,33 @@ impl HierarchyArgs {
         record_levels: bool,
         section: &HierarchySection,
     ) -> Result<SimplifyOptions> {
-        let keep = match (self.keep_features, section.keep_features.as_deref()) {
-            (Some(k), _) => k,
-            (None, None) => KeepArg::Strong,
-            (None, Some(name)) => <KeepArg as clap::ValueEnum>::from_str(name, true).map_err(|_| {
-                Error::InvalidInput(format!("[hierarchy] keep_features = \"{name}\": use none, strong or all"))
-            })?,
+        // The recipe's table through the library's one reading of it; flags take precedence.
+        let table = section.settings(vertices)?;
+        let keep = match (self.keep_features, table.keep_features) {
+            (Some(k), _) => k.into(),
+            (None, Some(k)) => k,
+            (None, None) => KeepArg::Strong.into(),
         };
-        let target = match (self.target_vertices, section.target_vertices.as_deref()) {
-            (Some(t), _) => Some((t, "--target-vertices")),
-            (None, Some(text)) => Some((
-                parse_target(text).map_err(|e| Error::InvalidInput(format!("[hierarchy] target_vertices: {e}")))?,
-                "[hierarchy] target_vertices",
-            )),
-            (None, None) => None,
+        let target_vertices = match self.target_vertices {
+            Some(t) => Some(t.resolve(vertices, "--target-vertices")?),
+            None => table.target_vertices,
         };
-        let levels = self.levels.or(section.levels);
-        let max_error = self.max_error.or(section.max_error);
-        if let Some(e) = max_error {
-            if !(e >= 0.0 && e.is_finite()) {
-                return Err(Error::InvalidInput(format!("--max-error {e} must be a non-negative fraction")));
-            }
+        let levels = self.levels.or(table.levels);
+        if let Some(e) = self.max_error.filter(|e| !(*e >= 0.0 && e.is_finite())) {
+            return Err(Error::InvalidInput(format!("--max-error {e} must be a non-negative fraction")));
         }
+        let max_error = self.max_error.or(table.max_error);
         for (name, w) in [("--removal-weight", self.removal_weight), ("--swap-weight", self.swap_weight)] {
             if !(w >= 0.0 && w.is_finite()) {
                 return Err(Error::InvalidInput(format!("{name} {w} must be non-negative")));
             }
         }
-        let feature_vertices = resolve_feature_vertices(self.feature_vertices, keep.into())?;
-        let target_vertices = target.map(|(t, source)| t.resolve(vertices, source)).transpose()?;
+        let feature_vertices = resolve_feature_vertices(self.feature_vertices, keep)?;
         Ok(SimplifyOptions {
             target_vertices,
             levels,
             max_error,
-            keep_features: keep.into(),
+            keep_features: keep,
             feature_vertices,
             removal_weight: self.removal_weight,
             swap_weight: self.swap_weight,

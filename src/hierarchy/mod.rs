@@ -23,6 +23,7 @@ pub mod region;
 mod rings;
 mod simplify;
 mod sliver_budget;
+mod target;
 mod wedges;
 
 use glam::DVec3;
@@ -35,6 +36,7 @@ pub use param::ParamPoint;
 pub use refine::{LevelMesh, LevelReport, Refiner, connectivity_match};
 pub use rings::{RingVec, Rings};
 pub use simplify::{build, build_with_openmesh_replay};
+pub use target::{SectionSettings, VertexTarget};
 pub use wedges::Wedges;
 
 pub use crate::mesh::used_vertices;

@@ -29,8 +29,8 @@ pub use ids::{FaceId, VertexId};
 pub use loop_subdivision::loop_subdivide;
 pub use plane_side::{certain_orientation, certainly_apart};
 pub use repair::{
-    DegenerateRemoval, RepairReport, drop_unreferenced_vertices, orient_faces, remove_degenerate_faces,
-    remove_duplicate_faces, repair, split_non_manifold_fans,
+    DegenerateRemoval, RepairReport, VertexOrigins, drop_unreferenced_vertices, orient_faces,
+    remove_degenerate_faces, remove_duplicate_faces, repair, repair_with_origins, split_non_manifold_fans,
 };
 pub use triangulate::{triangulate_polygon, triangulate_polygons};
 pub use unit::UnitFrame;

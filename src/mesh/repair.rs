@@ -101,9 +101,17 @@ fn plural(word: &str, n: usize) -> String {
 /// # Errors
 /// [`crate::Error::InvalidInput`] when the mesh fails [`Mesh::check`].
 pub fn repair(mesh: &Mesh) -> Result<(Mesh, RepairReport)> {
+    repair_merging(mesh).map(|(out, report, _)| (out, report))
+}
+
+/// (gone, kept) vertex pairs a repair's needle collapses merged, in order.
+type Merges = Vec<(u32, u32)>;
+
+/// [`repair`], with the pairs its needle collapses merged.
+fn repair_merging(mesh: &Mesh) -> Result<(Mesh, RepairReport, Merges)> {
     mesh.check()?;
     let mut out = mesh.clone();
-    let degenerate = remove_degenerate_faces(&mut out);
+    let (degenerate, merged) = remove_degenerate_faces_merging(&mut out);
     let mut report = RepairReport {
         degenerate_faces: degenerate.removed,
         collapsed_edges: degenerate.collapsed,
@@ -114,7 +122,56 @@ pub fn repair(mesh: &Mesh) -> Result<(Mesh, RepairReport)> {
     report.split_vertices = split_non_manifold_fans(&mut out);
     (report.flipped_faces, report.non_orientable_edges) = orient_faces(&mut out);
     report.unreferenced_vertices = drop_unreferenced_vertices(&mut out);
-    Ok((out, report))
+    Ok((out, report, merged))
+}
+
+/// Where each vertex of a repaired mesh came from, and which vertex stands for each input
+/// vertex, so that callers keep their own numbering (#36: Python's arrays came back shorter
+/// than the caller's when the repair dropped a vertex).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct VertexOrigins {
+    /// For each repaired vertex, the input vertex it is; a split copy names the vertex it
+    /// copies.
+    pub source: Vec<u32>,
+    /// For each input vertex, the repaired vertex that stands for it: itself renumbered (the
+    /// first of its copies), the vertex a collapsed needle merged it into, or `None` for a
+    /// vertex no face used.
+    pub stands_for: Vec<Option<u32>>,
+}
+
+/// The scalar that carries input ids through [`repair`] (scalars follow their vertices
+/// through every stage; a name no file can hold).
+const ORIGIN_SCALAR: &str = "\u{0}asperity-origin";
+
+/// [`repair`], with where every vertex came from.
+///
+/// # Errors
+/// As [`repair`].
+pub fn repair_with_origins(mesh: &Mesh) -> Result<(Mesh, RepairReport, VertexOrigins)> {
+    let mut marked = mesh.clone();
+    marked.scalars.insert(ORIGIN_SCALAR.into(), (0..mesh.vertex_count()).map(|v| v as f64).collect());
+    let (mut out, report, merged) = repair_merging(&marked)?;
+    let source: Vec<u32> =
+        out.scalars.remove(ORIGIN_SCALAR).unwrap_or_default().into_iter().map(|v| v as u32).collect();
+    let mut stands_for: Vec<Option<u32>> = vec![None; mesh.vertex_count()];
+    for (v, &u) in source.iter().enumerate() {
+        stands_for[u as usize].get_or_insert(v as u32);
+    }
+    // A vertex a needle's collapse merged away is stood for by the vertex it went into
+    // (which may itself have gone into another later).
+    let into: rustc_hash::FxHashMap<u32, u32> = merged.iter().copied().collect();
+    for &(gone, _) in &merged {
+        let mut at = gone;
+        for _ in 0..=merged.len() {
+            let Some(&kept) = into.get(&at) else { break };
+            if let Some(v) = stands_for[kept as usize] {
+                stands_for[gone as usize] = Some(v);
+                break;
+            }
+            at = kept;
+        }
+    }
+    Ok((out, report, VertexOrigins { source, stands_for }))
 }
 
 /// What [`remove_degenerate_faces`] did.
@@ -143,6 +200,11 @@ const NEEDLE_RATIO: f64 = 1e-3;
 /// degenerate face neither rule can remove (a cap on a boundary, a flip that would
 /// duplicate an edge) is deleted. Positions never move.
 pub fn remove_degenerate_faces(mesh: &mut Mesh) -> DegenerateRemoval {
+    remove_degenerate_faces_merging(mesh).0
+}
+
+/// [`remove_degenerate_faces`], with the (gone, kept) vertex pairs its collapses merged.
+fn remove_degenerate_faces_merging(mesh: &mut Mesh) -> (DegenerateRemoval, Merges) {
     let mut state = Degenerates::new(mesh);
     let mut queue: std::collections::VecDeque<usize> =
         (0..mesh.face_count()).filter(|&f| is_degenerate_face(mesh, f)).collect();
@@ -158,13 +220,13 @@ pub fn remove_degenerate_faces(mesh: &mut Mesh) -> DegenerateRemoval {
             None => state.delete(f),
         }
     }
-    let Degenerates { triangles, alive, report, uv_corners, .. } = state;
+    let Degenerates { triangles, alive, report, uv_corners, merged, .. } = state;
     mesh.triangles = triangles;
     if let (Some(uvs), Some(corners)) = (&mut mesh.uvs, uv_corners) {
         uvs.corners = corners;
     }
     mesh.retain_faces(&alive);
-    report
+    (report, merged)
 }
 
 /// The faces while degenerate ones are removed: directed edges to faces, vertices to faces.
@@ -177,6 +239,8 @@ struct Degenerates<'a> {
     report: DegenerateRemoval,
     /// Each face's UV indices, following its corners through collapses and flips.
     uv_corners: Option<Vec<[u32; 3]>>,
+    /// (gone, kept) for every collapse, in order.
+    merged: Vec<(u32, u32)>,
 }
 
 impl<'a> Degenerates<'a> {
@@ -198,6 +262,7 @@ impl<'a> Degenerates<'a> {
             faces_of,
             report: DegenerateRemoval::default(),
             uv_corners: mesh.uvs.as_ref().map(|u| u.corners.clone()),
+            merged: Vec::new(),
         }
     }
 
@@ -259,6 +324,7 @@ impl<'a> Degenerates<'a> {
             changed.push(f);
         }
         self.report.collapsed += 1;
+        self.merged.push((gone, kept));
         changed
     }
 
@@ -512,4 +578,48 @@ pub fn drop_unreferenced_vertices(mesh: &mut Mesh) -> usize {
         keep(v, &new_id);
     }
     n - next as usize
+}
+
+#[cfg(test)]
+mod origin_tests {
+    use super::*;
+    use glam::DVec3;
+
+    #[test]
+    fn origins_follow_dropped_split_and_merged_vertices() {
+        // Two triangles sharing vertex 0 only (a bow tie: 0 is split), an unused vertex 3,
+        // and a needle: vertex 7 nearly on vertex 6, collapsed into it.
+        let positions = vec![
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::Y,
+            DVec3::splat(9.0),
+            -DVec3::X,
+            -DVec3::Y,
+            DVec3::new(5.0, 0.0, 0.0),
+            DVec3::new(5.0, 1e-9, 0.0),
+            DVec3::new(6.0, 0.0, 0.0),
+            DVec3::new(5.5, 1.0, 0.0),
+            DVec3::new(5.5, -1.0, 0.0),
+        ];
+        let triangles = vec![[0, 1, 2], [0, 4, 5], [6, 8, 9], [7, 6, 10], [6, 7, 9]];
+        let mesh = Mesh { positions, triangles, ..Mesh::default() };
+        let (repaired, report, origins) = repair_with_origins(&mesh).unwrap();
+        assert!(report.split_vertices >= 1 && report.unreferenced_vertices >= 1, "{report:?}");
+        assert_eq!(origins.source.len(), repaired.vertex_count());
+        assert!(repaired.scalars.is_empty(), "the marker scalar is removed");
+        for (v, &u) in origins.source.iter().enumerate() {
+            assert_eq!(repaired.positions[v], mesh.positions[u as usize], "vertex {v} is input {u}");
+        }
+        assert_eq!(origins.stands_for[3], None, "no face used vertex 3");
+        assert_eq!(origins.source.iter().filter(|&&u| u == 0).count(), 2, "the bow tie's centre split in two");
+        for u in [0usize, 1, 2, 4, 5, 6, 8, 9] {
+            let v = origins.stands_for[u].expect("kept") as usize;
+            assert_eq!(origins.source[v] as usize, u);
+        }
+        if report.collapsed_edges > 0 {
+            let v = origins.stands_for[7].expect("merged") as usize;
+            assert_eq!(origins.source[v], 6, "the needle's end merged into its neighbour");
+        }
+    }
 }
