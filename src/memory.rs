@@ -83,6 +83,11 @@ pub fn budget() -> Option<u64> {
     }
 }
 
+/// Whether a budget was set ([`set_budget`]), rather than the default share.
+pub fn budget_is_set() -> bool {
+    BUDGET.load(std::sync::atomic::Ordering::Relaxed) != 0
+}
+
 /// The machine's memory: `MemTotal`, or the cgroup's limit when lower.
 fn machine_bytes() -> Option<u64> {
     let meminfo = std::fs::read_to_string("/proc/meminfo").ok()?;

@@ -914,6 +914,16 @@ fn messages_name_the_parameter_or_step_that_went_too_far() {
         2,
         &["recipe step 1: the noise step at level", "amplitude, scale or frequency is too large"],
     );
+    // A flag replaces its recipe key, which is then not read: a table target above the
+    // input's count was refused though --target-vertices replaced it.
+    std::fs::write(tmp.path().join("big.toml"), "[hierarchy]\ntarget_vertices = 99999\n").unwrap();
+    let out = asperity(
+        &["detail", "builtin:torus", "--recipe", "big.toml", "--target-vertices", "300", "-o", "t.ply"],
+        tmp.path(),
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    std::fs::remove_file(tmp.path().join("t.ply")).unwrap();
+    std::fs::remove_file(tmp.path().join("big.toml")).unwrap();
     // Twelve subdivisions of the whole sphere are refused by estimate, before the memory runs out.
     let step = "[[step]]\nop = \"subdivide\"\nlevel = -1\nsubdivide = { steps = 8 }\n\n";
     std::fs::write(

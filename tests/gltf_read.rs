@@ -253,3 +253,38 @@ fn a_mesh_far_from_the_origin_keeps_its_faces_in_single_precision() {
         assert!(!tmp.path().join("far.stl").exists());
     }
 }
+
+#[test]
+fn a_small_file_that_instances_gigabytes_needs_a_budget_set() {
+    // 65536 quantized positions drawn as one strip (256 kB), instanced by 256 nodes (3 kB of
+    // JSON): about 2 GiB of mesh, 8000 times the file. Without --max-memory it is refused
+    // before anything is decoded; with a budget, the budget decides.
+    let mut doc = Doc::default();
+    let bytes: Vec<u8> =
+        (0..65536u32).flat_map(|i| [(i % 251) as u8, (i / 251 % 251) as u8, (i % 7) as u8, 0]).collect();
+    let view = doc.view(&bytes);
+    doc.views[view]["byteStride"] = json!(4);
+    let p = doc.accessor(json!({"bufferView": view, "componentType": 5121, "count": 65536, "type": "VEC3"}));
+    let nodes: Vec<Value> = (0..256).map(|_| json!({"mesh": 0})).collect();
+    let rest = json!({
+        "scene": 0, "scenes": [{"nodes": (0..256).collect::<Vec<_>>()}], "nodes": nodes,
+        "meshes": [{"primitives": [{"attributes": {"POSITION": p}, "mode": 5}]}],
+    });
+    let tmp = temp_dir();
+    std::fs::write(tmp.path().join("many.gltf"), doc.json(rest, None)).unwrap();
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_asperity")).args(args).current_dir(tmp.path()).output().unwrap()
+    };
+    let out = run(&["info", "many.gltf"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("256 mesh instance(s) drawing 16777216 vertices")
+            && stderr.contains("set --max-memory to allow it"),
+        "{stderr}"
+    );
+    let out = run(&["--max-memory", "1G", "info", "many.gltf"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("more than the --max-memory budget of 1.0 GiB"), "{stderr}");
+}

@@ -276,6 +276,8 @@ class Hierarchy:
     def _region_mask(self, region: Any) -> np.ndarray:
         n = self._native.input_vertices
         values = np.asarray(region)
+        if values.size == 0:
+            return np.zeros(n, dtype=np.bool_)
         if values.ndim != 1:
             raise InputError(f"region must be one-dimensional, not of shape {values.shape}")
         if values.dtype == np.bool_:

@@ -151,6 +151,8 @@ def test_the_hierarchy_levels_parametrization_and_refinement(meshes):
     assert region.sum() - report["missing"] <= region[ids].sum()
     same, _ = h.refine(region=np.nonzero(region)[0])
     np.testing.assert_array_equal(same, partial)
+    empty, _ = h.refine(region=[])
+    assert len(empty) == len(base_positions)
     coarser_rest, _ = h.refine(region=region, base_level=h.levels // 2)
     assert len(partial) < len(coarser_rest) < n
     # Bad regions are InputErrors naming what is wrong.

@@ -118,8 +118,15 @@ impl HierarchyArgs {
         record_levels: bool,
         section: &HierarchySection,
     ) -> Result<SimplifyOptions> {
-        // The recipe's table through the library's one reading of it; flags take precedence.
-        let table = section.settings(vertices)?;
+        // The recipe's table through the library's one reading of it; a flag replaces its
+        // key, which is then not read at all.
+        let table = HierarchySection {
+            target_vertices: section.target_vertices.clone().filter(|_| self.target_vertices.is_none()),
+            levels: section.levels.filter(|_| self.levels.is_none()),
+            max_error: section.max_error.filter(|_| self.max_error.is_none()),
+            keep_features: section.keep_features.clone().filter(|_| self.keep_features.is_none()),
+        }
+        .settings(vertices)?;
         let keep = match (self.keep_features, table.keep_features) {
             (Some(k), _) => k.into(),
             (None, Some(k)) => k,

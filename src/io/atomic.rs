@@ -57,8 +57,11 @@ pub fn abandon_pending_outputs() {
 /// All of a command's outputs, or none: while the batch is open, [`write_atomically`] keeps
 /// each complete file under its temporary name, and [`OutputBatch::commit`] renames them all
 /// into place. A batch dropped without its commit (an error, a panic) deletes them, and the
-/// folders [`create_output_dir`] made. One batch at a time per process: the command line
-/// opens one around each command; library calls outside a batch write each file at once.
+/// folders [`create_output_dir`] made. One batch at a time per process, and it holds every
+/// thread's writes: the command line opens one around each command; a program embedding the
+/// library opens one only where no other thread writes meanwhile. Outside a batch each file is
+/// written at once. A rename that fails during the commit (rare: the files are in their
+/// folders already) leaves the files renamed before it in place.
 pub struct OutputBatch(());
 
 impl OutputBatch {
@@ -80,7 +83,10 @@ impl OutputBatch {
     /// # Errors
     /// [`Error::Io`] naming the file whose rename failed (the ones before it are in place).
     pub fn commit(self) -> Result<()> {
-        let staged = pending().batch.take().unwrap_or_default();
+        // Under the lock: a signal's handler waits for the renames rather than finding the
+        // batch gone and leaving the temporary files of the ones not yet renamed.
+        let mut pending = pending();
+        let staged = pending.batch.take().unwrap_or_default();
         for (tmp, path) in staged.files {
             tmp.persist(&path).map_err(|e| Error::io(&path, e.error))?;
         }
@@ -123,11 +129,12 @@ pub fn create_output_dir(dir: &Path) -> Result<()> {
         missing.push(folder.to_path_buf());
         at = folder.parent();
     }
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let made = std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e));
     if let Some(batch) = pending().batch.as_mut() {
-        batch.folders.extend(missing.into_iter().rev());
+        // Even when the call failed part way, the folders it did make are the batch's.
+        batch.folders.extend(missing.into_iter().rev().filter(|f| f.is_dir()));
     }
-    Ok(())
+    made
 }
 
 /// Takes a temporary file's path off the pending list when the write ends, either way.

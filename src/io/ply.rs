@@ -483,7 +483,9 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
             }
             other => {
                 notes.push(format!("PLY element `{other}` skipped"));
-                for i in 0..element.count {
+                // An element without properties has nothing on any line.
+                let count = if element.properties.is_empty() { 0 } else { element.count };
+                for i in 0..count {
                     let at = |body: &Body, m: String| Error::parse(path, body.location(), format!("{other} {i}: {m}"));
                     body.begin_element().map_err(|m| at(&body, m))?;
                     for property in &element.properties {

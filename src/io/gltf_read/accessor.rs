@@ -215,10 +215,27 @@ impl Accessors<'_, '_> {
         let accessor = self.get(index)?;
         let n = width(layout.kind);
         let total = layout.count.checked_mul(n).ok_or_else(|| format!("accessor {index}'s count is too large"))?;
+        // The bytes are checked before anything is allocated: a dense accessor's count is
+        // bounded by its view; a sparse one without a view declares its zeros, so its size is
+        // checked against the memory.
+        let dense = match accessor.buffer_view {
+            Some(view) => {
+                let offset = accessor.byte_offset.map_or(0, |o| o.0);
+                Some(self.elements(view.value(), offset, layout.count, &layout, true)?)
+            }
+            None => {
+                let bytes = (total as u64).saturating_mul(8);
+                crate::memory::ensure_available(
+                    bytes,
+                    &format!("accessor {index}'s {} elements", layout.count),
+                    "the file declares more than a mesh can hold",
+                )
+                .map_err(|e| e.to_string())?;
+                None
+            }
+        };
         let mut values = vec![0.0; total];
-        if let Some(view) = accessor.buffer_view {
-            let offset = accessor.byte_offset.map_or(0, |o| o.0);
-            let (bytes, stride) = self.elements(view.value(), offset, layout.count, &layout, true)?;
+        if let Some((bytes, stride)) = dense {
             decode(bytes, stride, &layout, &mut values);
         }
         if let Some(sparse) = &accessor.sparse {

@@ -64,6 +64,10 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
             format!("the file requires the glTF extension {unread}, which asperity does not read (export it without)"),
         ));
     }
+    let mut notes = Vec::new();
+    if root.extensions_used.iter().any(|e| e == "KHR_texture_transform") {
+        notes.push("KHR_texture_transform is not applied: TEXCOORD_0 is read as stored".to_string());
+    }
     let extended = if root.extensions_used.iter().any(|e| e == "EXT_mesh_gpu_instancing") {
         serde_json::from_slice(&json).map_err(json_error)?
     } else {
@@ -73,10 +77,9 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
     let accessors = Accessors { root: &root, buffers: &buffers };
     let located = |(at, msg): scene::Located| Error::parse(path, at, msg);
     let instances = scene::instances(&root, &accessors, &extended).map_err(located)?;
-    check_budget(&root, &accessors, &instances, path)?;
+    check_budget(&root, &accessors, &instances, path, bytes.len())?;
 
     let mut decoded: HashMap<usize, Vec<Part>> = HashMap::new();
-    let mut notes = Vec::new();
     let mut dropped = 0;
     let mut out = Assembly::default();
     for instance in &instances {
@@ -100,6 +103,10 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
     Ok(super::ReadOutcome { mesh, triangulated_polygons: 0, notes })
 }
 
+/// How many times its own size a glTF file may expand to (past 1 GiB) without a memory
+/// budget set by the user: a kilobyte of nodes can instance a mesh millions of times.
+const AMPLIFICATION: u64 = 256;
+
 /// The triangles a primitive of `mode` draws from `count` corners (none for points and lines).
 fn triangle_count(mode: Mode, count: u64) -> u64 {
     match mode {
@@ -116,6 +123,7 @@ fn check_budget(
     accessors: &Accessors,
     instances: &[scene::Instance],
     path: &Path,
+    file_bytes: usize,
 ) -> Result<()> {
     let mut per_mesh: HashMap<usize, (u64, u64)> = HashMap::new();
     let (mut vertices, mut triangles) = (0u64, 0u64);
@@ -129,8 +137,12 @@ fn check_budget(
                     .and_then(|a| accessors.count(a.value()).ok())
                     .unwrap_or(0) as u64;
                 let corners = p.indices.and_then(|i| accessors.count(i.value()).ok()).map_or(positions, |c| c as u64);
-                let drawn = triangle_count(mode, corners);
-                if drawn == 0 { (v, t) } else { (v + positions, t + drawn) }
+                // Every triangle-mode primitive's vertices are read, whatever it draws.
+                if triangle_count(mode, 3) == 0 {
+                    (v, t)
+                } else {
+                    (v.saturating_add(positions), t.saturating_add(triangle_count(mode, corners)))
+                }
             })
         });
         vertices = vertices.saturating_add(v);
@@ -142,6 +154,19 @@ fn check_budget(
     }
     // Positions and normals (f64), colours, per-vertex UVs; corners and per-corner UVs.
     let bytes = vertices.saturating_mul(24 + 24 + 3 + 16).saturating_add(triangles.saturating_mul(12 + 48));
+    // Instancing lets a small file ask for a lot: past 1 GiB and AMPLIFICATION times the
+    // file, only a budget the user set (--max-memory) says it is wanted.
+    let fold = bytes / (file_bytes.max(1) as u64);
+    if bytes > 1 << 30 && fold > AMPLIFICATION && !crate::memory::budget_is_set() {
+        return Err(Error::parse(
+            path,
+            Location::File,
+            format!(
+                "{what}: about {} GiB from a file of {file_bytes} bytes ({fold} times its size); set --max-memory to allow it",
+                bytes >> 30
+            ),
+        ));
+    }
     crate::memory::ensure_available(bytes, &format!("reading {what}"), "read a smaller scene")
         .map_err(|e| e.about_file(path))
 }
@@ -191,38 +216,28 @@ fn decode_primitive(
     let (values, _) = read(position, Use::Position)?;
     let positions: Vec<DVec3> = values.chunks_exact(3).map(DVec3::from_slice).collect();
     let count = positions.len();
-    let same_count = |values: Vec<f64>, n: usize, use_: Use| {
-        if values.len() / n == count {
-            Ok(values)
-        } else {
-            Err(format!("{} has {} elements but POSITION has {count}", use_.name(), values.len() / n))
+    // Every attribute has POSITION's count (checked on the declarations, before reading).
+    let read_beside = |index: usize, use_: Use| {
+        let declared = accessors.count(index).map_err(|m| format!("{}: {m}", use_.name()))?;
+        if declared != count {
+            return Err(format!("{} has {declared} elements but POSITION has {count}", use_.name()));
         }
+        read(index, use_)
     };
     let normals = match attribute(Semantic::Normals) {
-        Some(a) => {
-            let (v, n) = read(a, Use::Normal)?;
-            Some(same_count(v, n, Use::Normal)?.chunks_exact(3).map(DVec3::from_slice).collect())
-        }
+        Some(a) => Some(read_beside(a, Use::Normal)?.0.chunks_exact(3).map(DVec3::from_slice).collect()),
         None => None,
     };
     let uvs = match attribute(Semantic::TexCoords(0)) {
-        Some(a) => {
-            let (v, n) = read(a, Use::TexCoord)?;
-            // glTF's v runs down the image, asperity's up.
-            Some(same_count(v, n, Use::TexCoord)?.chunks_exact(2).map(|t| [t[0], 1.0 - t[1]]).collect())
-        }
+        // glTF's v runs down the image, asperity's up.
+        Some(a) => Some(read_beside(a, Use::TexCoord)?.0.chunks_exact(2).map(|t| [t[0], 1.0 - t[1]]).collect()),
         None => None,
     };
     let colors = match attribute(Semantic::Colors(0)) {
         Some(a) => {
-            let (v, n) = read(a, Use::Color)?;
+            let (v, n) = read_beside(a, Use::Color)?;
             let to_byte = |c: f64| (c.clamp(0.0, 1.0) * 255.0).round() as u8;
-            Some(
-                same_count(v, n, Use::Color)?
-                    .chunks_exact(n)
-                    .map(|c| [to_byte(c[0]), to_byte(c[1]), to_byte(c[2])])
-                    .collect(),
-            )
+            Some(v.chunks_exact(n).map(|c| [to_byte(c[0]), to_byte(c[1]), to_byte(c[2])]).collect())
         }
         None => None,
     };

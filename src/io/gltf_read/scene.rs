@@ -66,6 +66,12 @@ pub(super) fn instances(
     while let Some((n, parent)) = stack.pop() {
         let node = &root.nodes[n];
         let world = parent * local_transform(node);
+        if !world.is_finite() {
+            return Err(node_error(
+                n,
+                "its transform is not finite (a zero rotation quaternion, or numbers beyond f64)",
+            ));
+        }
         if let Some(children) = &node.children {
             stack.extend(children.iter().rev().map(|c| (c.value(), world)));
         }
@@ -75,7 +81,15 @@ pub(super) fn instances(
         }
         match gpu_instances(json, n, accessors)? {
             None => out.push(Instance { mesh, world }),
-            Some(locals) => out.extend(locals.into_iter().map(|local| Instance { mesh, world: world * local })),
+            Some(locals) => {
+                if let Some(k) = locals.iter().position(|m| !m.is_finite()) {
+                    return Err(node_error(
+                        n,
+                        format!("EXT_mesh_gpu_instancing: instance {k}'s transform is not finite (a zero rotation?)"),
+                    ));
+                }
+                out.extend(locals.into_iter().map(|local| Instance { mesh, world: world * local }));
+            }
         }
     }
     Ok(out)
@@ -170,6 +184,12 @@ fn gpu_instances(json: &serde_json::Value, n: usize, accessors: &Accessors) -> R
     if counts.iter().any(|&c| c != count) {
         return Err(at_node(format!("its attributes count different numbers of instances ({counts:?})")));
     }
+    crate::memory::ensure_available(
+        (count as u64).saturating_mul(std::mem::size_of::<Instance>() as u64),
+        &format!("{count} instances"),
+        "read a smaller scene",
+    )
+    .map_err(|e| at_node(e.to_string()))?;
     Ok(Some(
         (0..count)
             .map(|i| {
