@@ -104,6 +104,19 @@ fn main() {
         t_theirs / t_batch
     );
 
+    // The path users' scattered points take (Python `noise`, C++ `noise`, detail steps):
+    // NoiseField::sample3_batch, which routes Perlin and fBm through the batch forms (#42).
+    for (kind, name) in [(NoiseKind::Perlin, "perlin"), (NoiseKind::Fbm, "fbm-8")] {
+        let spec =
+            NoiseSpec { kind, seed: 1, fractal: Fractal { octaves: 8, ..Fractal::default() }, ..NoiseSpec::default() };
+        let field = NoiseField::new(&spec).expect("field");
+        let t = single_thread(|| best_of(|| drop(black_box(field.sample3_batch(black_box(&few), &[])))));
+        println!(
+            "{name} 3d, scattered points (NoiseField::sample3_batch, the Python and C++ path, one core): {:.1} ns/sample",
+            t / m * 1e9
+        );
+    }
+
     let gabor = NoiseField::new(&NoiseSpec { kind: NoiseKind::Gabor, ..NoiseSpec::default() }).expect("gabor");
     let side = 1024;
     let t = single_thread(|| best_of(|| drop(black_box(gabor.grid2(0.0, 0.0, 1.0, side, side)))));

@@ -187,13 +187,25 @@ impl NoiseField {
         out
     }
 
-    /// 3D values at many points (Gabor with each point's frame), in parallel.
+    /// 3D values at many points (Gabor with each point's frame), in parallel. Perlin noise
+    /// and its fBm go through their batch forms ([`Perlin::sample3_batch`],
+    /// [`Fractal::fbm_batch`]: four points at a time, AVX2 where the CPU has it), which give
+    /// [`NoiseField::sample3`]'s values bit for bit; the other kinds point by point (#42: the
+    /// Python and C++ scattered points took the scalar path).
     pub fn sample3_batch(&self, points: &[DVec3], frames: &[Frame]) -> Vec<f64> {
         let mut out = vec![0.0; points.len()];
-        fill_parallel(&mut out, |k| {
-            let frame = frames.get(k).copied().unwrap_or(Frame { tangent: DVec3::X, bitangent: DVec3::Y });
-            self.sample3(points[k], frame)
-        });
+        match self {
+            NoiseField::Perlin { basis, fractal: None } => {
+                fill_batches_parallel(points, &mut out, |p, o| basis.sample3_batch(p, o));
+            }
+            NoiseField::Perlin { basis, fractal: Some(f) } if f.kind == FractalKind::Fbm => {
+                fill_batches_parallel(points, &mut out, |p, o| f.fbm_batch(basis, p, o));
+            }
+            _ => fill_parallel(&mut out, |k| {
+                let frame = frames.get(k).copied().unwrap_or(Frame { tangent: DVec3::X, bitangent: DVec3::Y });
+                self.sample3(points[k], frame)
+            }),
+        }
         out
     }
 }
@@ -210,6 +222,13 @@ pub fn soft_limit(x: f64) -> f64 {
     } else {
         x.signum() * (KNEE + (1.0 - KNEE) * ((x.abs() - KNEE) / (1.0 - KNEE)).tanh())
     }
+}
+
+/// Fills `out` from `points` by `batch` over parallel chunks of both; each value depends only
+/// on its point, so the result is the same at any thread count.
+fn fill_batches_parallel(points: &[DVec3], out: &mut [f64], batch: impl Fn(&[DVec3], &mut [f64]) + Sync) {
+    const CHUNK: usize = 4096;
+    out.par_chunks_mut(CHUNK).zip(points.par_chunks(CHUNK)).for_each(|(o, p)| batch(p, o));
 }
 
 /// Fills `out[k] = f(k)` in parallel chunks; each value depends only on `k`, so the result
