@@ -34,30 +34,39 @@ pub fn return_large_buffers_to_the_os() -> bool {
 /// (v2 `memory.max`, v1 `memory.limit_in_bytes`) and under the address-space limit
 /// (`RLIMIT_AS`, less the current virtual size). `None` where nothing can be read.
 pub fn available_bytes() -> Option<u64> {
-    let meminfo = std::fs::read_to_string("/proc/meminfo").ok();
-    let field = |text: &str, key: &str| -> Option<u64> {
-        let line = text.lines().find(|l| l.starts_with(key))?;
-        line.split_whitespace().nth(1)?.parse::<u64>().ok().map(|kib| kib * 1024)
-    };
-    let read_number = |path: &str| -> Option<u64> { std::fs::read_to_string(path).ok()?.trim().parse().ok() };
     let mut limits: Vec<u64> = Vec::new();
-    limits.extend(meminfo.as_deref().and_then(|m| field(m, "MemAvailable:")));
-    let cgroup_v2 = read_number("/sys/fs/cgroup/memory.max")
-        .map(|max| max.saturating_sub(read_number("/sys/fs/cgroup/memory.current").unwrap_or(0)));
-    let cgroup_v1 = read_number("/sys/fs/cgroup/memory/memory.limit_in_bytes")
-        .map(|max| max.saturating_sub(read_number("/sys/fs/cgroup/memory/memory.usage_in_bytes").unwrap_or(0)));
+    limits.extend(kib_field("/proc/meminfo", "MemAvailable:"));
+    let cgroup_v2 = read_number(CGROUP_V2_MAX).map(|max| max.saturating_sub(read_number(CGROUP_V2_USED).unwrap_or(0)));
+    let cgroup_v1 = read_number(CGROUP_V1_MAX).map(|max| max.saturating_sub(read_number(CGROUP_V1_USED).unwrap_or(0)));
     limits.extend(cgroup_v2.or(cgroup_v1));
     let mut rlimit = libc::rlimit { rlim_cur: 0, rlim_max: 0 };
     // SAFETY: getrlimit writes one rlimit struct, which lives on this stack frame.
     #[allow(unsafe_code)]
     let ok = unsafe { libc::getrlimit(libc::RLIMIT_AS, &mut rlimit) } == 0;
     if ok && rlimit.rlim_cur != libc::RLIM_INFINITY {
-        let status = std::fs::read_to_string("/proc/self/status").ok();
-        let used = status.as_deref().and_then(|s| field(s, "VmSize:")).unwrap_or(0);
+        let used = kib_field("/proc/self/status", "VmSize:").unwrap_or(0);
         let allowed: u64 = rlimit.rlim_cur;
         limits.push(allowed.saturating_sub(used));
     }
     limits.into_iter().min()
+}
+
+/// The cgroup's limit and use (v2, then v1).
+const CGROUP_V2_MAX: &str = "/sys/fs/cgroup/memory.max";
+const CGROUP_V2_USED: &str = "/sys/fs/cgroup/memory.current";
+const CGROUP_V1_MAX: &str = "/sys/fs/cgroup/memory/memory.limit_in_bytes";
+const CGROUP_V1_USED: &str = "/sys/fs/cgroup/memory/memory.usage_in_bytes";
+
+/// A `/proc` file's `key` field given in kB, in bytes.
+fn kib_field(path: &str, key: &str) -> Option<u64> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let line = text.lines().find(|l| l.starts_with(key))?;
+    line.split_whitespace().nth(1)?.parse::<u64>().ok().map(|kib| kib * 1024)
+}
+
+/// A file holding one number (a cgroup setting); `None` for "max" or no such file.
+fn read_number(path: &str) -> Option<u64> {
+    std::fs::read_to_string(path).ok()?.trim().parse().ok()
 }
 
 /// The process's memory budget in bytes (0: not set, see [`budget`]).
@@ -90,15 +99,8 @@ pub fn budget_is_set() -> bool {
 
 /// The machine's memory: `MemTotal`, or the cgroup's limit when lower.
 fn machine_bytes() -> Option<u64> {
-    let meminfo = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let total = meminfo
-        .lines()
-        .find(|l| l.starts_with("MemTotal:"))
-        .and_then(|l| l.split_whitespace().nth(1)?.parse::<u64>().ok())
-        .map(|kib| kib * 1024)?;
-    let read_number = |path: &str| -> Option<u64> { std::fs::read_to_string(path).ok()?.trim().parse().ok() };
-    let cgroup =
-        read_number("/sys/fs/cgroup/memory.max").or_else(|| read_number("/sys/fs/cgroup/memory/memory.limit_in_bytes"));
+    let total = kib_field("/proc/meminfo", "MemTotal:")?;
+    let cgroup = read_number(CGROUP_V2_MAX).or_else(|| read_number(CGROUP_V1_MAX));
     Some(cgroup.map_or(total, |c| c.min(total)))
 }
 
@@ -110,7 +112,7 @@ fn machine_bytes() -> Option<u64> {
 /// [`crate::Error::InvalidInput`] saying how much is needed and what it exceeds.
 pub fn ensure_available(needed: u64, what: &str, advice: &str) -> crate::Result<()> {
     if let Some(budget) = budget().filter(|&b| needed > b) {
-        let source = if BUDGET.load(std::sync::atomic::Ordering::Relaxed) == 0 {
+        let source = if !budget_is_set() {
             format!(
                 "the memory budget of {} ({:.0} % of this machine's; --max-memory sets it)",
                 human_bytes(budget),

@@ -48,7 +48,7 @@ pub(crate) fn parse(bytes: &[u8], path: &Path) -> Result<super::ReadOutcome> {
     } else {
         (Cow::Borrowed(bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes)), None)
     };
-    let in_glb = bin.is_some() || bytes.starts_with(b"glTF");
+    let in_glb = bytes.starts_with(b"glTF");
     let json_error = |e: serde_json::Error| {
         if in_glb {
             Error::parse(path, Location::File, format!("GLB JSON chunk: {e}"))
