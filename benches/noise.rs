@@ -162,4 +162,101 @@ fn main() {
             one / two
         );
     }
+
+    users_paths_against_fastnoise_lite(&few);
+}
+
+/// #42: every path users call, one core each, against FastNoise Lite (the `fastnoise-lite`
+/// crate: portable scalar code, f32) in the same run; the target is at most 0.5x its time
+/// per point for scattered points and pictures, Perlin and 8-octave fBm alike.
+fn users_paths_against_fastnoise_lite(points: &[DVec3]) {
+    use fastnoise_lite::{FastNoiseLite, FractalType, NoiseType};
+    let m = points.len() as f64;
+    let peer = |fractal: bool| {
+        let mut f = FastNoiseLite::with_seed(1);
+        f.set_noise_type(Some(NoiseType::Perlin));
+        f.set_frequency(Some(1.0));
+        if fractal {
+            f.set_fractal_type(Some(FractalType::FBm));
+            f.set_fractal_octaves(Some(8));
+        }
+        f
+    };
+    let points32: Vec<[f32; 3]> = points.iter().map(|p| [p.x as f32, p.y as f32, p.z as f32]).collect();
+    let side = 1024;
+    let scale = 0.05;
+    let sphere = asperity::mesh::primitives::icosphere(1.0, 6);
+    let frame = asperity::detail::BoxFrame::of(&sphere);
+    for (kind, name, fractal) in [(NoiseKind::Perlin, "perlin", false), (NoiseKind::Fbm, "fbm-8", true)] {
+        let fnl = peer(fractal);
+        let t_3d = best_of(|| {
+            let mut s = 0.0f32;
+            for p in &points32 {
+                s += fnl.get_noise_3d(p[0], p[1], p[2]);
+            }
+            black_box(s);
+        }) / m;
+        let t_2d = best_of(|| {
+            let mut s = 0.0f32;
+            for j in 0..side {
+                for i in 0..side {
+                    s += fnl.get_noise_2d(i as f32 * scale as f32, j as f32 * scale as f32);
+                }
+            }
+            black_box(s);
+        }) / (side * side) as f64;
+        println!(
+            "{name}: FastNoise Lite (the peer, scalar f32): 3d {:.1} ns/point | 2d {:.1} ns/point",
+            t_3d * 1e9,
+            t_2d * 1e9
+        );
+        let spec =
+            NoiseSpec { kind, seed: 1, fractal: Fractal { octaves: 8, ..Fractal::default() }, ..NoiseSpec::default() };
+        let field = NoiseField::new(&spec).expect("field");
+        let plane: Vec<glam::DVec2> = points.iter().map(|p| p.truncate()).collect();
+        let params = asperity::detail::NoiseParams { kind, octaves: 8, frequency: 8.0, ..Default::default() };
+        let operator = asperity::detail::LevelNoise::new(&params, false, 0, 0, &frame, 1).expect("level noise");
+        let rows = [
+            (
+                "scattered 3d points (NoiseField::sample3_batch: Python and C++ (n, 3))",
+                single_thread(|| best_of(|| drop(black_box(field.sample3_batch(black_box(points), &[]))))) / m,
+            ),
+            (
+                "scattered 2d points (NoiseField::sample2_batch: Python and C++ (n, 2))",
+                single_thread(|| best_of(|| drop(black_box(field.sample2_batch(black_box(&plane)))))) / m,
+            ),
+            (
+                "picture (NoiseField::grid2: asperity noise, .png and .f32)",
+                single_thread(|| best_of(|| drop(black_box(field.grid2(0.0, 0.0, scale, side, side)))))
+                    / (side * side) as f64,
+            ),
+            (
+                "surface operator (LevelNoise::at_batch: detail steps)",
+                single_thread(|| best_of(|| drop(black_box(operator.at_batch(black_box(&sphere.positions))))))
+                    / sphere.positions.len() as f64,
+            ),
+        ];
+        for (path, t) in rows {
+            println!(
+                "{name}: {path}, one core: {:.1} ns/point = {:.2}x FastNoise Lite 3d (target <= 0.5x)",
+                t * 1e9,
+                t / t_3d
+            );
+        }
+        let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("pool");
+        let one_thread = single_thread(|| best_of(|| drop(black_box(field.sample3_batch(points, &[])))));
+        let two_threads = two.install(|| best_of(|| drop(black_box(field.sample3_batch(points, &[])))));
+        let one_picture = single_thread(|| best_of(|| drop(black_box(field.grid2(0.0, 0.0, scale, side, side)))));
+        let two_pictures = two.install(|| best_of(|| drop(black_box(field.grid2(0.0, 0.0, scale, side, side)))));
+        let mut buffer = vec![0.0; side * side];
+        let mut into = || field.fill_grid2(0.0, 0.0, scale, side, black_box(&mut buffer));
+        let one_into = single_thread(|| best_of(&mut into));
+        let two_into = two.install(|| best_of(&mut into));
+        println!(
+            "{name}: 2 threads against 1: scattered points {:.2}x, picture {:.2}x, picture into a reused buffer {:.2}x (target >= 1.9x; a fresh 8 MiB result is faulted in serially by the kernel)",
+            one_thread / two_threads,
+            one_picture / two_pictures,
+            one_into / two_into
+        );
+    }
 }

@@ -26,9 +26,8 @@ pub fn uninstall() {
 
 /// Reports that `stage` has done `done` of `total` steps (to the installed sink, if any).
 pub fn report(stage: &str, done: u64, total: u64) {
-    if let Ok(slot) = SINK.read() {
-        if let Some(sink) = slot.as_ref() {
+    if let Ok(slot) = SINK.read()
+        && let Some(sink) = slot.as_ref() {
             sink(stage, done.min(total), total);
         }
-    }
 }

@@ -10,7 +10,7 @@ use crate::bridge::{Analysis, LevelArrays, MeshArrays};
 
 /// A mesh from x y z per vertex and three ids per triangle, checked.
 pub fn mesh_of(positions: &[f64], triangles: &[u32]) -> Result<Mesh> {
-    if positions.len() % 3 != 0 || triangles.len() % 3 != 0 {
+    if !positions.len().is_multiple_of(3) || !triangles.len().is_multiple_of(3) {
         return Err(Error::InvalidInput(format!(
             "{} coordinates and {} triangle ids are not multiples of 3",
             positions.len(),

@@ -43,7 +43,7 @@ pub fn terrain_mesh(flags: &Vec<String>) -> Result<TerrainMesh, String> {
 #[allow(clippy::ptr_arg)]
 pub fn noise(points: &[f64], dimension: usize, flags: &Vec<String>) -> Result<Vec<f64>, String> {
     guarded(|| {
-        if !(dimension == 2 || dimension == 3) || points.len() % dimension != 0 {
+        if !(dimension == 2 || dimension == 3) || !points.len().is_multiple_of(dimension) {
             return Err(Error::InvalidInput(format!(
                 "{} coordinates are not points of dimension {dimension} (use 2 or 3)",
                 points.len()

@@ -79,7 +79,8 @@ impl NoiseArgs {
     pub fn values_at(&self, points: &[glam::DVec3], planar: bool) -> Result<Vec<f64>> {
         let (field, _scale) = self.field()?;
         Ok(if planar {
-            points.iter().map(|p| field.sample2(p.x, p.y)).collect()
+            let plane: Vec<glam::DVec2> = points.iter().map(|p| p.truncate()).collect();
+            field.sample2_batch(&plane)
         } else {
             let frames = vec![crate::noise::Frame { tangent: glam::DVec3::X, bitangent: glam::DVec3::Y }; points.len()];
             field.sample3_batch(points, &frames)

@@ -74,7 +74,7 @@ impl LevelNoise {
     /// [`LevelNoise::at`] at many points, through the field's batch form (Perlin and fBm four
     /// points at a time, #42), the same values bit for bit. Only for kinds without an
     /// orientation (the frames are the default).
-    fn at_batch(&self, points: &[DVec3]) -> Vec<f64> {
+    pub fn at_batch(&self, points: &[DVec3]) -> Vec<f64> {
         let local: Vec<DVec3> = points.iter().map(|&p| (p - self.origin) * self.scale).collect();
         self.field.sample3_batch(&local, &[]).into_iter().map(|v| self.field.unit(v)).collect()
     }

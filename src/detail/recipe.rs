@@ -495,11 +495,10 @@ impl NoiseParams {
             ("rings' k, a and f0", ring_gabor),
         ];
         let kind = format!("{:?}", self.kind).to_lowercase();
-        if !self.kind.is_spectral() {
-            if let Some((name, _)) = gabor_only.iter().find(|(_, given)| *given) {
+        if !self.kind.is_spectral()
+            && let Some((name, _)) = gabor_only.iter().find(|(_, given)| *given) {
                 return Err(format!("noise {name} applies only to kind = \"gabor\" or \"phasor\", not to \"{kind}\""));
             }
-        }
         if self.kind != NoiseKind::Phasor && self.profile != d.profile {
             return Err(format!("noise profile applies only to kind = \"phasor\", not to \"{kind}\""));
         }
@@ -631,11 +630,10 @@ impl Step {
         if !(o.height.is_finite() && o.bend.is_finite()) || o.rings.iter().any(|w| !w.is_finite()) {
             return Err("organic parameters must be finite".into());
         }
-        if let Some(s) = &self.select.sphere {
-            if s.radius.is_nan() || s.radius <= 0.0 {
+        if let Some(s) = &self.select.sphere
+            && (s.radius.is_nan() || s.radius <= 0.0) {
                 return Err("sphere radius must be positive".into());
             }
-        }
         Ok(())
     }
 }

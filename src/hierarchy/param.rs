@@ -62,11 +62,10 @@ impl ParamBuckets {
             .or_insert(Bucket { head: END, worst: [(f64::NEG_INFINITY, END); WORST] });
         self.next[vertex as usize] = bucket.head;
         bucket.head = vertex;
-        if let Some(slot) = (0..WORST).min_by(|&a, &b| bucket.worst[a].0.total_cmp(&bucket.worst[b].0)) {
-            if distance > bucket.worst[slot].0 {
+        if let Some(slot) = (0..WORST).min_by(|&a, &b| bucket.worst[a].0.total_cmp(&bucket.worst[b].0))
+            && distance > bucket.worst[slot].0 {
                 bucket.worst[slot] = (distance, vertex);
             }
-        }
         self.points[vertex as usize] = Some(point);
     }
 

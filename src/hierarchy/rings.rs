@@ -160,12 +160,11 @@ impl Rings {
     }
 
     fn edit(&mut self, v: u32) -> &mut Ring {
-        if let Some(journal) = &mut self.journal {
-            if !journal.touched[v as usize] {
+        if let Some(journal) = &mut self.journal
+            && !journal.touched[v as usize] {
                 journal.touched[v as usize] = true;
                 journal.saved.push((v, self.rings[v as usize].clone()));
             }
-        }
         &mut self.rings[v as usize]
     }
 

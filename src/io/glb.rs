@@ -131,7 +131,7 @@ pub(crate) struct Builder {
 impl Builder {
     /// Appends `bytes` (4-byte aligned) as a buffer view; animation data has no target.
     fn view(&mut self, bytes: &[u8], target: Option<gj::buffer::Target>) -> Index<gj::buffer::View> {
-        while self.bin.len() % 4 != 0 {
+        while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
         let offset = self.bin.len();
@@ -333,7 +333,7 @@ impl Builder {
     /// The document with its one buffer declared: inside the GLB container (`uri` none) or
     /// embedded as a `data:` URI.
     fn close(&mut self, uri: Option<String>) -> Result<Vec<u8>> {
-        while self.bin.len() % 4 != 0 {
+        while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
         if self.bin.len() > (u32::MAX as usize) - (1 << 20) {

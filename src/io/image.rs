@@ -12,7 +12,7 @@ use crate::error::{Error, Result};
 /// # Errors
 /// [`Error::InvalidInput`] for an empty image or an empty range; [`Error::Io`] on failure.
 pub fn write_png16(path: &Path, values: &[f64], width: usize, range: (f64, f64)) -> Result<()> {
-    if width == 0 || values.is_empty() || values.len() % width != 0 {
+    if width == 0 || values.is_empty() || !values.len().is_multiple_of(width) {
         return Err(Error::InvalidInput(format!("{} values do not form rows of {width}", values.len())));
     }
     let (lo, hi) = range;
@@ -54,7 +54,7 @@ pub fn write_png_rgba8(path: &Path, rgba: &[u8], width: usize) -> Result<()> {
 }
 
 fn write_png8(path: &Path, bytes: &[u8], width: usize, color: png::ColorType, channels: usize) -> Result<()> {
-    if width == 0 || bytes.is_empty() || bytes.len() % (channels * width) != 0 {
+    if width == 0 || bytes.is_empty() || !bytes.len().is_multiple_of(channels * width) {
         return Err(Error::InvalidInput(format!(
             "{} bytes do not form {channels}-channel rows of {width} pixels",
             bytes.len()

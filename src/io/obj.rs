@@ -391,12 +391,11 @@ pub fn write(mesh: &Mesh, w: &mut dyn Write) -> std::io::Result<()> {
     let mut material = u32::MAX;
     for f in order {
         let t = &mesh.triangles[f];
-        if let Some(m) = &mesh.materials {
-            if m.faces[f] != material && m.faces[f] != u32::MAX {
+        if let Some(m) = &mesh.materials
+            && m.faces[f] != material && m.faces[f] != u32::MAX {
                 material = m.faces[f];
                 writeln!(w, "usemtl {}", m.names[material as usize])?;
             }
-        }
         match &mesh.uvs {
             Some(uvs) => write_textured_face(w, *t, uvs.corners[f], mesh.normals.is_some())?,
             None => write_face(w, *t, mesh.normals.is_some())?,

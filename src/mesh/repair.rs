@@ -71,8 +71,8 @@ impl fmt::Display for RepairReport {
         .map(|(n, what, done)| format!("{n} {} {done}", plural(what, n)))
         .collect();
         let mut parts = parts;
-        if self.collapsed_edges + self.flipped_edges > 0 {
-            if let Some(first) = parts.first_mut().filter(|_| self.degenerate_faces > 0) {
+        if self.collapsed_edges + self.flipped_edges > 0
+            && let Some(first) = parts.first_mut().filter(|_| self.degenerate_faces > 0) {
                 first.push_str(&format!(
                     " ({} short {} collapsed, {} {} flipped, so the surface stays closed)",
                     self.collapsed_edges,
@@ -81,7 +81,6 @@ impl fmt::Display for RepairReport {
                     plural("edge", self.flipped_edges)
                 ));
             }
-        }
         if parts.is_empty() { f.write_str("nothing to repair") } else { f.write_str(&parts.join(", ")) }
     }
 }

@@ -4,6 +4,7 @@
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
+use smallvec::SmallVec;
 
 use super::Perlin;
 
@@ -136,23 +137,86 @@ impl Fractal {
     /// `s` (a closure `|s| …` will do); `x` is the point's first coordinate (used by marble).
     #[inline(always)]
     pub fn eval(&self, x: f64, basis: impl Basis) -> f64 {
-        let octaves = self.octaves.max(1);
+        let mut values: SmallVec<[f64; super::MAX_OCTAVES as usize]> = SmallVec::new();
+        self.octave_values(self.octaves.max(1), self.base_frequency(), &basis, |n| values.push(n));
+        self.combine(x, &values)
+    }
+
+    /// The frequency of the first octave: ½ for marble, whose turbulence is T(p/2)
+    /// (eq. 4.11), else 1.
+    fn base_frequency(&self) -> f64 {
+        if self.kind == FractalKind::Marble { 0.5 } else { 1.0 }
+    }
+
+    /// The sum of the kind from its octaves' basis values `n` (at the frequencies
+    /// [`Fractal::frequencies`] lists from [`Fractal::base_frequency`], in order) and the
+    /// point's first coordinate `x`: the one combination [`Fractal::eval`] and
+    /// [`Fractal::eval_batch`] share, so both give the same bits.
+    #[inline(always)]
+    fn combine(&self, x: f64, n: &[f64]) -> f64 {
         match self.kind {
-            FractalKind::Fbm => self.fbm(octaves, 1.0, &basis),
-            FractalKind::Turbulence => self.turbulence(octaves, 1.0, &basis),
-            FractalKind::Marble => (((x + 4.0 + 4.0 * self.turbulence(octaves, 0.5, &basis)).sin()) + 1.0) * 0.5,
+            FractalKind::Fbm => self.weighted(n, |v| v),
+            FractalKind::Turbulence => self.weighted(n, f64::abs),
+            FractalKind::Marble => (((x + 4.0 + 4.0 * self.weighted(n, f64::abs)).sin()) + 1.0) * 0.5,
             FractalKind::Multifractal => {
                 let (mut sum, mut weight, mut amplitude) = (0.0, 1.0, 1.0);
-                self.octave_values(octaves, 1.0, &basis, |n| {
-                    let signal = (self.offset - n).abs();
+                for &v in n {
+                    let signal = (self.offset - v).abs();
                     let term = signal * signal * amplitude * weight;
                     sum += term;
                     weight = term.clamp(0.0, 1.0);
                     amplitude *= self.gain;
-                });
+                }
                 sum
             }
-            FractalKind::Wood => wood_ring(self.fbm(octaves, 1.0, &basis).abs() * 10.0),
+            FractalKind::Wood => wood_ring(self.weighted(n, |v| v).abs() * 10.0),
+        }
+    }
+
+    /// Σ gainⁱ·f(nᵢ), the amplitude a running product: fBm with the identity, turbulence
+    /// with the absolute value.
+    #[inline(always)]
+    fn weighted(&self, n: &[f64], f: impl Fn(f64) -> f64) -> f64 {
+        let (mut sum, mut amplitude) = (0.0, 1.0);
+        for &v in n {
+            sum += amplitude * f(v);
+            amplitude *= self.gain;
+        }
+        sum
+    }
+
+    /// The sum (any kind) of Perlin noise at `out.len()` points into `out`, every octave of
+    /// a run of points through [`Perlin::sample3_batch`] (AVX2 where the CPU has it):
+    /// `point_at(k, s)` is point k as the scalar path's basis sees it at frequency `s`
+    /// (`p·s` in space; the plane point of (x·s, y·s) for 2D noise) and `x_of(k)` its
+    /// first coordinate (marble's). Each value equals [`Fractal::eval`] with that basis
+    /// bit for bit: the same frequencies, the same basis values, [`Fractal::combine`].
+    pub fn eval_batch(
+        &self,
+        perlin: &Perlin,
+        point_at: impl Fn(usize, f64) -> DVec3,
+        x_of: impl Fn(usize) -> f64,
+        out: &mut [f64],
+    ) {
+        const RUN: usize = 256;
+        let frequencies = self.frequencies(self.octaves.max(1), self.base_frequency());
+        let mut points = vec![DVec3::ZERO; RUN];
+        let mut values = vec![0.0; frequencies.len() * RUN];
+        let mut n: SmallVec<[f64; super::MAX_OCTAVES as usize]> = SmallVec::from_elem(0.0, frequencies.len());
+        for (run, o) in out.chunks_mut(RUN).enumerate() {
+            let (start, len) = (run * RUN, o.len());
+            for (octave, &s) in frequencies.iter().enumerate() {
+                for (i, p) in points[..len].iter_mut().enumerate() {
+                    *p = point_at(start + i, s);
+                }
+                perlin.sample3_batch(&points[..len], &mut values[octave * RUN..octave * RUN + len]);
+            }
+            for (i, v) in o.iter_mut().enumerate() {
+                for (octave, slot) in n.iter_mut().enumerate() {
+                    *slot = values[octave * RUN + i];
+                }
+                *v = self.combine(x_of(start + i), &n);
+            }
         }
     }
 
@@ -184,7 +248,7 @@ impl Fractal {
             o.copy_from_slice(&sum);
         }
         for (p, o) in chunks.remainder().iter().zip(outs.into_remainder()) {
-            *o = self.fbm(octaves, 1.0, &ScaledPerlin { perlin, point: *p });
+            *o = Fractal { kind: FractalKind::Fbm, ..*self }.eval(p.x, ScaledPerlin { perlin, point: *p });
         }
     }
 
@@ -220,26 +284,6 @@ impl Fractal {
         if octaves % 2 == 1 {
             consume(basis.at(frequency));
         }
-    }
-
-    #[inline(always)]
-    fn fbm(&self, octaves: u32, base: f64, basis: &impl Basis) -> f64 {
-        let (mut sum, mut amplitude) = (0.0, 1.0);
-        self.octave_values(octaves, base, basis, |n| {
-            sum += amplitude * n;
-            amplitude *= self.gain;
-        });
-        sum
-    }
-
-    #[inline(always)]
-    fn turbulence(&self, octaves: u32, base: f64, basis: &impl Basis) -> f64 {
-        let (mut sum, mut amplitude) = (0.0, 1.0);
-        self.octave_values(octaves, base, basis, |n| {
-            sum += amplitude * n.abs();
-            amplitude *= self.gain;
-        });
-        sum
     }
 }
 

@@ -138,8 +138,12 @@ impl Gabor {
         self.radius
     }
 
+    /// The cell index along one axis, within ±2⁶⁰ so that the neighbouring cells' indices
+    /// cannot overflow (far beyond 2⁵³ cells a coordinate no longer resolves a cell anyway;
+    /// #42: 1e300 from Python overflowed the neighbour's index). NaN is cell 0.
     fn cell_of(&self, v: f64) -> i64 {
-        (v / self.radius).floor() as i64
+        const FAR: f64 = (1u64 << 60) as f64;
+        (v / self.radius).floor().clamp(-FAR, FAR) as i64
     }
 
     /// The impulses of a 2D cell, appended to `out` sorted by x.

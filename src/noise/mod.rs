@@ -9,9 +9,11 @@ pub mod hash;
 mod perlin;
 #[cfg(target_arch = "x86_64")]
 mod perlin_avx2;
+#[cfg(target_arch = "x86_64")]
+mod perlin_avx512;
 mod phasor;
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -175,32 +177,94 @@ impl NoiseField {
 
     /// A row-major `width`×`height` grid of 2D values, sample (i, j) at
     /// (x0 + i·step, y0 + j·step); parallel, bit-identical to [`NoiseField::sample2`].
+    /// Perlin noise and its fractal sums go through the batch forms (#42: the command
+    /// line's pictures took the scalar path), Gabor noise through its cell cache.
     pub fn grid2(&self, x0: f64, y0: f64, step: f64, width: usize, height: usize) -> Vec<f64> {
         let mut out = vec![0.0; width * height];
-        match self {
-            NoiseField::Gabor(g) => g.fill_grid2(x0, y0, step, width, &mut out),
-            _ => fill_parallel(&mut out, |k| {
-                let (i, j) = (k % width, k / width);
-                self.sample2(x0 + i as f64 * step, y0 + j as f64 * step)
-            }),
-        }
+        self.fill_grid2(x0, y0, step, width, &mut out);
         out
     }
 
+    /// [`NoiseField::grid2`] into `out` (rows of `width`; `out.len() / width` of them), so
+    /// a caller drawing many pictures reuses one buffer: a fresh one is faulted in page
+    /// by page by the kernel, which does not run in parallel (about 0.6 ms per 8 MiB here).
+    pub fn fill_grid2(&self, x0: f64, y0: f64, step: f64, width: usize, out: &mut [f64]) {
+        match self {
+            NoiseField::Gabor(g) => g.fill_grid2(x0, y0, step, width, out),
+            _ => self.fill_plane(out, |start, run| {
+                // Column and row of the run's first sample, then one step at a time (no
+                // division per sample); each coordinate is formed as sample2's caller forms it.
+                let (mut i, mut j) = (start % width, start / width);
+                for xy in run {
+                    *xy = DVec2::new(x0 + i as f64 * step, y0 + j as f64 * step);
+                    i += 1;
+                    if i == width {
+                        (i, j) = (0, j + 1);
+                    }
+                }
+            }),
+        }
+    }
+
+    /// 2D values at many points (x, y), in parallel, bit-identical to
+    /// [`NoiseField::sample2`]: Perlin noise and its fractal sums through the batch forms.
+    pub fn sample2_batch(&self, points: &[DVec2]) -> Vec<f64> {
+        let mut out = vec![0.0; points.len()];
+        self.fill_plane(&mut out, |start, run| run.copy_from_slice(&points[start..start + run.len()]));
+        out
+    }
+
+    /// `out[k]` = [`NoiseField::sample2`] at the k-th point (x, y), which `coordinates(start,
+    /// run)` writes into `run` for the points from `start` on.
+    fn fill_plane(&self, out: &mut [f64], coordinates: impl Fn(usize, &mut [DVec2]) + Sync) {
+        // Runs of 256 points on the stack: a heap buffer per parallel chunk is large enough
+        // to be mapped and unmapped each time, and the two threads then wait on the kernel.
+        const RUN: usize = 256;
+        fill_runs_parallel(out, |start, chunk| {
+            let mut xy = [DVec2::ZERO; RUN];
+            let mut points = [DVec3::ZERO; RUN];
+            for (r, o) in chunk.chunks_mut(RUN).enumerate() {
+                let xy = &mut xy[..o.len()];
+                coordinates(start + r * RUN, xy);
+                match self {
+                    NoiseField::Perlin { basis, fractal: None } => {
+                        for (p, q) in points.iter_mut().zip(xy.iter()) {
+                            *p = plane_point(q.x, q.y);
+                        }
+                        basis.sample3_batch(&points[..o.len()], o);
+                    }
+                    // The scalar path's basis at frequency s: the plane point of (x·s, y·s).
+                    NoiseField::Perlin { basis, fractal: Some(f) } => {
+                        f.eval_batch(basis, |i, s| plane_point(xy[i].x * s, xy[i].y * s), |i| xy[i].x, o);
+                    }
+                    _ => {
+                        for (v, q) in o.iter_mut().zip(xy.iter()) {
+                            *v = self.sample2(q.x, q.y);
+                        }
+                    }
+                }
+            }
+        });
+    }
+
     /// 3D values at many points (Gabor with each point's frame), in parallel. Perlin noise
-    /// and its fBm go through their batch forms ([`Perlin::sample3_batch`],
-    /// [`Fractal::fbm_batch`]: four points at a time, AVX2 where the CPU has it), which give
-    /// [`NoiseField::sample3`]'s values bit for bit; the other kinds point by point (#42: the
-    /// Python and C++ scattered points took the scalar path).
+    /// and its fractal sums go through their batch forms ([`Perlin::sample3_batch`],
+    /// [`Fractal::fbm_batch`], [`Fractal::eval_batch`]: four points at a time, AVX2 where
+    /// the CPU has it), which give [`NoiseField::sample3`]'s values bit for bit; Gabor and
+    /// phasor noise point by point (#42: the Python and C++ scattered points took the
+    /// scalar path).
     pub fn sample3_batch(&self, points: &[DVec3], frames: &[Frame]) -> Vec<f64> {
         let mut out = vec![0.0; points.len()];
         match self {
             NoiseField::Perlin { basis, fractal: None } => {
-                fill_batches_parallel(points, &mut out, |p, o| basis.sample3_batch(p, o));
+                fill_runs_parallel(&mut out, |start, o| basis.sample3_batch(&points[start..start + o.len()], o));
             }
             NoiseField::Perlin { basis, fractal: Some(f) } if f.kind == FractalKind::Fbm => {
-                fill_batches_parallel(points, &mut out, |p, o| f.fbm_batch(basis, p, o));
+                fill_runs_parallel(&mut out, |start, o| f.fbm_batch(basis, &points[start..start + o.len()], o));
             }
+            NoiseField::Perlin { basis, fractal: Some(f) } => fill_runs_parallel(&mut out, |start, o| {
+                f.eval_batch(basis, |i, s| points[start + i] * s, |i| points[start + i].x, o);
+            }),
             _ => fill_parallel(&mut out, |k| {
                 let frame = frames.get(k).copied().unwrap_or(Frame { tangent: DVec3::X, bitangent: DVec3::Y });
                 self.sample3(points[k], frame)
@@ -224,11 +288,12 @@ pub fn soft_limit(x: f64) -> f64 {
     }
 }
 
-/// Fills `out` from `points` by `batch` over parallel chunks of both; each value depends only
-/// on its point, so the result is the same at any thread count.
-fn fill_batches_parallel(points: &[DVec3], out: &mut [f64], batch: impl Fn(&[DVec3], &mut [f64]) + Sync) {
+/// Fills `out` by `run(start, chunk)` over parallel chunks (`start` the chunk's first
+/// index); each value depends only on its index, so the result is the same at any thread
+/// count.
+fn fill_runs_parallel(out: &mut [f64], run: impl Fn(usize, &mut [f64]) + Sync) {
     const CHUNK: usize = 4096;
-    out.par_chunks_mut(CHUNK).zip(points.par_chunks(CHUNK)).for_each(|(o, p)| batch(p, o));
+    out.par_chunks_mut(CHUNK).enumerate().for_each(|(c, o)| run(c * CHUNK, o));
 }
 
 /// Fills `out[k] = f(k)` in parallel chunks; each value depends only on `k`, so the result

@@ -34,8 +34,9 @@ pub(super) fn batch_hashed_if_available(seed: u64, points: &[DVec3], out: &mut [
 /// fBm of seeded Perlin noise (Σ gainⁱ·n(p·fᵢ) over `frequencies`, summed in the order
 /// [`super::Fractal::fbm_batch`] sums) into `out`, four points per step, when this CPU has
 /// AVX2; an octave whose scaled coordinates are beyond 2⁵¹ or not finite is evaluated by
-/// the scalar path. Returns how many leading points were done: a multiple of four, or 0
-/// without AVX2; the caller's own path does the rest.
+/// the scalar path. The AVX-512 path ([`super::perlin_avx512`]) takes the leading points
+/// where the CPU has it. Returns how many leading points were done: a multiple of four, or
+/// 0 without AVX2 or AVX-512; the caller's own path does the rest.
 pub(super) fn fbm_hashed_if_available(
     seed: u64,
     frequencies: &[f64],
@@ -43,11 +44,13 @@ pub(super) fn fbm_hashed_if_available(
     points: &[DVec3],
     out: &mut [f64],
 ) -> usize {
+    // The AVX-512 path first, eight points at a time; this path takes the points it left.
+    let wide = super::perlin_avx512::fbm_hashed_if_available(seed, frequencies, gain, points, out);
     if !is_x86_feature_detected!("avx2") {
-        return 0;
+        return wide;
     }
     // SAFETY: the CPU has AVX2.
-    unsafe { fbm_hashed(seed, frequencies, gain, points, out) }
+    wide + unsafe { fbm_hashed(seed, frequencies, gain, &points[wide..], &mut out[wide..]) }
 }
 
 /// # Safety

@@ -182,7 +182,7 @@ impl ParticleSystem {
     /// every particle moves by forward Euler, and those outside the unit cube are removed.
     pub fn step(&mut self) {
         let p = self.params;
-        if self.steps % p.emit_every as u64 == 0 {
+        if self.steps.is_multiple_of(p.emit_every as u64) {
             for _ in 0..p.batch {
                 let x = self.emission.uniform(0.5 - p.spread, 0.5 + p.spread);
                 let y = self.emission.uniform(0.5 - p.spread, 0.5 + p.spread);

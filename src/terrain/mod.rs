@@ -454,7 +454,7 @@ pub fn tiles_per_side(extent: u64, tile_size: u64) -> Result<u64> {
     if span == 0 {
         return Err(Error::InvalidInput(format!("tile size {tile_size} must be at least 2 points")));
     }
-    if last % span != 0 {
+    if !last.is_multiple_of(span) {
         // Name the sizes that do fit (#36: the message named only the arithmetic).
         let below = last / span * span + 1;
         let above = below + span;

@@ -29,7 +29,7 @@ impl PreviewSampler {
 
     /// Takes the sampled points of rows y0..=y1 of `field`.
     pub(super) fn take(&mut self, field: &crate::terrain::Heightfield, y0: u64, y1: u64) {
-        for y in (y0..=y1).filter(|y| (y - self.rect.y0) % self.stride == 0) {
+        for y in (y0..=y1).filter(|y| (y - self.rect.y0).is_multiple_of(self.stride)) {
             self.heights.extend((0..self.columns as u64).map(|i| field.at(self.rect.x0 + i * self.stride, y)));
         }
     }

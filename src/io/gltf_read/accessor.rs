@@ -241,11 +241,10 @@ impl Accessors<'_, '_> {
         if let Some(sparse) = &accessor.sparse {
             self.substitute(sparse, &layout, &mut values)?;
         }
-        if layout.component == ComponentType::F32 {
-            if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+        if layout.component == ComponentType::F32
+            && let Some(k) = values.iter().position(|v| !v.is_finite()) {
                 return Err(format!("accessor {index}: element {} is not finite ({})", k / n, values[k]));
             }
-        }
         Ok((values, n))
     }
 

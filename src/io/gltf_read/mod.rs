@@ -245,7 +245,7 @@ fn decode_primitive(
         Some(i) => accessors.read_indices(i.value()).map_err(|m| format!("the indices: {m}"))?,
         None => (0..count as u32).collect(),
     };
-    if mode == Mode::Triangles && corners.len() % 3 != 0 {
+    if mode == Mode::Triangles && !corners.len().is_multiple_of(3) {
         return Err(format!("{} triangle indices are not a multiple of 3", corners.len()));
     }
     if let Some(k) = corners.iter().position(|&v| v as usize >= count) {
