@@ -587,3 +587,42 @@ fn soft_limit_is_the_identity_to_the_knee_then_bounded_and_smooth() {
     let slope = (soft_limit(0.5 + 1e-7) - soft_limit(0.5)) / 1e-7;
     assert!((slope - 1.0).abs() < 1e-5, "slope at the knee {slope}");
 }
+
+#[test]
+fn single_precision_batches_equal_its_scalars_and_differ_from_f64() {
+    use asperity::noise::Precision;
+    let pool = |threads| rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    for kind in [NoiseKind::Perlin, NoiseKind::Fbm] {
+        let spec = NoiseSpec { kind, seed: 4, precision: Precision::F32, ..NoiseSpec::default() };
+        let single = NoiseField::new(&spec).unwrap();
+        let double = NoiseField::new(&NoiseSpec { precision: Precision::F64, ..spec }).unwrap();
+        let (n, x0, y0, step) = (67, -20.5, 3.25, 0.37);
+        let one = pool(1).install(|| single.grid2(x0, y0, step, n, n));
+        let two = pool(2).install(|| single.grid2(x0, y0, step, n, n));
+        assert_eq!(one, two, "{kind:?}");
+        for (k, v) in one.iter().enumerate() {
+            let (x, y) = (x0 + (k % n) as f64 * step, y0 + (k / n) as f64 * step);
+            assert_eq!(v.to_bits(), single.sample2(x, y).to_bits(), "{kind:?} at {x}, {y}");
+        }
+        let points = random_points(4099, 60.0, 8);
+        let a = pool(1).install(|| single.sample3_batch(&points, &[]));
+        let b = pool(2).install(|| single.sample3_batch(&points, &[]));
+        assert_eq!(a, b, "{kind:?}");
+        let frame = asperity::noise::Frame { tangent: DVec3::X, bitangent: DVec3::Y };
+        for (p, v) in points.iter().zip(&a) {
+            assert_eq!(v.to_bits(), single.sample3(*p, frame).to_bits(), "{kind:?} at {p}");
+            // Values are f32's, and within the kind's bound.
+            assert_eq!(*v, f64::from(*v as f32));
+            assert!(single.unit(*v).abs() <= 1.0 + 1e-6, "{kind:?}: {v}");
+        }
+        // A different noise from the f64 default, with the same statistics.
+        let d = double.sample3_batch(&points, &[]);
+        assert!(a.iter().zip(&d).filter(|(s, d)| s != d).count() > points.len() * 9 / 10, "{kind:?}");
+        let spread = |v: &[f64]| (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt();
+        let (s, t) = (spread(&a), spread(&d));
+        assert!((s / t - 1.0).abs() < 0.1, "{kind:?}: rms {s} (f32) vs {t} (f64)");
+    }
+    // Only Perlin noise and fBm have it.
+    let spec = NoiseSpec { kind: NoiseKind::Turbulence, precision: Precision::F32, ..NoiseSpec::default() };
+    assert!(NoiseField::new(&spec).is_err());
+}

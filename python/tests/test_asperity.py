@@ -215,6 +215,12 @@ def test_terrain_noise_render_clouds_compare_repair():
     for kind in ("perlin", "fbm", "gabor", "phasor", "wood"):
         values = asperity.noise(kind, points, seed=2)
         assert values.shape == (100,) and np.isfinite(values).all(), kind
+    # The single-precision option: a different noise, f32 values, Perlin and fBm only.
+    single = asperity.noise("fbm", points, seed=2, precision="f32")
+    assert np.array_equal(single, single.astype(np.float32).astype(np.float64))
+    assert not np.array_equal(single, asperity.noise("fbm", points, seed=2))
+    with pytest.raises(asperity.InputError, match="precision applies only"):
+        asperity.noise("gabor", points, precision="f32")
     twice = asperity.noise("gabor", points[:, :2], seed=2, k=2.0)
     np.testing.assert_allclose(twice, 2 * asperity.noise("gabor", points[:, :2], seed=2, k=1.0))
     positions, triangles = icosphere(2)

@@ -14,7 +14,7 @@ use super::recipe::{Attenuation, Direction, NoiseParams, OperatorKind};
 use crate::error::Result;
 use crate::noise::hash::{Stream, derive_seed, hash_coords};
 use crate::noise::{
-    Fractal, FractalKind, Frame, GaborParams, NoiseField, NoiseKind, NoiseSpec, ScaledPerlin, fill_parallel,
+    Fractal, FractalKind, Frame, GaborParams, NoiseField, NoiseKind, NoiseSpec, Precision, ScaledPerlin, fill_parallel,
 };
 
 /// A noise evaluated on a level in the recipe's units: coordinates scaled so that
@@ -59,7 +59,14 @@ impl LevelNoise {
             impulses_per_kernel: impulses,
             isotropic: params.isotropic,
         };
-        let field = NoiseField::new(&NoiseSpec { kind: params.kind, fractal, gabor, profile: params.profile, seed })?;
+        let field = NoiseField::new(&NoiseSpec {
+            kind: params.kind,
+            fractal,
+            gabor,
+            profile: params.profile,
+            seed,
+            precision: Precision::F64,
+        })?;
         let per_unit = params.frequency / frame.diagonal;
         let scale = if params.kind.is_spectral() { per_unit / params.f0.max(f64::MIN_POSITIVE) } else { per_unit };
         Ok(LevelNoise { field, origin: frame.min, scale })

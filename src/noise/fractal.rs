@@ -252,6 +252,12 @@ impl Fractal {
         }
     }
 
+    /// The frequencies of the octaves [`Fractal::eval`] sums, in order (from 1, or ½ for
+    /// marble).
+    pub fn octave_frequencies(&self) -> Vec<f64> {
+        self.frequencies(self.octaves.max(1), self.base_frequency())
+    }
+
     /// The frequencies [`Fractal::octave_values`] visits, in order (the same running
     /// product).
     fn frequencies(&self, octaves: u32, base: f64) -> Vec<f64> {
