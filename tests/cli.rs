@@ -713,7 +713,7 @@ fn feature_vertices_chooses_between_lines_and_the_literal_rule_and_needs_feature
         vec!["compare", input, "--keep-features", "none", "--feature-vertices", "keep"],
     ] {
         let out = asperity(&command, tmp.path());
-        assert_one_line_error(&out, 2, &["--feature-vertices", "--keep-features strong or all"]);
+        assert_one_line_error(&out, 2, &["--feature-vertices", "--keep-features corners, strong or all"]);
     }
     assert!(!tmp.path().join("x.ply").exists());
 }

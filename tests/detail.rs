@@ -759,3 +759,63 @@ fn vertex_attenuation_divides_each_vertex_by_its_own_level() {
     let err = Recipe::parse("[[step]]\nop = \"noise\"\nnoise = { attenuate = 3 }\n").unwrap_err();
     assert!(err.0 == Some(3) && err.1.contains("attenuate: expected"), "{err:?}");
 }
+
+#[test]
+fn every_gabor_and_phasor_parameter_changes_a_step_as_the_thesis_defines_it() {
+    // #37: a step's F0 was cancelled by the coordinates' scale (only a/F0 mattered). On a
+    // flat 120 x 120 grid, the normal displacement's sign changes along rows and columns
+    // measure the dominant frequency and its direction.
+    let n = 120u32;
+    let mesh = asperity::mesh::primitives::grid(n);
+    let displacement = |noise: &str| -> Vec<f64> {
+        let text = format!(
+            "[[step]]\nop = \"noise\"\nnoise = {{ amplitude = 0.01, frequency = 4.0, attenuate = false, {noise} }}\n"
+        );
+        let params = recipe(&text).steps[0].noise.clone();
+        let (_, _, moves) = step_on_every_vertex(&mesh, &params, 7);
+        let mut z = vec![0.0; mesh.vertex_count()];
+        for (v, p) in moves {
+            z[v] = p.z - mesh.positions[v].z;
+        }
+        z
+    };
+    let side = (n + 1) as usize;
+    let crossings = |z: &[f64]| {
+        let (mut along_x, mut along_y) = (0usize, 0usize);
+        for j in 0..side {
+            for i in 0..side - 1 {
+                along_x += usize::from(z[j * side + i] * z[j * side + i + 1] < 0.0);
+                along_y += usize::from(z[i * side + j] * z[(i + 1) * side + j] < 0.0);
+            }
+        }
+        (along_x as f64, along_y as f64)
+    };
+    let peak = |z: &[f64]| z.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for kind in ["gabor", "phasor"] {
+        let base = format!("kind = \"{kind}\"");
+        let reference = displacement(&base);
+        // Higher F0, higher dominant frequency: twice F0, about twice the sign changes.
+        let (x1, y1) = crossings(&reference);
+        let (x2, y2) = crossings(&displacement(&format!("{base}, f0 = 0.125")));
+        assert!(x2 + y2 > 1.6 * (x1 + y1), "{kind}: F0 doubled, {} sign changes against {}", x2 + y2, x1 + y1);
+        // ω0 turns the oscillation: along one axis at 0, along the other at π/2.
+        let (ax, ay) = crossings(&displacement(&format!("{base}, omega = 0.0")));
+        let (bx, by) = crossings(&displacement(&format!("{base}, omega = 1.5707963")));
+        let (r0, r1) = (ax / ay.max(1.0), bx / by.max(1.0));
+        assert!(
+            (r0 > 2.0 && r1 < 0.5) || (r0 < 0.5 && r1 > 2.0),
+            "{kind}: ω0 0 gives {ax}/{ay} sign changes along x/y, π/2 {bx}/{by}"
+        );
+        // A larger a is a narrower kernel: a wider band of frequencies, so more sign changes.
+        let (wx, wy) = crossings(&displacement(&format!("{base}, a = 0.2")));
+        assert!(wx + wy > (x1 + y1) * 1.1, "{kind}: a 0.2 gives {} sign changes against {}", wx + wy, x1 + y1);
+        // K scales the displacement (amplitude × K is its bound).
+        let doubled = displacement(&format!("{base}, k = 2.0"));
+        let ratio = peak(&doubled) / peak(&reference);
+        assert!((ratio - 2.0).abs() < 0.05, "{kind}: K doubled, peak ratio {ratio}");
+        // Impulse density and isotropy change the noise.
+        for other in ["impulses = 16.0", "isotropic = true"] {
+            assert_ne!(displacement(&format!("{base}, {other}")), reference, "{kind}: {other} changed nothing");
+        }
+    }
+}

@@ -383,3 +383,24 @@ fn no_level_of_a_menger_sponge_lets_coplanar_faces_touch() {
         assert!(hits.is_empty(), "level {k}: {} intersecting face pairs", hits.len());
     }
 }
+
+#[test]
+fn corners_only_features_keep_the_corners_and_let_the_edges_go() {
+    // #37, thesis Fig. 5.15: features by corners alone. On a subdivided box the eight
+    // corners reach the base; the edges' vertices are removed like any other (with
+    // `strong`, they are feature vertices kept on their lines).
+    let mesh = asperity::mesh::primitives::cube(glam::DVec3::ZERO, glam::DVec3::ONE, 8);
+    let analysis = analysis::analyze(&mesh, &Default::default()).unwrap();
+    let corners: Vec<u32> = (0..mesh.vertex_count() as u32)
+        .filter(|&v| analysis.classes[v as usize] == analysis::FeatureClass::Corner)
+        .collect();
+    assert_eq!(corners.len(), 8, "the box's corners");
+    let build_with = |keep| {
+        build(&mesh, &SimplifyOptions { keep_features: keep, target_vertices: Some(40), ..Default::default() }).unwrap()
+    };
+    let only_corners = build_with(KeepFeatures::Corners);
+    let base: HashSet<u32> = only_corners.base_mesh().ids.into_iter().collect();
+    assert!(corners.iter().all(|v| base.contains(v)), "a corner was removed");
+    assert_eq!(only_corners.feature_vertices, 8, "only the corners are feature vertices");
+    assert!(build_with(KeepFeatures::Strong).feature_vertices > 8, "strong keeps edge vertices too");
+}

@@ -16,9 +16,10 @@ pub fn version() -> String {
 pub fn keep_features_of(name: &str) -> asperity::Result<KeepFeatures> {
     match name {
         "none" => Ok(KeepFeatures::None),
+        "corners" => Ok(KeepFeatures::Corners),
         "strong" => Ok(KeepFeatures::Strong),
         "all" => Ok(KeepFeatures::All),
-        other => Err(Error::InvalidInput(format!("keep_features `{other}`: use none, strong or all"))),
+        other => Err(Error::InvalidInput(format!("keep_features `{other}`: use none, corners, strong or all"))),
     }
 }
 

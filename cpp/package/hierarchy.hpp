@@ -31,7 +31,7 @@ struct HierarchyOptions {
   std::optional<std::size_t> levels;
   /// Never remove a vertex whose error exceeds this share of the bounding-box diagonal.
   std::optional<double> max_error;
-  /// Feature vertices kept: "none", "strong" (the thesis' choice) or "all".
+  /// Feature vertices kept: "none", "corners" (thesis Fig. 5.15), "strong" (the thesis' choice) or "all".
   std::string keep_features;
   /// "along-lines" (feature-line vertices removed along their line) or "keep".
   std::string feature_vertices;

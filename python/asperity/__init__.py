@@ -191,7 +191,7 @@ class Hierarchy:
     kept: ``levels`` levels, level 0 the base domain and level ``levels - 1`` the input.
 
     Options are ``simplify``'s: ``target_vertices`` (a count or "5%"), ``levels``,
-    ``max_error``, ``keep_features`` ("none", "strong", "all"), ``feature_vertices``
+    ``max_error``, ``keep_features`` ("none", "corners", "strong", "all"), ``feature_vertices``
     ("along-lines", "keep"), ``removal_weight``, ``swap_weight``,
     ``no_intersection_guard``, ``repair``; ``progress`` prints the build's progress."""
 

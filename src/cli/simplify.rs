@@ -52,6 +52,8 @@ pub struct HierarchyArgs {
 pub enum KeepArg {
     /// No vertex is a feature: any may be removed.
     None,
+    /// Corners only (thesis Fig. 5.15): edges are removed like the rest.
+    Corners,
     /// Corners and strong-edge vertices are features.
     Strong,
     /// Corners, strong and weak edge vertices are features.
@@ -62,6 +64,7 @@ impl From<KeepArg> for KeepFeatures {
     fn from(k: KeepArg) -> Self {
         match k {
             KeepArg::None => KeepFeatures::None,
+            KeepArg::Corners => KeepFeatures::Corners,
             KeepArg::Strong => KeepFeatures::Strong,
             KeepArg::All => KeepFeatures::All,
         }
@@ -91,7 +94,7 @@ impl From<FeatureVerticesArg> for FeatureVertices {
 pub fn resolve_feature_vertices(arg: Option<FeatureVerticesArg>, keep: KeepFeatures) -> Result<FeatureVertices> {
     match (arg, keep) {
         (Some(_), KeepFeatures::None) => Err(Error::InvalidInput(
-            "--feature-vertices applies only with --keep-features strong or all (with none, no vertex is a feature)"
+            "--feature-vertices applies only with --keep-features corners, strong or all (with none, no vertex is a feature)"
                 .into(),
         )),
         (arg, _) => Ok(arg.map_or(FeatureVertices::AlongLines, Into::into)),

@@ -17,6 +17,10 @@ use crate::noise::{
     Fractal, FractalKind, Frame, GaborParams, NoiseField, NoiseKind, NoiseSpec, Precision, ScaledPerlin, fill_parallel,
 };
 
+/// The Gabor frequency F0 at which a step's `frequency` is its cycles per bounding-box
+/// diagonal: the default F0 ([`GaborParams::default`]).
+pub const REFERENCE_F0: f64 = 0.0625;
+
 /// A noise evaluated on a level in the recipe's units: coordinates scaled so that
 /// `frequency` features span the bounding-box diagonal.
 pub struct LevelNoise {
@@ -68,7 +72,10 @@ impl LevelNoise {
             precision: Precision::F64,
         })?;
         let per_unit = params.frequency / frame.diagonal;
-        let scale = if params.kind.is_spectral() { per_unit / params.f0.max(f64::MIN_POSITIVE) } else { per_unit };
+        // Gabor and phasor noise: `frequency` counts the cycles of the reference F0 per
+        // diagonal, so F0 itself scales the cycles and a the kernel's width, independently
+        // (#37: dividing by the step's own F0 cancelled it, leaving only a/F0).
+        let scale = if params.kind.is_spectral() { per_unit / REFERENCE_F0 } else { per_unit };
         Ok(LevelNoise { field, origin: frame.min, scale })
     }
 

@@ -407,7 +407,8 @@ pub struct NoiseParams {
     /// Peak displacement, fraction of the bounding-box diagonal (× K for Gabor and phasor
     /// noise): the bound no vertex of the step exceeds ([`crate::noise::NoiseField::unit`]).
     pub amplitude: f64,
-    /// Features per bounding-box diagonal (Perlin lattice cells, Gabor cycles).
+    /// Features per bounding-box diagonal (Perlin lattice cells; Gabor and phasor cycles at
+    /// the reference F0, 0.0625).
     pub frequency: f64,
     /// Octaves of the fractal kinds.
     pub octaves: u32,
@@ -419,9 +420,11 @@ pub struct NoiseParams {
     pub offset: f64,
     /// Gabor K.
     pub k: f64,
-    /// Gabor a (relative to F0 = 0.0625: the kernel's width in cycles is kept).
+    /// Gabor a, the kernel's bandwidth, in the units where `frequency` cycles of the
+    /// reference F0 span the diagonal: a larger a, a narrower kernel.
     pub a: f64,
-    /// Gabor F0 (reference 0.0625; the frequency above sets the scale).
+    /// Gabor F0, the cosine's frequency in those units: cycles per diagonal are
+    /// `frequency` × F0 / 0.0625 (0.125 doubles them).
     pub f0: f64,
     /// Gabor ω0, radians.
     pub omega: f64,

@@ -54,6 +54,9 @@ pub fn face_key(t: [u32; 3]) -> [u32; 3] {
 pub enum KeepFeatures {
     /// Every interior vertex may be removed.
     None,
+    /// Corners only (thesis Fig. 5.15: features by corners alone; edges are removed like
+    /// the rest of the surface).
+    Corners,
     /// Corners and strong edges (the thesis' choice).
     #[default]
     Strong,

@@ -486,6 +486,7 @@ fn features_and_kept(mesh: &Mesh, options: &SimplifyOptions, seams: &[[u32; 2]])
         for (v, class) in classes.into_iter().enumerate() {
             feature[v] = match options.keep_features {
                 KeepFeatures::None => false,
+                KeepFeatures::Corners => class == FeatureClass::Corner,
                 KeepFeatures::Strong => class.is_sharp(),
                 KeepFeatures::All => class != FeatureClass::Face,
             };

@@ -88,11 +88,12 @@ impl HierarchySection {
         let keep_features = match self.keep_features.as_deref() {
             None => None,
             Some("none") => Some(KeepFeatures::None),
+            Some("corners") => Some(KeepFeatures::Corners),
             Some("strong") => Some(KeepFeatures::Strong),
             Some("all") => Some(KeepFeatures::All),
             Some(other) => {
                 return Err(Error::InvalidInput(format!(
-                    "[hierarchy] keep_features = \"{other}\": use none, strong or all"
+                    "[hierarchy] keep_features = \"{other}\": use none, corners, strong or all"
                 )));
             }
         };
