@@ -105,6 +105,7 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     add("noise", "--size", &n, &["--size", "40"]);
     add("noise", "--scale", &n, &["--scale", "0.1"]);
     add("noise", "--seed", &n, &["--seed", "2"]);
+    add("noise", "--precision", &n, &["--precision", "f32"]);
     add("noise", "--range", &n, &["--range", "-2,2"]);
     let nf = ["noise", "--size", "32", "-o", "n.png", "--kind", "fbm"];
     add("noise", "--octaves", &nf, &["--octaves", "2"]);
@@ -253,6 +254,13 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     let eroded = ["terrain", "--size", "33", "-o", "t.ply", "--erode", "thermal"];
     add("terrain", "--erode-iterations", &eroded, &["--erode-iterations", "5"]);
     add("terrain", "--talus", &eroded, &["--talus", "10"]);
+    let rained = ["terrain", "--size", "33", "-o", "t.ply", "--erode", "hydraulic", "--erode-iterations", "10"];
+    add("terrain", "--rain", &rained, &["--rain", "0.03"]);
+    add("terrain", "--evaporation", &rained, &["--evaporation", "5"]);
+    add("terrain", "--capacity", &rained, &["--capacity", "2"]);
+    add("terrain", "--dissolving", &rained, &["--dissolving", "0.8"]);
+    add("terrain", "--deposition", &rained, &["--deposition", "0.8"]);
+    add("terrain", "--time-step", &rained, &["--time-step", "0.1"]);
     add("terrain", "--preset", &["terrain", "--size", "33", "-o", "t.raw"], &["--preset", "unity"]);
     add("terrain", "--sidecar", &["terrain", "--size", "33", "-o", "t.png"], &["--sidecar"]);
     let dual = ["terrain", "--method", "dual", "--levels", "3", "-o", "t.ply"];

@@ -479,3 +479,114 @@ fn the_readme_world_walkthrough_runs_as_it_stands() {
         }
     }
 }
+
+fn rained(size: u64, iterations: u32) -> TerrainParams {
+    TerrainParams {
+        size,
+        seed: 3,
+        hydraulic: Some(asperity::terrain::HydraulicErosion { iterations, ..Default::default() }),
+        ..TerrainParams::default()
+    }
+}
+
+#[test]
+fn hydraulic_tiles_equal_the_whole_grid_bit_for_bit() {
+    // #41: 2 x 2 tiles of a 257² terrain after 50 iterations, and a lattice of triangles
+    // with thermal erosion first, each tile computed on itself grown by its halo.
+    use asperity::terrain::{Grid, HydraulicErosion};
+    let thermal_first = TerrainParams {
+        grid: Grid::Triangle,
+        erosion: Some(ThermalErosion { iterations: 4, talus_degrees: 30.0 }),
+        hydraulic: Some(HydraulicErosion { iterations: 12, ..Default::default() }),
+        ..rained(129, 12)
+    };
+    for (params, tile_size) in [(rained(257, 50), 129), (thermal_first, 65)] {
+        let last = params.size - 1;
+        let whole = heights(&params, Rect { x0: 0, y0: 0, x1: last, y1: last }).unwrap();
+        let tiles = last / (tile_size - 1);
+        for j in 0..tiles {
+            for i in 0..tiles {
+                let rect = tile_rect(&params, i, j, tile_size).unwrap();
+                let tile = heights(&params, rect).unwrap();
+                for y in rect.y0..=rect.y1 {
+                    for x in rect.x0..=rect.x1 {
+                        assert_eq!(tile.at(x, y).to_bits(), whole.at(x, y).to_bits(), "tile {i},{j} at {x},{y}");
+                    }
+                }
+            }
+        }
+        let plain = heights(&TerrainParams { hydraulic: None, ..params }, whole.rect).unwrap();
+        assert_ne!(plain.heights, whole.heights, "hydraulic erosion changes the heights");
+    }
+}
+
+#[test]
+fn hydraulic_erosion_accounts_for_water_and_sediment_and_lowers_the_hypsometric_integral() {
+    use asperity::terrain::hydraulic;
+    let params = rained(129, 120);
+    let rect = Rect { x0: 0, y0: 0, x1: 128, y1: 128 };
+    let before = heights(&TerrainParams { hydraulic: None, ..params }, rect).unwrap();
+    let mut field = before.clone();
+    let budget = hydraulic::erode(&mut field, &params, &params.hydraulic.unwrap());
+    // The terrain plus the settled sediment keeps its volume; the water that fell has
+    // evaporated or still stands.
+    let cell = (10.0 / 128.0) * (10.0 / 128.0);
+    let volume = |h: &[f64]| h.iter().sum::<f64>() * cell;
+    let magnitude: f64 = before.heights.iter().map(|h| h.abs()).sum::<f64>() * cell;
+    let drift = (volume(&field.heights) - volume(&before.heights)).abs() / magnitude;
+    assert!(drift < 1e-12, "terrain volume drift {drift:e}");
+    let water = (budget.rained - budget.evaporated - budget.water_left).abs() / budget.rained;
+    assert!(water < 1e-12, "water unaccounted for: {water:e} of the rain ({budget:?})");
+    assert!(budget.sediment_settled > 0.0 && budget.evaporated > 0.0, "{budget:?}");
+    // Erosion moves material from heights down into valleys: the hypsometric integral
+    // (mean − min)/(max − min) falls (Strahler 1952: it falls as a landscape matures).
+    let integral = |h: &[f64]| {
+        let (lo, hi) = h.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), &v| (l.min(v), u.max(v)));
+        (h.iter().sum::<f64>() / h.len() as f64 - lo) / (hi - lo)
+    };
+    let (from, to) = (integral(&before.heights), integral(&field.heights));
+    assert!(to < from - 0.02, "hypsometric integral {from:.4} -> {to:.4}");
+}
+
+#[test]
+fn every_hydraulic_parameter_has_its_effect_and_its_range() {
+    use asperity::terrain::HydraulicErosion;
+    let rect = Rect { x0: 0, y0: 0, x1: 64, y1: 64 };
+    let base = HydraulicErosion { iterations: 30, ..Default::default() };
+    let run = |h: HydraulicErosion| {
+        let params = TerrainParams { hydraulic: Some(h), ..rained(65, 30) };
+        heights(&params, rect).unwrap().heights
+    };
+    let plain = heights(&TerrainParams { hydraulic: None, ..rained(65, 30) }, rect).unwrap().heights;
+    let moved = |h: &[f64]| h.iter().zip(&plain).map(|(a, b)| (a - b).abs()).sum::<f64>();
+    let reference = moved(&run(base));
+    // More rain, more capacity, faster dissolving: more material moved; more evaporation:
+    // less. Deposition and the time step change the result.
+    let more = |h: HydraulicErosion, name: &str| {
+        let m = moved(&run(h));
+        assert!(m > reference * 1.05, "{name}: {m} moved against {reference}");
+    };
+    more(HydraulicErosion { rain: base.rain * 4.0, ..base }, "rain");
+    more(HydraulicErosion { capacity: base.capacity * 2.0, ..base }, "capacity");
+    more(HydraulicErosion { dissolving: 0.9, ..base }, "dissolving");
+    let drier = moved(&run(HydraulicErosion { evaporation: 15.0, ..base }));
+    assert!(drier < reference * 0.95, "evaporation: {drier} moved against {reference}");
+    for (name, h) in [
+        ("deposition", HydraulicErosion { deposition: 0.9, ..base }),
+        ("time step", HydraulicErosion { time_step: 0.1, ..base }),
+    ] {
+        assert_ne!(run(h), run(base), "{name} changed nothing");
+    }
+    // Each refused outside its range, by name.
+    for (flag, h) in [
+        ("--rain", HydraulicErosion { rain: 0.0, ..base }),
+        ("--evaporation", HydraulicErosion { evaporation: 20.0, ..base }),
+        ("--capacity", HydraulicErosion { capacity: -1.0, ..base }),
+        ("--dissolving", HydraulicErosion { dissolving: 1.5, ..base }),
+        ("--deposition", HydraulicErosion { deposition: 0.0, ..base }),
+        ("--time-step", HydraulicErosion { time_step: f64::NAN, ..base }),
+    ] {
+        let error = h.validate().unwrap_err().to_string();
+        assert!(error.contains(flag), "{flag}: {error}");
+    }
+}

@@ -356,7 +356,8 @@ def hausdorff(reference: MeshLike, other: MeshLike) -> float:
 
 def terrain(*, progress: bool = False, **options: Any) -> np.ndarray:
     """``asperity terrain``'s heights as a (rows, columns) float64 array: ``size``,
-    ``method`` ("classic", "smooth"), ``hurst``, ``seed``, ``sea_level``, ``erode``,
+    ``method`` ("classic", "smooth"), ``hurst``, ``seed``, ``sea_level``, ``erode``
+    ("thermal", "hydraulic", "thermal,hydraulic") with ``rain``, ``capacity``…,
     ``tile=(i, j)`` with ``tile_size``, ``preset``… (every heightfield flag)."""
     return _native.terrain(_flags(options), progress)
 

@@ -7,6 +7,7 @@ mod clouds;
 mod diamond_square;
 mod dual;
 pub mod erosion;
+pub mod hydraulic;
 pub mod mosaic;
 pub mod presets;
 mod random;
@@ -22,6 +23,7 @@ pub use clouds::{CloudParams, clouds};
 pub use diamond_square::{DiamondSquare, Lattice, Rect, Rule};
 pub use dual::{DualParams, QuadSurface, dual_midpoint_displacement};
 pub use erosion::ThermalErosion;
+pub use hydraulic::{HydraulicBudget, HydraulicErosion};
 pub use presets::Preset;
 pub use random::{Displacements, Distribution};
 
@@ -102,6 +104,10 @@ pub struct TerrainParams {
     /// the sea clamp), when set.
     #[serde(default)]
     pub erosion: Option<ThermalErosion>,
+    /// Hydraulic erosion (virtual pipes, Mei et al. 2007), after the thermal erosion when
+    /// both are set, before the sea clamp.
+    #[serde(default)]
+    pub hydraulic: Option<HydraulicErosion>,
 }
 
 /// Colours of the height ramp: the sea (at or below sea level, or 0), then land from low
@@ -153,6 +159,7 @@ impl Default for TerrainParams {
             palette: Palette::default(),
             peak_height: None,
             erosion: None,
+            hydraulic: None,
         }
     }
 }
@@ -183,6 +190,9 @@ impl TerrainParams {
         }
         if let Some(erosion) = &self.erosion {
             erosion.validate()?;
+        }
+        if let Some(hydraulic) = &self.hydraulic {
+            hydraulic.validate()?;
         }
         self.check_height_bound(levels)?;
         Ok(DiamondSquare {
@@ -224,6 +234,12 @@ impl TerrainParams {
         )))
     }
 
+    /// The points around a rectangle its erosion reaches (thermal then hydraulic: one
+    /// and two points per iteration), which a tile computes with it.
+    pub fn erosion_halo(&self) -> u64 {
+        self.erosion.map_or(0, |e| e.halo()) + self.hydraulic.map_or(0, |h| h.halo())
+    }
+
     /// A height scale independent of the data (so tiles agree): four times the standard
     /// deviation of the summed displacements, σ·√(Σ 4^(−H·l)).
     pub fn height_scale(&self) -> f64 {
@@ -245,7 +261,7 @@ impl TerrainParams {
         if !(top.is_finite() && top > 0.0) {
             return Err(Error::InvalidInput(format!("max height {top} must be positive")));
         }
-        let raw = TerrainParams { height_factor: 1.0, sea_level: None, erosion: None, ..self };
+        let raw = TerrainParams { height_factor: 1.0, sea_level: None, erosion: None, hydraulic: None, ..self };
         let last = self.size.saturating_sub(1);
         let peak = heights(&raw, Rect { x0: 0, y0: 0, x1: last, y1: last })?
             .heights
@@ -329,14 +345,19 @@ pub fn heights(params: &TerrainParams, rect: Rect) -> Result<Heightfield> {
     if rect.x0 > rect.x1 || rect.y0 > rect.y1 || rect.x1 > last || rect.y1 > last {
         return Err(Error::InvalidInput(format!("region {rect:?} is outside the {0}x{0} grid", params.size)));
     }
-    let mut field = match &params.erosion {
-        // Erosion's halo: the points within `iterations` steps of the rectangle.
-        Some(erosion) => {
-            let mut grown = generated_heights(params, &generator, rect.grown(erosion.halo(), last));
+    let halo = params.erosion_halo();
+    let mut field = if halo > 0 || params.erosion.is_some() || params.hydraulic.is_some() {
+        // Erosion's halo: the points whose erosion reaches the rectangle.
+        let mut grown = generated_heights(params, &generator, rect.grown(halo, last));
+        if let Some(erosion) = &params.erosion {
             erosion::erode(&mut grown, params, erosion);
-            erosion::crop(&grown, rect)
         }
-        None => generated_heights(params, &generator, rect),
+        if let Some(hydraulic) = &params.hydraulic {
+            hydraulic::erode(&mut grown, params, hydraulic);
+        }
+        erosion::crop(&grown, rect)
+    } else {
+        generated_heights(params, &generator, rect)
     };
     if let Some(sea) = params.sea_level {
         field.heights.par_iter_mut().for_each(|h| *h = h.max(sea));

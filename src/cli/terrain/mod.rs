@@ -18,7 +18,8 @@ use crate::io::{self, WriteOptions, write_atomically};
 use crate::terrain::sidecar::{HeightRange, Sidecar};
 use crate::terrain::stream::{StreamFormat, default_band, write_terrain_observed};
 use crate::terrain::{
-    Distribution, Grid, Method, Preset, Rect, TerrainParams, ThermalErosion, mesh, presets, tile_rect_in,
+    Distribution, Grid, HydraulicErosion, Method, Preset, Rect, TerrainParams, ThermalErosion, mesh, presets,
+    tile_rect_in,
 };
 use preview::{PreviewSampler, write_preview};
 
@@ -41,6 +42,9 @@ enum ErodeArg {
     /// Talus-angle thermal erosion (Musgrave et al. 1989): material slides downhill
     /// wherever the slope exceeds the talus angle; tiles equal the whole grid.
     Thermal,
+    /// Hydraulic erosion by virtual pipes (Mei et al. 2007): rain, flow, dissolving,
+    /// transport and deposition of sediment, evaporation; tiles equal the whole grid.
+    Hydraulic,
 }
 
 /// The flags that say which terrain is made: everything a plan stores and replays for
@@ -135,17 +139,41 @@ pub(crate) struct Generation {
     /// Height range LO,HI mapped to 16 bits (.png, .raw16); default ± the height scale.
     #[arg(long, value_parser = crate::cli::parse::range, allow_hyphen_values = true)]
     range: Option<(f64, f64)>,
-    /// Erode the generated heights (classic, smooth): identical in tiles, which are computed
-    /// with a halo of one point per iteration.
-    #[arg(long, value_enum)]
-    erode: Option<ErodeArg>,
-    /// Erosion iterations (with --erode) [default: 50].
+    /// Erode the generated heights (classic, smooth): thermal, hydraulic, or
+    /// thermal,hydraulic (in that order); identical in tiles, which are computed with a halo
+    /// of one point per thermal and two per hydraulic iteration.
+    #[arg(long, value_enum, value_delimiter = ',')]
+    erode: Vec<ErodeArg>,
+    /// Erosion iterations, of each erosion (with --erode) [default: 50].
     #[arg(long)]
     erode_iterations: Option<u32>,
     /// Talus angle in degrees: the steepest slope erosion leaves in place (with --erode
     /// thermal) [default: 30].
     #[arg(long, allow_negative_numbers = true)]
     talus: Option<f64>,
+    /// Rain Kr: water depth added per unit time, world height units (with --erode
+    /// hydraulic) [default: 0.01].
+    #[arg(long, allow_negative_numbers = true)]
+    rain: Option<f64>,
+    /// Evaporation Ke: share of the water evaporating per unit time, below 1/--time-step
+    /// (with --erode hydraulic) [default: 0.5].
+    #[arg(long, allow_negative_numbers = true)]
+    evaporation: Option<f64>,
+    /// Sediment capacity Kc: sediment the water carries per unit of speed and sin(tilt)
+    /// (with --erode hydraulic) [default: 1].
+    #[arg(long, allow_negative_numbers = true)]
+    capacity: Option<f64>,
+    /// Dissolving rate Ks in (0, 1]: share of the missing capacity dissolved per iteration
+    /// (with --erode hydraulic) [default: 0.3].
+    #[arg(long, allow_negative_numbers = true)]
+    dissolving: Option<f64>,
+    /// Deposition rate Kd in (0, 1]: share of the excess sediment deposited per iteration
+    /// (with --erode hydraulic) [default: 0.3].
+    #[arg(long, allow_negative_numbers = true)]
+    deposition: Option<f64>,
+    /// Time step Δt in (0, 1] (with --erode hydraulic) [default: 0.05].
+    #[arg(long, allow_negative_numbers = true)]
+    time_step: Option<f64>,
     /// Write what a game engine imports: unity (RAW16 little-endian, 2^n + 1 from 33 to
     /// 4097 points a side) or unreal (PNG16, 127, 253, 505, 1009, 2017, 4033 or 8129);
     /// tiles named NAME_x{X}_y{Y}; a JSON sidecar with the height mapping.
@@ -201,7 +229,7 @@ pub struct TerrainArgs {
             "method", "size", "iterations", "hurst", "roughness", "sigma", "x", "y", "levels", "deterministic",
             "cross_product", "no_mean_correction", "steps", "seed", "distribution", "mean", "variance", "corners",
             "applet", "width", "depth", "max_height", "sea_level", "colors", "peak_height", "grid", "range", "erode",
-            "erode_iterations", "talus", "preset", "stream", "band", "tile", "tile_size", "output", "preview", "format",
+            "erode_iterations", "talus", "rain", "evaporation", "capacity", "dissolving", "deposition", "time_step", "preset", "stream", "band", "tile", "tile_size", "output", "preview", "format",
             "sidecar"
         ]
     )]
@@ -410,9 +438,29 @@ impl Setup {
         let depth = g.depth.unwrap_or(10.0);
         // A window of a larger grid keeps the world extent on the window.
         let stretch = (grid_size - 1) as f64 / (extent.max(2) - 1) as f64;
-        let erosion = g.erode.map(|_| ThermalErosion {
-            iterations: g.erode_iterations.unwrap_or(50),
+        let iterations = g.erode_iterations.unwrap_or(50);
+        if g.erode.contains(&ErodeArg::Hydraulic) && g.erode.last() != Some(&ErodeArg::Hydraulic)
+            || g.erode.iter().filter(|&&e| e == ErodeArg::Thermal).count() > 1
+        {
+            return Err(Error::InvalidInput(
+                "--erode runs thermal, hydraulic or thermal,hydraulic (each once, thermal first)".into(),
+            ));
+        }
+        let erosion = g.erode.contains(&ErodeArg::Thermal).then(|| ThermalErosion {
+            iterations,
             talus_degrees: g.talus.unwrap_or(30.0),
+        });
+        let hydraulic = g.erode.contains(&ErodeArg::Hydraulic).then(|| {
+            let d = HydraulicErosion::default();
+            HydraulicErosion {
+                iterations,
+                rain: g.rain.unwrap_or(d.rain),
+                evaporation: g.evaporation.unwrap_or(d.evaporation),
+                capacity: g.capacity.unwrap_or(d.capacity),
+                dissolving: g.dissolving.unwrap_or(d.dissolving),
+                deposition: g.deposition.unwrap_or(d.deposition),
+                time_step: g.time_step.unwrap_or(d.time_step),
+            }
         });
         let params = TerrainParams {
             method,
@@ -433,6 +481,7 @@ impl Setup {
             palette: g.colors.unwrap_or_default(),
             peak_height: g.peak_height,
             erosion,
+            hydraulic,
         };
         params.generator()?;
         if let Some(preview) = &job.preview {
@@ -473,17 +522,19 @@ impl Setup {
         if format == StreamFormat::Ply && points > i32::MAX as u64 {
             return Err(Error::InvalidInput(format!("{points} vertices exceed PLY's int indices: use --tile")));
         }
-        let halo = erosion.map_or(0, |e| 2 * e.halo());
+        let halo = 2 * params.erosion_halo();
         let band = job.band.unwrap_or_else(|| default_band(rect.width())).max(1);
         let rows_at_once = if job.stream { band.min(rect.height()) } else { rect.height() };
         let bytes_per_point = if whole_mesh { MESH_BYTES_PER_POINT } else { HEIGHTS_BYTES_PER_POINT };
-        let smoothing = if method == Method::Smooth || erosion.is_some() { 2 } else { 1 };
+        let smoothing = if method == Method::Smooth || erosion.is_some() || hydraulic.is_some() { 2 } else { 1 };
+        // Hydraulic erosion's state: water, sediment and the pipes' flux, each twice.
+        let hydraulic_bytes = hydraulic.map_or(0, |_| crate::terrain::hydraulic::BYTES_PER_POINT);
         // A halo never reaches past the grid: 100000 erosion iterations on a whole 257² grid
         // were refused as needing 8965.8 GB (#36).
         let (rows, columns) =
             ((rows_at_once as u64 + halo).min(grid_size), (rect.width() as u64 + halo).min(grid_size));
         crate::memory::ensure_available(
-            rows * columns * bytes_per_point * smoothing,
+            rows * columns * (bytes_per_point * smoothing + hydraulic_bytes),
             &format!("a {}x{} terrain built whole", rect.width(), rect.height()),
             "write a heightmap with --stream, or cut it into --tile pieces",
         )?;

@@ -2,7 +2,7 @@
 
 use clap::ValueEnum;
 
-use super::{Job, MethodArg};
+use super::{ErodeArg, Job, MethodArg};
 use crate::error::{Error, Result};
 
 /// Every flag another mode would use is refused where it would be ignored, with the mode
@@ -18,7 +18,8 @@ pub(super) fn refuse_other_modes_flags(job: &Job) -> Result<()> {
     let sixteen_bit = matches!(ext.as_str(), "png" | "raw16" | "raw" | "r16");
     let coloured = mesh_output || job.preview.is_some();
     let heightfield = "--method classic and smooth";
-    let rules: [(&str, bool, bool, &str); 32] = [
+    let hydraulic = g.erode.contains(&ErodeArg::Hydraulic);
+    let rules: [(&str, bool, bool, &str); 38] = [
         ("--iterations", g.iterations.is_some(), !dual, heightfield),
         (
             "--max-height",
@@ -58,9 +59,15 @@ pub(super) fn refuse_other_modes_flags(job: &Job) -> Result<()> {
             "--method classic and dual (smooth's points are uniform within their parents' range)",
         ),
         ("--band", job.band.is_some(), job.stream, "--stream"),
-        ("--erode", g.erode.is_some(), !dual, heightfield),
-        ("--erode-iterations", g.erode_iterations.is_some(), g.erode.is_some(), "--erode"),
-        ("--talus", g.talus.is_some(), g.erode.is_some(), "--erode thermal"),
+        ("--erode", !g.erode.is_empty(), !dual, heightfield),
+        ("--erode-iterations", g.erode_iterations.is_some(), !g.erode.is_empty(), "--erode"),
+        ("--talus", g.talus.is_some(), g.erode.contains(&ErodeArg::Thermal), "--erode thermal"),
+        ("--rain", g.rain.is_some(), hydraulic, "--erode hydraulic"),
+        ("--evaporation", g.evaporation.is_some(), hydraulic, "--erode hydraulic"),
+        ("--capacity", g.capacity.is_some(), hydraulic, "--erode hydraulic"),
+        ("--dissolving", g.dissolving.is_some(), hydraulic, "--erode hydraulic"),
+        ("--deposition", g.deposition.is_some(), hydraulic, "--erode hydraulic"),
+        ("--time-step", g.time_step.is_some(), hydraulic, "--erode hydraulic"),
         ("--preset", g.preset.is_some(), !dual, heightfield),
         (
             "--sidecar",
