@@ -622,7 +622,13 @@ fn single_precision_batches_equal_its_scalars_and_differ_from_f64() {
         let (s, t) = (spread(&a), spread(&d));
         assert!((s / t - 1.0).abs() < 0.1, "{kind:?}: rms {s} (f32) vs {t} (f64)");
     }
-    // Only Perlin noise and fBm have it.
-    let spec = NoiseSpec { kind: NoiseKind::Turbulence, precision: Precision::F32, ..NoiseSpec::default() };
-    assert!(NoiseField::new(&spec).is_err());
+    // Only Perlin noise and fBm have it, and only where f32 holds the octaves.
+    for kind in [NoiseKind::Turbulence, NoiseKind::Gabor, NoiseKind::Phasor] {
+        let spec = NoiseSpec { kind, precision: Precision::F32, ..NoiseSpec::default() };
+        assert!(NoiseField::new(&spec).is_err(), "{kind:?}");
+    }
+    let fractal = asperity::noise::Fractal { octaves: 3, gain: 1e30, ..Default::default() };
+    let spec = NoiseSpec { kind: NoiseKind::Fbm, precision: Precision::F32, fractal, ..NoiseSpec::default() };
+    assert!(NoiseField::new(&spec).is_err(), "a gain whose square overflows f32");
+    assert!(NoiseField::new(&NoiseSpec { precision: Precision::F64, ..spec }).is_ok());
 }

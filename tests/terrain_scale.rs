@@ -590,3 +590,31 @@ fn every_hydraulic_parameter_has_its_effect_and_its_range() {
         assert!(error.contains(flag), "{flag}: {error}");
     }
 }
+
+#[test]
+fn plans_written_before_hydraulic_erosion_still_run_and_erode_takes_each_model_once() {
+    let tmp = temp_dir();
+    let dir = tmp.path();
+    let plan =
+        ["terrain", "plan", "--size", "33", "--erode", "thermal", "--tile-size", "17", "--format", "f32", "-o", "p"];
+    assert!(asperity(&plan, dir).status.success());
+    // A plan of the version before wrote `erode` as one model, or null, and no rain.
+    let path = dir.join("p/plan.json");
+    let mut json: serde_json::Value = serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+    let parameters = json["parameters"].as_object_mut().unwrap();
+    parameters.insert("erode".into(), serde_json::json!("thermal"));
+    for key in ["rain", "evaporation", "capacity", "dissolving", "deposition", "time_step"] {
+        parameters.remove(key);
+    }
+    std::fs::write(&path, serde_json::to_vec(&json).unwrap()).unwrap();
+    asperity(&["terrain", "--plan", "p", "--tile-index", "0"], dir);
+    for erode in ["hydraulic,hydraulic", "hydraulic,thermal", "thermal,thermal"] {
+        let out = Command::new(env!("CARGO_BIN_EXE_asperity"))
+            .args(["terrain", "--size", "33", "--erode", erode, "-o", "t.f32"])
+            .current_dir(dir)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "--erode {erode}");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("each once, thermal first"), "--erode {erode}");
+    }
+}

@@ -35,6 +35,8 @@ struct NoiseOptions {
   /// Phasor noise's profile: sine, square or sawtooth.
   std::optional<std::string> profile;
   std::uint64_t seed = 0;
+  /// "f64" (the default) or "f32": single precision, a different noise (Perlin and fBm).
+  std::optional<std::string> precision;
 };
 
 namespace impl {
@@ -44,6 +46,7 @@ inline Flags noise_flags(const NoiseOptions& o) {
   f.add("kind", o.kind).add("octaves", o.octaves).add("lacunarity", o.lacunarity).add("gain", o.gain);
   f.add("offset", o.offset).add("k", o.k).add("a", o.a).add("f0", o.f0).add("omega", o.omega);
   f.add("impulses", o.impulses).add_switch("isotropic", o.isotropic).add("profile", o.profile).add("seed", o.seed);
+  f.add("precision", o.precision);
   return f;
 }
 

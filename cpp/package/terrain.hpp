@@ -54,10 +54,19 @@ struct TerrainOptions {
   std::optional<double> peak_height;
   /// square, triangle or hex.
   std::optional<std::string> grid;
-  /// Erosion ("thermal"), its iterations and talus angle in degrees.
+  /// Erosion ("thermal", "hydraulic" or "thermal,hydraulic"), its iterations and talus
+  /// angle in degrees.
   std::optional<std::string> erode;
   std::optional<std::uint32_t> erode_iterations;
   std::optional<double> talus;
+  /// Hydraulic erosion's rain, evaporation, sediment capacity, dissolving and deposition
+  /// rates and time step (`asperity terrain --rain` and the others; "hydraulic" only).
+  std::optional<double> rain;
+  std::optional<double> evaporation;
+  std::optional<double> capacity;
+  std::optional<double> dissolving;
+  std::optional<double> deposition;
+  std::optional<double> time_step;
   /// One tile I, J of tile_size points a side (2^k + 1).
   std::optional<std::array<std::uint64_t, 2>> tile;
   std::optional<std::uint64_t> tile_size;
@@ -82,6 +91,8 @@ inline Flags terrain_flags(const TerrainOptions& o) {
     f.add("colors", ramp);
   }
   f.add("grid", o.grid).add("erode", o.erode).add("erode-iterations", o.erode_iterations).add("talus", o.talus);
+  f.add("rain", o.rain).add("evaporation", o.evaporation).add("capacity", o.capacity);
+  f.add("dissolving", o.dissolving).add("deposition", o.deposition).add("time-step", o.time_step);
   f.add("tile", o.tile).add("tile-size", o.tile_size);
   return f;
 }

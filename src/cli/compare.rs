@@ -25,7 +25,7 @@ pub struct CompareArgs {
     #[arg(long, value_enum, default_value_t = super::simplify::KeepArg::Strong)]
     keep_features: super::simplify::KeepArg,
     /// Our feature vertices on lines: simplified along them or kept [default: along-lines].
-    /// Needs --keep-features strong or all.
+    /// Needs --keep-features corners, strong or all.
     #[arg(long, value_enum)]
     feature_vertices: Option<super::simplify::FeatureVerticesArg>,
     #[command(flatten)]

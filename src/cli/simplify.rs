@@ -32,7 +32,7 @@ pub struct HierarchyArgs {
     keep_features: Option<KeepArg>,
     /// Feature vertices on a feature line: simplified along their line, so it stays a line
     /// of every level (along-lines), or never removed (keep: the thesis' literal rule)
-    /// [default: along-lines]. Needs --keep-features strong or all.
+    /// [default: along-lines]. Needs --keep-features corners, strong or all.
     #[arg(long, value_enum)]
     feature_vertices: Option<FeatureVerticesArg>,
     /// Weight of the removal error in E(v) (eq. 4.1).

@@ -186,7 +186,7 @@ impl Fractal {
     }
 
     /// The sum (any kind) of Perlin noise at `out.len()` points into `out`, every octave of
-    /// a run of points through [`Perlin::sample3_batch`] (AVX2 where the CPU has it):
+    /// a run of points through [`Perlin::sample3_batch`] (AVX-512 or AVX2 where the CPU has it):
     /// `point_at(k, s)` is point k as the scalar path's basis sees it at frequency `s`
     /// (`p·s` in space; the plane point of (x·s, y·s) for 2D noise) and `x_of(k)` its
     /// first coordinate (marble's). Each value equals [`Fractal::eval`] with that basis

@@ -76,8 +76,8 @@ pub enum Precision {
     /// Double precision: the default, and the only one of the other kinds.
     #[default]
     F64,
-    /// Single precision with a 32-bit lattice hash ([`SinglePerlin`]): a different noise
-    /// (other values, coordinates clamped to ±2²⁴), about twice as fast on AVX-512.
+    /// Single precision with a 32-bit lattice hash: a different noise (other values,
+    /// coordinates clamped to ±2²⁴), about twice as fast on AVX-512.
     F32,
 }
 
@@ -141,6 +141,12 @@ impl NoiseField {
     /// # Errors
     /// [`crate::Error::InvalidInput`] for invalid Gabor parameters.
     pub fn new(spec: &NoiseSpec) -> Result<Self> {
+        if spec.precision == Precision::F32 && !matches!(spec.kind, NoiseKind::Perlin | NoiseKind::Fbm) {
+            return Err(crate::Error::InvalidInput(format!(
+                "single precision (f32) is for Perlin noise and fBm, not {:?}",
+                spec.kind
+            )));
+        }
         let fractal_kind = match spec.kind {
             NoiseKind::Perlin => None,
             NoiseKind::Fbm => Some(FractalKind::Fbm),
@@ -157,14 +163,8 @@ impl NoiseField {
         }
         if spec.precision == Precision::F32 {
             return match fractal {
-                None => Ok(NoiseField::Single(SinglePerlin::new(spec.seed, &[1.0], 1.0), None)),
-                Some(f) if f.kind == FractalKind::Fbm => {
-                    Ok(NoiseField::Single(SinglePerlin::new(spec.seed, &f.octave_frequencies(), f.gain), Some(f)))
-                }
-                Some(f) => Err(crate::Error::InvalidInput(format!(
-                    "single precision (f32) is for Perlin noise and fBm, not {:?}",
-                    f.kind
-                ))),
+                None => Ok(NoiseField::Single(SinglePerlin::new(spec.seed, &[1.0], 1.0)?, None)),
+                Some(f) => Ok(NoiseField::Single(SinglePerlin::new(spec.seed, &f.octave_frequencies(), f.gain)?, Some(f))),
             };
         }
         Ok(NoiseField::Perlin { basis: Perlin::new(spec.seed), fractal })
@@ -286,7 +286,7 @@ impl NoiseField {
 
     /// 3D values at many points (Gabor with each point's frame), in parallel. Perlin noise
     /// and its fractal sums go through their batch forms ([`Perlin::sample3_batch`],
-    /// [`Fractal::fbm_batch`], [`Fractal::eval_batch`]: four points at a time, AVX2 where
+    /// [`Fractal::fbm_batch`], [`Fractal::eval_batch`]: eight points at a time on AVX-512, four on AVX2, where
     /// the CPU has it), which give [`NoiseField::sample3`]'s values bit for bit; Gabor and
     /// phasor noise point by point (#42: the Python and C++ scattered points took the
     /// scalar path).

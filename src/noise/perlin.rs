@@ -289,8 +289,9 @@ impl Perlin {
         }
     }
 
-    /// fBm over `frequencies` with `gain` at the leading points into `out` by the AVX2
-    /// path, when the lattice is the seeded one and the CPU has AVX2; returns how many
+    /// fBm over `frequencies` with `gain` at the leading points into `out` by the vector
+    /// paths (AVX-512, then AVX2), when the lattice is the seeded one and the CPU has
+    /// them; returns how many
     /// points were done (0 otherwise), leaving the rest to the portable path. The sum is
     /// formed as [`super::Fractal::fbm_batch`] forms it, so the values are the same bits.
     pub(super) fn fbm_batch_vectorised(&self, frequencies: &[f64], gain: f64, points: &[DVec3], out: &mut [f64]) -> usize {

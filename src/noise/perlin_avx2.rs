@@ -1,6 +1,7 @@
 //! Seeded Perlin noise four points at a time in 256-bit AVX2 vectors: the batch paths of
 //! [`super::Perlin::sample3_batch`] and [`super::Fractal::fbm_batch`] on x86-64 CPUs that
-//! have AVX2 (checked at run time).
+//! have AVX2 (checked at run time), for the points the AVX-512 path
+//! ([`super::perlin_avx512`]) leaves (all of them on CPUs without it).
 //!
 //! Every lane performs the operations of the scalar `noise3` on the hashed lattice in the
 //! same order — floor, fade, the per-axis hash parts, the corner hash's 64-bit product,

@@ -107,12 +107,20 @@ const RUN: usize = 256;
 
 impl SinglePerlin {
     /// The noise of `seed` at `frequencies` (one frequency 1 for plain noise) with `gain`.
-    pub fn new(seed: u64, frequencies: &[f64], gain: f64) -> Self {
-        SinglePerlin {
-            seed: derive_seed(seed, "perlin-f32") as u32,
-            frequencies: frequencies.iter().map(|&f| f as f32).collect(),
-            gain: gain as f32,
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidInput`] where a frequency or an octave's amplitude, finite in
+    /// f64, overflows f32 (the f64 checks pass a gain of 1e39).
+    pub fn new(seed: u64, frequencies: &[f64], gain: f64) -> crate::Result<Self> {
+        let frequencies: Vec<f32> = frequencies.iter().map(|&f| f as f32).collect();
+        let gain = gain as f32;
+        let amplitudes = std::iter::successors(Some(1.0f32), |a| Some(a * gain)).take(frequencies.len());
+        if frequencies.iter().chain(amplitudes.collect::<Vec<_>>().iter()).any(|v| !v.is_finite()) {
+            return Err(crate::Error::InvalidInput(
+                "single precision (f32): the octaves' frequencies or amplitudes overflow f32; use --precision f64 or a smaller gain or lacunarity".into(),
+            ));
         }
+        Ok(SinglePerlin { seed: derive_seed(seed, "perlin-f32") as u32, frequencies, gain })
     }
 
     /// The sum over the octaves of [`noise3`] at `at(s)` for each frequency s.

@@ -31,7 +31,7 @@ pub(super) fn noise_if_available(seed: u32, xs: &[f32], ys: &[f32], zs: &[f32], 
 /// The CPU must support AVX-512 F.
 #[target_feature(enable = "avx512f")]
 unsafe fn noise16(seed: u32, xs: &[f32], ys: &[f32], zs: &[f32], out: &mut [f32]) -> usize {
-    let count = out.len() / 16 * 16;
+    let count = out.len().min(xs.len()).min(ys.len()).min(zs.len()) / 16 * 16;
     for i in (0..count).step_by(16) {
         // SAFETY: i + 16 <= the slices' common length.
         unsafe {
@@ -103,7 +103,7 @@ fn lanes16(seed: u32, x: __m512, y: __m512, z: __m512) -> __m512 {
 /// The CPU must support AVX2.
 #[target_feature(enable = "avx2")]
 unsafe fn noise8(seed: u32, xs: &[f32], ys: &[f32], zs: &[f32], out: &mut [f32]) -> usize {
-    let count = out.len() / 8 * 8;
+    let count = out.len().min(xs.len()).min(ys.len()).min(zs.len()) / 8 * 8;
     for i in (0..count).step_by(8) {
         // SAFETY: i + 8 <= the slices' common length.
         unsafe {

@@ -1,5 +1,5 @@
 //! `asperity terrain`: classic diamond-square terrains as meshes or heightmaps, whole,
-//! tiled or streamed; engine presets, sidecars, thermal erosion; `terrain plan` and
+//! tiled or streamed; engine presets, sidecars, thermal and hydraulic erosion; `terrain plan` and
 //! `terrain --plan DIR` for tiles run by a job runner.
 
 mod dual;
@@ -33,6 +33,22 @@ enum MethodArg {
     Smooth,
     /// Janeczek's dual midpoint displacement over a 3D quadrilateral (seed 000).
     Dual,
+}
+
+/// A plan's `erode`: a list, or as plans before hydraulic erosion wrote it, one model or
+/// null.
+fn erosion_list<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Vec<ErodeArg>, D::Error> {
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum Written {
+        One(ErodeArg),
+        Many(Vec<ErodeArg>),
+    }
+    Ok(match Option::<Written>::deserialize(d)? {
+        None => Vec::new(),
+        Some(Written::One(model)) => vec![model],
+        Some(Written::Many(models)) => models,
+    })
 }
 
 /// Erosion models.
@@ -143,6 +159,7 @@ pub(crate) struct Generation {
     /// thermal,hydraulic (in that order); identical in tiles, which are computed with a halo
     /// of one point per thermal and two per hydraulic iteration.
     #[arg(long, value_enum, value_delimiter = ',')]
+    #[serde(default, deserialize_with = "erosion_list")]
     erode: Vec<ErodeArg>,
     /// Erosion iterations, of each erosion (with --erode) [default: 50].
     #[arg(long)]
@@ -439,9 +456,8 @@ impl Setup {
         // A window of a larger grid keeps the world extent on the window.
         let stretch = (grid_size - 1) as f64 / (extent.max(2) - 1) as f64;
         let iterations = g.erode_iterations.unwrap_or(50);
-        if g.erode.contains(&ErodeArg::Hydraulic) && g.erode.last() != Some(&ErodeArg::Hydraulic)
-            || g.erode.iter().filter(|&&e| e == ErodeArg::Thermal).count() > 1
-        {
+        use ErodeArg::{Hydraulic, Thermal};
+        if !matches!(g.erode.as_slice(), [] | [Thermal] | [Hydraulic] | [Thermal, Hydraulic]) {
             return Err(Error::InvalidInput(
                 "--erode runs thermal, hydraulic or thermal,hydraulic (each once, thermal first)".into(),
             ));
