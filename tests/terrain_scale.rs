@@ -421,19 +421,21 @@ fn erosion_conserves_mass_and_leaves_slopes_at_the_talus() {
 
 #[test]
 fn erosion_is_identical_at_one_and_two_threads() {
-    let params = eroded(129, 20, 30.0);
-    let rect = Rect { x0: 0, y0: 0, x1: 128, y1: 128 };
-    let at = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| heights(&params, rect).unwrap())
-    };
-    assert_eq!(
-        at(1).heights.iter().map(|h| h.to_bits()).collect::<Vec<_>>(),
-        at(2).heights.iter().map(|h| h.to_bits()).collect::<Vec<_>>()
-    );
+    let thermal_then_hydraulic = TerrainParams { hydraulic: rained(129, 20).hydraulic, ..eroded(129, 20, 30.0) };
+    for params in [eroded(129, 20, 30.0), rained(129, 20), thermal_then_hydraulic] {
+        let rect = Rect { x0: 0, y0: 0, x1: 128, y1: 128 };
+        let at = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| heights(&params, rect).unwrap())
+        };
+        assert_eq!(
+            at(1).heights.iter().map(|h| h.to_bits()).collect::<Vec<_>>(),
+            at(2).heights.iter().map(|h| h.to_bits()).collect::<Vec<_>>()
+        );
+    }
 }
 
 #[test]

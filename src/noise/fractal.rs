@@ -190,7 +190,8 @@ impl Fractal {
     /// `point_at(k, s)` is point k as the scalar path's basis sees it at frequency `s`
     /// (`p·s` in space; the plane point of (x·s, y·s) for 2D noise) and `x_of(k)` its
     /// first coordinate (marble's). Each value equals [`Fractal::eval`] with that basis
-    /// bit for bit: the same frequencies, the same basis values, [`Fractal::combine`].
+    /// bit for bit: the same frequencies, the same basis values, the same combination
+    /// (`Fractal::combine`).
     pub fn eval_batch(
         &self,
         perlin: &Perlin,

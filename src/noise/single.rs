@@ -81,7 +81,7 @@ pub(super) fn noise3(seed: u32, x: f32, y: f32, z: f32) -> f32 {
     ) + 0.0
 }
 
-/// [`noise3`] at every point (xs[i], ys[i], zs[i]) into `out`: the widest vector path the
+/// [`noise3`] at every point (`xs[i]`, `ys[i]`, `zs[i]`) into `out`: the widest vector path the
 /// CPU has, then the scalar definition for the rest.
 fn noise3_batch(seed: u32, xs: &[f32], ys: &[f32], zs: &[f32], out: &mut [f32]) {
     #[cfg(target_arch = "x86_64")]

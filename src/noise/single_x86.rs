@@ -11,7 +11,7 @@ use std::arch::x86_64::*;
 
 use super::single::{AXES, LIMIT, MIX};
 
-/// Noise at the leading points (xs[i], ys[i], zs[i]) into `out`, by the widest path this
+/// Noise at the leading points (`xs[i]`, `ys[i]`, `zs[i]`) into `out`, by the widest path this
 /// CPU has; returns how many were done (the rest, fewer than a vector, is the caller's).
 pub(super) fn noise_if_available(seed: u32, xs: &[f32], ys: &[f32], zs: &[f32], out: &mut [f32]) -> usize {
     let n = out.len().min(xs.len()).min(ys.len()).min(zs.len());

@@ -1,0 +1,89 @@
+//! Erosion on a 1025² classic terrain (#41), side by side in one run: thermal and hydraulic
+//! erosion's time per point and iteration at one and two threads, and what hydraulic
+//! erosion does to the land — the hypsometric integral (Strahler 1952) and the drainage
+//! density (the share of points whose D8 flow accumulation exceeds 0.1 % of the grid) —
+//! against the uneroded heights.
+//!
+//! `cargo bench --bench erosion`
+
+mod common;
+
+use std::time::Instant;
+
+use asperity::terrain::{HydraulicErosion, Rect, TerrainParams, ThermalErosion, heights};
+
+const SIZE: u64 = 1025;
+const ITERATIONS: u32 = 50;
+
+/// (mean − min) / (max − min).
+fn hypsometric_integral(h: &[f64]) -> f64 {
+    let (lo, hi) = h.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), &v| (l.min(v), u.max(v)));
+    (h.iter().sum::<f64>() / h.len() as f64 - lo) / (hi - lo)
+}
+
+/// The share of points whose D8 flow accumulation (O'Callaghan & Mark 1984: each point
+/// drains to its steepest lower neighbour of eight) exceeds 0.1 % of the points.
+fn drainage_density(h: &[f64], n: usize) -> f64 {
+    let mut order: Vec<usize> = (0..h.len()).collect();
+    order.sort_unstable_by(|&a, &b| h[b].total_cmp(&h[a]).then(a.cmp(&b)));
+    let mut accumulation = vec![1.0f64; h.len()];
+    for &c in &order {
+        let (i, j) = ((c % n) as i64, (c / n) as i64);
+        let mut best: Option<(f64, usize)> = None;
+        for (di, dj) in [(-1, -1), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
+            let (x, y) = (i + di, j + dj);
+            if x < 0 || y < 0 || x >= n as i64 || y >= n as i64 {
+                continue;
+            }
+            let m = y as usize * n + x as usize;
+            let slope = (h[c] - h[m]) / f64::hypot(di as f64, dj as f64);
+            if slope > 0.0 && best.is_none_or(|(s, _)| slope > s) {
+                best = Some((slope, m));
+            }
+        }
+        if let Some((_, m)) = best {
+            accumulation[m] += accumulation[c];
+        }
+    }
+    let threshold = h.len() as f64 * 0.001;
+    accumulation.iter().filter(|&&a| a > threshold).count() as f64 / h.len() as f64
+}
+
+fn timed(params: &TerrainParams, threads: usize) -> (f64, Vec<f64>) {
+    let rect = Rect { x0: 0, y0: 0, x1: SIZE - 1, y1: SIZE - 1 };
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("pool");
+    let start = Instant::now();
+    let field = pool.install(|| heights(params, rect).expect("heights"));
+    (start.elapsed().as_secs_f64(), field.heights)
+}
+
+fn main() {
+    let plain = TerrainParams { size: SIZE, hurst: 0.8, seed: 7, ..TerrainParams::default() };
+    let thermal =
+        TerrainParams { erosion: Some(ThermalErosion { iterations: ITERATIONS, talus_degrees: 30.0 }), ..plain };
+    let hydraulic =
+        TerrainParams { hydraulic: Some(HydraulicErosion { iterations: ITERATIONS, ..Default::default() }), ..plain };
+    let (t_plain, before) = timed(&plain, 2);
+    let work = (SIZE * SIZE) as f64 * f64::from(ITERATIONS);
+    let mut after = Vec::new();
+    for (name, params) in [("thermal", &thermal), ("hydraulic", &hydraulic)] {
+        let (one, _) = timed(params, 1);
+        let (two, heights) = timed(params, 2);
+        println!(
+            "{name} erosion, {SIZE}², {ITERATIONS} iterations: 1 thread {:.2} s ({:.1} M point-iterations/s), 2 threads {:.2} s ({:.2}x)",
+            one - t_plain,
+            work / (one - t_plain) / 1e6,
+            two - t_plain,
+            (one - t_plain) / (two - t_plain)
+        );
+        after = heights;
+    }
+    let n = SIZE as usize;
+    println!(
+        "hydraulic erosion: hypsometric integral {:.4} -> {:.4}, drainage density {:.4} -> {:.4} (uneroded -> eroded)",
+        hypsometric_integral(&before),
+        hypsometric_integral(&after),
+        drainage_density(&before, n),
+        drainage_density(&after, n)
+    );
+}
