@@ -225,6 +225,9 @@ impl NoiseField {
     /// a caller drawing many pictures reuses one buffer: a fresh one is faulted in page
     /// by page by the kernel, which does not run in parallel (about 0.6 ms per 8 MiB here).
     pub fn fill_grid2(&self, x0: f64, y0: f64, step: f64, width: usize, out: &mut [f64]) {
+        if width == 0 {
+            return;
+        }
         match self {
             NoiseField::Gabor(g) => g.fill_grid2(x0, y0, step, width, out),
             _ => self.fill_plane(out, |start, run| {
