@@ -5,7 +5,7 @@ cd "$(dirname "$0")/.."
 cargo build --release -q
 ./target/release/asperity demo --out target/gallery-demo --quiet
 mkdir -p docs/gallery
-for picture in noise-panel terrain-map terrain terrain-views terrain-dual terrain-smooth-map clouds \
+for picture in noise-panel terrain-map terrain terrain-views terrain-dual terrain-smooth-map terrain-eroded clouds \
   fandisk-features fandisk-hierarchy detail-torus-variation detail-sphere-marble detail-sphere-turbulence \
   detail-sphere-multifractal detail-sphere-wood detail-mushroom-planet detail-sphere-virus detail-femur-wearing \
   detail-fandisk-erosion detail-elephant-hair scene scene-generators; do

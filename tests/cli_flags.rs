@@ -261,6 +261,8 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     add("terrain", "--dissolving", &rained, &["--dissolving", "0.8"]);
     add("terrain", "--deposition", &rained, &["--deposition", "0.8"]);
     add("terrain", "--time-step", &rained, &["--time-step", "0.1"]);
+    let rained_heightmap = ["terrain", "--size", "33", "-o", "t.png", "--erode", "hydraulic", "--erode-iterations", "10"];
+    add("terrain", "--layers", &rained_heightmap, &["--layers", "flow"]);
     add("terrain", "--preset", &["terrain", "--size", "33", "-o", "t.raw"], &["--preset", "unity"]);
     add("terrain", "--sidecar", &["terrain", "--size", "33", "-o", "t.png"], &["--sidecar"]);
     let dual = ["terrain", "--method", "dual", "--levels", "3", "-o", "t.ply"];

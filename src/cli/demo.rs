@@ -269,6 +269,39 @@ impl Demo {
                 super::millis(start)
             )
         });
+        self.eroded_terrain()
+    }
+
+    /// A terrain before and after hydraulic erosion (#41) and the erosion's flow layer.
+    fn eroded_terrain(&mut self) -> Result<()> {
+        use crate::terrain::{ErosionLayer, HydraulicErosion, Rect, TerrainParams, heights, heights_and_layers};
+        let start = Instant::now();
+        let plain = TerrainParams {
+            size: 257,
+            hurst: 1.0,
+            sigma: 2.0,
+            seed: 4,
+            corners: Some([1.5, 0.5, 2.0, 1.0]),
+            sea_level: Some(0.0),
+            ..TerrainParams::default()
+        };
+        let eroded = TerrainParams {
+            hydraulic: Some(HydraulicErosion { iterations: 200, ..HydraulicErosion::default() }),
+            ..plain
+        };
+        let rect = Rect { x0: 0, y0: 0, x1: 256, y1: 256 };
+        let before = heights(&plain, rect)?;
+        let (after, layers) = heights_and_layers(&eroded, rect, &[ErosionLayer::Flow])?;
+        let flow = Picture::grey(&layers[0].heights, 257, (0.0, 1.0));
+        let panels = [terrain_map(&plain, &before.heights), terrain_map(&eroded, &after.heights), flow];
+        self.picture(&Picture::side_by_side(&panels, 8, WHITE)?, "terrain-eroded.png")?;
+        self.line(|| {
+            format!(
+                "terrain: 257x257 before and after 200 iterations of hydraulic erosion, and its flow layer => {}/terrain-eroded.png in {} ms",
+                self.out.display(),
+                super::millis(start)
+            )
+        });
         Ok(())
     }
 

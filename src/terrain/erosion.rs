@@ -129,12 +129,17 @@ pub fn erode(field: &mut Heightfield, params: &TerrainParams, erosion: &ThermalE
 
 /// The part of `field` on `rect`, which must lie inside it.
 pub(super) fn crop(field: &Heightfield, rect: Rect) -> Heightfield {
-    let cols = field.rect.width();
-    let dx = (rect.x0 - field.rect.x0) as usize;
+    crop_values(field.rect, &field.heights, rect)
+}
+
+/// [`crop`] of row-major `values` over `from`.
+pub(super) fn crop_values(from: Rect, values: &[f64], rect: Rect) -> Heightfield {
+    let cols = from.width();
+    let dx = (rect.x0 - from.x0) as usize;
     let heights = (rect.y0..=rect.y1)
         .flat_map(|y| {
-            let start = (y - field.rect.y0) as usize * cols + dx;
-            field.heights[start..start + rect.width()].iter().copied()
+            let start = (y - from.y0) as usize * cols + dx;
+            values[start..start + rect.width()].iter().copied()
         })
         .collect();
     Heightfield { rect, heights }

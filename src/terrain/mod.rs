@@ -23,7 +23,7 @@ pub use clouds::{CloudParams, clouds};
 pub use diamond_square::{DiamondSquare, Lattice, Rect, Rule};
 pub use dual::{DualParams, QuadSurface, dual_midpoint_displacement};
 pub use erosion::ThermalErosion;
-pub use hydraulic::{HydraulicBudget, HydraulicErosion};
+pub use hydraulic::{ErosionLayers, HydraulicBudget, HydraulicErosion};
 pub use presets::Preset;
 pub use random::{Displacements, Distribution};
 
@@ -363,6 +363,86 @@ pub fn heights(params: &TerrainParams, rect: Rect) -> Result<Heightfield> {
         field.heights.par_iter_mut().for_each(|h| *h = h.max(sea));
     }
     Ok(field)
+}
+
+/// A layer of hydraulic erosion written beside the heights (see [`ErosionLayers`] for what
+/// each holds): a mask in [0, 1].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ErosionLayer {
+    /// Water that ran through each point.
+    Flow,
+    /// Deposited sediment.
+    Sediment,
+    /// Standing water after the run.
+    Water,
+    /// Water depth over the run.
+    Wetness,
+}
+
+impl ErosionLayer {
+    /// Every layer, in the order files and reports list them.
+    pub const ALL: [ErosionLayer; 4] =
+        [ErosionLayer::Flow, ErosionLayer::Sediment, ErosionLayer::Water, ErosionLayer::Wetness];
+
+    /// The layer's name (in file names and on the command line).
+    pub fn name(self) -> &'static str {
+        match self {
+            ErosionLayer::Flow => "flow",
+            ErosionLayer::Sediment => "sediment",
+            ErosionLayer::Water => "water",
+            ErosionLayer::Wetness => "wetness",
+        }
+    }
+
+    /// The layer named `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|l| l.name() == name)
+    }
+
+    fn of(self, layers: &ErosionLayers) -> &[f64] {
+        match self {
+            ErosionLayer::Flow => &layers.flow,
+            ErosionLayer::Sediment => &layers.sediment,
+            ErosionLayer::Water => &layers.water,
+            ErosionLayer::Wetness => &layers.wetness,
+        }
+    }
+}
+
+/// The finished heights on `rect` and each of `which` layers of its hydraulic erosion, from
+/// one run (the heights are [`heights`]' bit for bit; layers, like heights, are the whole
+/// grid's on any rectangle: tiles and bands agree).
+///
+/// # Errors
+/// [`Error::InvalidInput`] as [`heights`], or when `params` has no hydraulic erosion.
+pub fn heights_and_layers(
+    params: &TerrainParams,
+    rect: Rect,
+    which: &[ErosionLayer],
+) -> Result<(Heightfield, Vec<Heightfield>)> {
+    let Some(hydraulic) = &params.hydraulic else {
+        return Err(Error::InvalidInput("erosion layers need hydraulic erosion (--erode hydraulic)".into()));
+    };
+    if which.is_empty() {
+        return Ok((heights(params, rect)?, Vec::new()));
+    }
+    let generator = params.generator()?;
+    let last = params.size - 1;
+    if rect.x0 > rect.x1 || rect.y0 > rect.y1 || rect.x1 > last || rect.y1 > last {
+        return Err(Error::InvalidInput(format!("region {rect:?} is outside the {0}x{0} grid", params.size)));
+    }
+    let mut grown = generated_heights(params, &generator, rect.grown(params.erosion_halo(), last));
+    if let Some(erosion) = &params.erosion {
+        erosion::erode(&mut grown, params, erosion);
+    }
+    let (_, layers) = hydraulic::erode_with_layers(&mut grown, params, hydraulic);
+    let mut field = erosion::crop(&grown, rect);
+    if let Some(sea) = params.sea_level {
+        field.heights.par_iter_mut().for_each(|h| *h = h.max(sea));
+    }
+    let fields = which.iter().map(|layer| erosion::crop_values(grown.rect, layer.of(&layers), rect)).collect();
+    Ok((field, fields))
 }
 
 /// The generator's heights on `rect` times the height factor, smoothed by seed 002's

@@ -33,6 +33,11 @@ pub struct Sidecar {
     pub byte_order: Option<String>,
     /// The fingerprint of the plan this file belongs to.
     pub plan: Option<String>,
+    /// For an erosion layer (flow, sediment, water, wetness) written beside the heights:
+    /// its name. Its values are masks in [0, 1] (`heights` then holds the file's lowest
+    /// and highest value).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layer: Option<String>,
 }
 
 /// The file's place on the generation grid.
@@ -138,6 +143,7 @@ impl Sidecar {
             heights,
             encoding: format.is_16_bit().then(|| Quantisation::of(range)),
             byte_order: matches!(format, StreamFormat::Raw16 | StreamFormat::F32).then(|| "little-endian".into()),
+            layer: None,
             plan: None,
         }
     }

@@ -140,6 +140,89 @@ pub fn write_terrain_observed(
     w: &mut dyn Write,
     observe: &mut dyn FnMut(&super::Heightfield, u64, u64),
 ) -> Result<()> {
+    write_heights_known(params, rect, None, format, range, band, w, observe)
+}
+
+/// [`write_terrain_observed`] where `known`, if given, already holds the finished heights
+/// on `rect` (from [`super::heights_and_layers`]): a heightmap is then written from them
+/// instead of being generated again.
+///
+/// # Errors
+/// As [`write_terrain`].
+#[allow(clippy::too_many_arguments)]
+pub fn write_heights_known(
+    params: &TerrainParams,
+    rect: Rect,
+    known: Option<&super::Heightfield>,
+    format: StreamFormat,
+    range: (f64, f64),
+    band: usize,
+    w: &mut dyn Write,
+    observe: &mut dyn FnMut(&super::Heightfield, u64, u64),
+) -> Result<()> {
+    let source = |region: Rect| match known {
+        Some(field) if field.rect == region => Ok(field.clone()),
+        _ => heights(params, region),
+    };
+    let band = if known.is_some() && format.is_heightmap() { rect.height() } else { band };
+    write_values(params, &source, rect, format, range, band, w, observe)
+}
+
+/// Where a writer's values come from: the values on a rectangle of the grid.
+type Source<'a> = &'a dyn Fn(Rect) -> Result<super::Heightfield>;
+
+/// Writes one erosion layer (a mask in [0, 1], see [`super::ErosionLayers`]) on `rect` as a
+/// heightmap in `format`, `band` rows at a time (each band runs the erosion on its
+/// rectangle and halo again, in bounded memory); 16-bit formats map [0, 1] onto 0..=65535.
+/// `values`, where given, holds the layer on `rect` already (one erosion run for the heights
+/// and every layer of a file written whole).
+///
+/// # Errors
+/// [`Error::InvalidInput`] for a mesh format (layers are heightmaps), for parameters
+/// without hydraulic erosion, or as [`write_terrain`].
+#[allow(clippy::too_many_arguments)]
+pub fn write_layer(
+    params: &TerrainParams,
+    rect: Rect,
+    layer: super::ErosionLayer,
+    values: Option<&super::Heightfield>,
+    format: StreamFormat,
+    band: usize,
+    w: &mut dyn Write,
+    observe: &mut dyn FnMut(&super::Heightfield, u64, u64),
+) -> Result<()> {
+    if !format.is_heightmap() {
+        return Err(Error::InvalidInput(format!(
+            "the {} layer is a heightmap: write the terrain as .png, .raw16, .f32, .exr or .tif",
+            layer.name()
+        )));
+    }
+    let computed = |region: Rect| -> Result<super::Heightfield> {
+        match values {
+            Some(field) if field.rect == region => Ok(field.clone()),
+            _ => Ok(super::heights_and_layers(params, region, &[layer])?.1.remove(0)),
+        }
+    };
+    let band = if values.is_some() { rect.height() } else { band };
+    write_values(params, &computed, rect, format, LAYER_RANGE, band, w, observe)
+}
+
+/// The values of a layer's 16-bit samples: masks in [0, 1].
+pub const LAYER_RANGE: (f64, f64) = (0.0, 1.0);
+
+/// The writer behind [`write_terrain_observed`] and [`write_layer`]: `source` gives the
+/// values (heights, or a layer) on each band's rectangle.
+#[allow(clippy::too_many_arguments)]
+fn write_values(
+    params: &TerrainParams,
+    source: Source<'_>,
+    rect: Rect,
+    format: StreamFormat,
+    range: (f64, f64),
+    band: usize,
+    w: &mut dyn Write,
+    observe: &mut dyn FnMut(&super::Heightfield, u64, u64),
+) -> Result<()> {
     let (cols, rows) = (rect.width(), rect.height());
     let band = band.max(1);
     let io = |e: std::io::Error| Error::io("terrain output", e);
@@ -163,7 +246,7 @@ pub fn write_terrain_observed(
                 ascii: false,
             };
             write_header(w, &layout).map_err(io)?;
-            for_each_band(params, rect, band, true, observe, |field, y0, y1| {
+            for_each_band(params, source, rect, band, true, observe, |field, y0, y1| {
                 for y in y0..=y1 {
                     for x in rect.x0..=rect.x1 {
                         let h = field.at(x, y);
@@ -188,7 +271,7 @@ pub fn write_terrain_observed(
                 return Err(Error::InvalidInput(format!("{cols}x{rows} vertices exceed 32-bit indices: use tiles")));
             }
             obj::write_header(w).map_err(io)?;
-            for_each_band(params, rect, band, false, observe, |field, y0, y1| {
+            for_each_band(params, source, rect, band, false, observe, |field, y0, y1| {
                 for y in y0..=y1 {
                     for x in rect.x0..=rect.x1 {
                         let h = field.at(x, y);
@@ -198,7 +281,7 @@ pub fn write_terrain_observed(
                 Ok(())
             })
             .map_err(io)?;
-            for_each_band(params, rect, band, true, &mut |_, _, _| {}, |field, y0, y1| {
+            for_each_band(params, source, rect, band, true, &mut |_, _, _| {}, |field, y0, y1| {
                 for y in y0..=y1 {
                     for x in rect.x0..=rect.x1 {
                         obj::write_normal(w, normal_at(params, field, x, y))?;
@@ -213,7 +296,7 @@ pub fn write_terrain_observed(
         }
         StreamFormat::Raw16 | StreamFormat::F32 => {
             let mut row_bytes = Vec::with_capacity(cols * 4);
-            for_each_band(params, rect, band, false, observe, |field, y0, y1| {
+            for_each_band(params, source, rect, band, false, observe, |field, y0, y1| {
                 for y in y0..=y1 {
                     row_bytes.clear();
                     for x in rect.x0..=rect.x1 {
@@ -235,7 +318,7 @@ pub fn write_terrain_observed(
                 return Err(Error::InvalidInput(format!("{cols}x{rows} is too large for one image: use tiles")));
             };
             let mut encoded = None;
-            for_each_band(params, rect, rows, false, observe, |field, _, _| {
+            for_each_band(params, source, rect, rows, false, observe, |field, _, _| {
                 let values: Vec<f32> = field.heights.iter().map(|&h| h as f32).collect();
                 encoded = Some(match format {
                     StreamFormat::Exr => super::whole_file::exr(values, width, height),
@@ -257,7 +340,7 @@ pub fn write_terrain_observed(
             let mut writer = encoder.write_header().map_err(|e| io(std::io::Error::other(e)))?;
             let mut stream = writer.stream_writer().map_err(|e| io(std::io::Error::other(e)))?;
             let mut row_bytes = Vec::with_capacity(cols * 2);
-            for_each_band(params, rect, band, false, observe, |field, y0, y1| {
+            for_each_band(params, source, rect, band, false, observe, |field, y0, y1| {
                 for y in y0..=y1 {
                     row_bytes.clear();
                     for x in rect.x0..=rect.x1 {
@@ -278,6 +361,7 @@ pub fn write_terrain_observed(
 /// band (plus a one-point margin inside the grid when `margin`, for normals).
 fn for_each_band(
     params: &TerrainParams,
+    source: Source<'_>,
     rect: Rect,
     band: usize,
     margin: bool,
@@ -291,7 +375,7 @@ fn for_each_band(
     while y0 <= rect.y1 {
         let y1 = (y0 + band as u64 - 1).min(rect.y1);
         let region = Rect { y0, y1, ..rect }.grown(m, last);
-        let field = heights(params, region).map_err(std::io::Error::other)?;
+        let field = source(region).map_err(std::io::Error::other)?;
         observe(&field, y0, y1);
         emit(&field, y0, y1)?;
         crate::progress::report("terrain", y1 - rect.y0 + 1, rect.y1 - rect.y0 + 1);

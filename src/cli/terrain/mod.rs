@@ -16,10 +16,10 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 use crate::io::{self, WriteOptions, write_atomically};
 use crate::terrain::sidecar::{HeightRange, Sidecar};
-use crate::terrain::stream::{StreamFormat, default_band, write_terrain_observed};
+use crate::terrain::stream::{LAYER_RANGE, StreamFormat, default_band, write_heights_known, write_layer};
 use crate::terrain::{
-    Distribution, Grid, HydraulicErosion, Method, Preset, Rect, TerrainParams, ThermalErosion, mesh, presets,
-    tile_rect_in,
+    Distribution, ErosionLayer, Grid, HydraulicErosion, Method, Preset, Rect, TerrainParams, ThermalErosion, mesh,
+    presets, tile_rect_in,
 };
 use preview::{PreviewSampler, write_preview};
 
@@ -61,6 +61,42 @@ enum ErodeArg {
     /// Hydraulic erosion by virtual pipes (Mei et al. 2007): rain, flow, dissolving,
     /// transport and deposition of sediment, evaporation; tiles equal the whole grid.
     Hydraulic,
+}
+
+/// `--layers`' values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub(crate) enum LayerArg {
+    /// Water that ran through each point over the run: rivers and gullies.
+    Flow,
+    /// Sediment deposited by the run: fans and valley floors.
+    Sediment,
+    /// Water standing after the run: lakes.
+    Water,
+    /// Water depth over the run.
+    Wetness,
+}
+
+impl LayerArg {
+    fn layer(self) -> ErosionLayer {
+        match self {
+            LayerArg::Flow => ErosionLayer::Flow,
+            LayerArg::Sediment => ErosionLayer::Sediment,
+            LayerArg::Water => ErosionLayer::Water,
+            LayerArg::Wetness => ErosionLayer::Wetness,
+        }
+    }
+}
+
+/// The file of `layer` beside the heightmap `output`: its name with `.LAYER` before the
+/// extension (`terrain.png` → `terrain.flow.png`).
+pub(crate) fn layer_path(output: &std::path::Path, layer: ErosionLayer) -> PathBuf {
+    let stem = output.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = match output.extension() {
+        Some(ext) => format!("{stem}.{}.{}", layer.name(), ext.to_string_lossy()),
+        None => format!("{stem}.{}", layer.name()),
+    };
+    output.with_file_name(name)
 }
 
 /// The flags that say which terrain is made: everything a plan stores and replays for
@@ -191,6 +227,13 @@ pub(crate) struct Generation {
     /// Time step Δt in (0, 1] (with --erode hydraulic) [default: 0.05].
     #[arg(long, allow_negative_numbers = true)]
     time_step: Option<f64>,
+    /// Also write these layers of the hydraulic erosion beside a heightmap, in its format:
+    /// flow, sediment, water, wetness (masks in [0, 1]: water that ran through, deposits,
+    /// standing water, water over the run), as OUTPUT's name with .flow, .sediment, .water
+    /// or .wetness before the extension (with --erode hydraulic).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    layers: Vec<LayerArg>,
     /// Write what a game engine imports: unity (RAW16 little-endian, 2^n + 1 from 33 to
     /// 4097 points a side) or unreal (PNG16, 127, 253, 505, 1009, 2017, 4033 or 8129);
     /// tiles named NAME_x{X}_y{Y}; a JSON sidecar with the height mapping.
@@ -246,7 +289,7 @@ pub struct TerrainArgs {
             "method", "size", "iterations", "hurst", "roughness", "sigma", "x", "y", "levels", "deterministic",
             "cross_product", "no_mean_correction", "steps", "seed", "distribution", "mean", "variance", "corners",
             "applet", "width", "depth", "max_height", "sea_level", "colors", "peak_height", "grid", "range", "erode",
-            "erode_iterations", "talus", "rain", "evaporation", "capacity", "dissolving", "deposition", "time_step", "preset", "stream", "band", "tile", "tile_size", "output", "preview", "format",
+            "erode_iterations", "talus", "layers", "rain", "evaporation", "capacity", "dissolving", "deposition", "time_step", "preset", "stream", "band", "tile", "tile_size", "output", "preview", "format",
             "sidecar"
         ]
     )]
@@ -414,6 +457,8 @@ pub(super) struct Setup {
     range: (f64, f64),
     hurst: f64,
     sidecar: bool,
+    /// Erosion layers written beside the heightmap, each once, in the order asked.
+    layers: Vec<ErosionLayer>,
 }
 
 impl Setup {
@@ -462,10 +507,10 @@ impl Setup {
                 "--erode runs thermal, hydraulic or thermal,hydraulic (each once, thermal first)".into(),
             ));
         }
-        let erosion = g.erode.contains(&ErodeArg::Thermal).then(|| ThermalErosion {
-            iterations,
-            talus_degrees: g.talus.unwrap_or(30.0),
-        });
+        let erosion = g
+            .erode
+            .contains(&ErodeArg::Thermal)
+            .then(|| ThermalErosion { iterations, talus_degrees: g.talus.unwrap_or(30.0) });
         let hydraulic = g.erode.contains(&ErodeArg::Hydraulic).then(|| {
             let d = HydraulicErosion::default();
             HydraulicErosion {
@@ -534,6 +579,24 @@ impl Setup {
                 format.extension()
             )));
         }
+        let mut layers: Vec<ErosionLayer> = Vec::new();
+        for layer in g.layers.iter().map(|l| l.layer()) {
+            if !layers.contains(&layer) {
+                layers.push(layer);
+            }
+        }
+        if !layers.is_empty() && !format.is_heightmap() {
+            return Err(Error::InvalidInput(format!(
+                "{}: --layers are heightmaps written beside a heightmap: write the terrain as .png, .raw16, .f32, .exr or .tif",
+                job.output.display()
+            )));
+        }
+        let mut named = vec![("-o", output.clone())];
+        named.extend(layers.iter().map(|&l| ("--layers", layer_path(&output, l))));
+        if let Some(preview) = &job.preview {
+            named.push(("--preview", preview.clone()));
+        }
+        crate::cli::distinct_outputs(&named.iter().map(|(flag, path)| (*flag, path.as_path())).collect::<Vec<_>>())?;
         let points = rect.width() as u64 * rect.height() as u64;
         if format == StreamFormat::Ply && points > i32::MAX as u64 {
             return Err(Error::InvalidInput(format!("{points} vertices exceed PLY's int indices: use --tile")));
@@ -544,7 +607,12 @@ impl Setup {
         let bytes_per_point = if whole_mesh { MESH_BYTES_PER_POINT } else { HEIGHTS_BYTES_PER_POINT };
         let smoothing = if method == Method::Smooth || erosion.is_some() || hydraulic.is_some() { 2 } else { 1 };
         // Hydraulic erosion's state: water, sediment and the pipes' flux, each twice.
-        let hydraulic_bytes = hydraulic.map_or(0, |_| crate::terrain::hydraulic::BYTES_PER_POINT);
+        let hydraulic_bytes = hydraulic.map_or(0, |_| crate::terrain::hydraulic::BYTES_PER_POINT)
+            + if layers.is_empty() {
+                0
+            } else {
+                crate::terrain::hydraulic::LAYER_BYTES_PER_POINT + 8 * layers.len() as u64
+            };
         // A halo never reaches past the grid: 100000 erosion iterations on a whole 257² grid
         // were refused as needing 8965.8 GB (#36).
         let (rows, columns) =
@@ -567,7 +635,7 @@ impl Setup {
                 output.display()
             )));
         }
-        Ok(Setup { params, rect, extent, output, format, whole_mesh, range, hurst, sidecar })
+        Ok(Setup { params, rect, extent, output, format, whole_mesh, range, hurst, sidecar, layers })
     }
 }
 
@@ -577,12 +645,21 @@ fn generate(job: &Job, setup: &Setup, start: Instant, ctx: crate::cli::Context) 
     let points = rect.width() as u64 * rect.height() as u64;
     let mut streamed_preview: Option<PreviewSampler> = None;
     let mut extremes = HeightRange { min: f64::INFINITY, max: f64::NEG_INFINITY };
+    let mut layer_files: Vec<PathBuf> = Vec::new();
     if setup.whole_mesh {
         let terrain = ctx.spin("terrain", "generating the mesh", || mesh(params, rect))?;
         let format = if setup.format == StreamFormat::Obj { io::Format::Obj } else { io::Format::Ply };
         io::write_as(&terrain, output, format, WriteOptions::default())?;
     } else {
         let band = if job.stream { job.band.unwrap_or_else(|| default_band(rect.width())) } else { rect.height() };
+        // A file written whole takes its heights and every layer from one erosion run; a
+        // streamed one runs it again per file, band by band, in bounded memory.
+        let known = match (setup.layers.is_empty(), job.stream) {
+            (false, false) => Some(
+                ctx.spin("terrain", "eroding", || crate::terrain::heights_and_layers(params, rect, &setup.layers))?,
+            ),
+            _ => None,
+        };
         let mut failure = None;
         // A streamed terrain's preview is made from the streamed rows, at most
         // STREAMED_PREVIEW_SIDE pixels a side: one more band-sized pass would not be bounded.
@@ -609,19 +686,24 @@ fn generate(job: &Job, setup: &Setup, start: Instant, ctx: crate::cli::Context) 
                         }
                     }
                 };
-                write_terrain_observed(params, rect, setup.format, setup.range, band, w, &mut observe).map_err(|e| {
-                    match e {
+                let known = known.as_ref().map(|(field, _)| field);
+                write_heights_known(params, rect, known, setup.format, setup.range, band, w, &mut observe).map_err(
+                    |e| match e {
                         Error::Io { source, .. } => source,
                         other => {
                             let message = other.to_string();
                             failure = Some(other);
                             std::io::Error::other(message)
                         }
-                    }
-                })
+                    },
+                )
             })
         })
         .map_err(|e| failure.take().unwrap_or(e))?;
+        for (k, &layer) in setup.layers.iter().enumerate() {
+            let values = known.as_ref().map(|(_, layers)| &layers[k]);
+            layer_files.push(write_layer_file(job, setup, layer, values, band)?);
+        }
     }
     let seconds = start.elapsed().as_secs_f64();
     match (&job.preview, streamed_preview) {
@@ -633,8 +715,9 @@ fn generate(job: &Job, setup: &Setup, start: Instant, ctx: crate::cli::Context) 
     let method = job.generation.method.to_possible_value().map_or_else(String::new, |v| v.get_name().to_string());
     ctx.report(
         || {
+            let layers: String = layer_files.iter().map(|p| format!(", {}", p.display())).collect();
             format!(
-                "terrain: {method} {}x{} (H {}, seed {}) => {} in {} ms ({:.1} M points/s)",
+                "terrain: {method} {}x{} (H {}, seed {}) => {}{layers} in {} ms ({:.1} M points/s)",
                 rect.width(),
                 rect.height(),
                 setup.hurst,
@@ -646,13 +729,58 @@ fn generate(job: &Job, setup: &Setup, start: Instant, ctx: crate::cli::Context) 
         },
         || {
             serde_json::json!({
-                "method": method, "output": output, "preview": job.preview, "sidecar": sidecar_path,
+                "method": method, "output": output, "preview": job.preview, "sidecar": sidecar_path, "layers": layer_files,
                 "columns": rect.width(), "rows": rect.height(), "hurst": setup.hurst, "seed": job.generation.seed,
                 "points": points, "seconds": seconds, "points_per_second": points as f64 / seconds.max(1e-9),
             })
         },
     );
     Ok(())
+}
+
+/// Writes `layer` beside the heightmap (its values on the rectangle when known, else
+/// streamed band by band) and, with the heightmap's, its sidecar; returns its path.
+fn write_layer_file(
+    job: &Job,
+    setup: &Setup,
+    layer: ErosionLayer,
+    values: Option<&crate::terrain::Heightfield>,
+    band: usize,
+) -> Result<PathBuf> {
+    let path = layer_path(&setup.output, layer);
+    let mut extremes = HeightRange { min: f64::INFINITY, max: f64::NEG_INFINITY };
+    let rect = setup.rect;
+    let mut failure = None;
+    write_atomically(&path, |w| {
+        let mut observe = |field: &crate::terrain::Heightfield, y0: u64, y1: u64| {
+            for y in y0..=y1 {
+                for x in rect.x0..=rect.x1 {
+                    let v = field.at(x, y);
+                    extremes.min = extremes.min.min(v);
+                    extremes.max = extremes.max.max(v);
+                }
+            }
+        };
+        write_layer(&setup.params, rect, layer, values, setup.format, band, w, &mut observe).map_err(|e| match e {
+            Error::Io { source, .. } => source,
+            other => {
+                let message = other.to_string();
+                failure = Some(other);
+                std::io::Error::other(message)
+            }
+        })
+    })
+    .map_err(|e| failure.take().unwrap_or(e))?;
+    if setup.sidecar {
+        let mut sidecar = Sidecar::new(&setup.params, rect, setup.format, LAYER_RANGE, extremes);
+        sidecar.file = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        sidecar.bytes = io::written_size(&path)?;
+        sidecar.plan = job.plan.clone();
+        sidecar.layer = Some(layer.name().to_string());
+        let text = serde_json::to_string_pretty(&sidecar).map_err(|e| Error::Internal(e.to_string()))?;
+        write_atomically(&Sidecar::path_for(&path), |w| w.write_all(format!("{text}\n").as_bytes()))?;
+    }
+    Ok(path)
 }
 
 /// Writes OUTPUT.json beside the heightmap (after it: a sidecar means the file is complete).

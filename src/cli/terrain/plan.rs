@@ -16,7 +16,7 @@ use crate::error::{Error, Result};
 use crate::io::write_atomically;
 use crate::terrain::mosaic::{MosaicTile, raw_descriptor, source_of, vrt};
 use crate::terrain::sidecar::{Quantisation, Sidecar, WorldPlacement};
-use crate::terrain::stream::StreamFormat;
+use crate::terrain::stream::{LAYER_RANGE, StreamFormat};
 use crate::terrain::tiles_per_side;
 
 #[derive(Debug, Args)]
@@ -54,6 +54,9 @@ struct Plan {
     format: String,
     /// The GDAL mosaic, relative to the plan's folder.
     mosaic: String,
+    /// Each erosion layer's mosaic (`mosaic.LAYER.vrt`), by layer name.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    layer_mosaics: std::collections::BTreeMap<String, String>,
     /// Every tile, by index.
     tiles: Vec<PlannedTile>,
     /// The generation flags every tile is made with.
@@ -98,6 +101,12 @@ fn tile_output(x: u64, y: u64, format: &str) -> String {
     crate::terrain::presets::tile_path(Path::new(&format!("tiles/terrain.{format}")), x, y)
         .to_string_lossy()
         .into_owned()
+}
+
+/// A tile's file of `layer`, relative to the plan's folder (beside the tile, as
+/// `terrain --layers` names it).
+fn layer_file(tile_file: &str, layer: crate::terrain::ErosionLayer) -> String {
+    super::layer_path(Path::new(tile_file), layer).to_string_lossy().into_owned()
 }
 
 /// The job of tile (i, j) of a plan in `dir`.
@@ -174,6 +183,29 @@ pub(super) fn run(args: PlanArgs, ctx: crate::cli::Context) -> Result<()> {
     let quantisation = stream_format.is_16_bit().then(|| Quantisation::of(setup.range));
     let mosaic = vrt(setup.extent, setup.extent, stream_format, quantisation, world, &mosaic_tiles);
     write_text(&args.output.join("mosaic.vrt"), &mosaic)?;
+    // Each erosion layer's tiles lie beside the heights' and make a mosaic of their own.
+    let mut layer_mosaics = std::collections::BTreeMap::new();
+    for &layer in &setup.layers {
+        let tiles: Vec<MosaicTile> =
+            mosaic_tiles.iter().map(|t| MosaicTile { file: layer_file(&t.file, layer), ..t.clone() }).collect();
+        if matches!(stream_format, StreamFormat::Raw16 | StreamFormat::F32) {
+            for t in &tiles {
+                let name = Path::new(&t.file).file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+                let side = args.tile_size as usize;
+                write_text(
+                    &args.output.join(source_of(&t.file, stream_format)),
+                    &raw_descriptor(&name, side, side, stream_format),
+                )?;
+            }
+        }
+        let quantisation = stream_format.is_16_bit().then(|| Quantisation::of(LAYER_RANGE));
+        let name = format!("mosaic.{}.vrt", layer.name());
+        write_text(
+            &args.output.join(&name),
+            &vrt(setup.extent, setup.extent, stream_format, quantisation, world, &tiles),
+        )?;
+        layer_mosaics.insert(layer.name().to_string(), name);
+    }
     let count = planned.len();
     let plan = Plan {
         version: PLAN_VERSION,
@@ -183,6 +215,7 @@ pub(super) fn run(args: PlanArgs, ctx: crate::cli::Context) -> Result<()> {
         tiles_per_side: tiles,
         format: format.clone(),
         mosaic: "mosaic.vrt".into(),
+        layer_mosaics,
         tiles: planned,
         parameters: args.generation.clone(),
     };
@@ -192,19 +225,21 @@ pub(super) fn run(args: PlanArgs, ctx: crate::cli::Context) -> Result<()> {
     ctx.report(
         || {
             format!(
-                "terrain plan: {count} tiles of {0}x{0} ({tiles}x{tiles}, {format}) for a {1}x{1} terrain => {2}, {3} in {4} ms; run each with: asperity terrain --plan {5} --tile-index K (K = 0..{6})",
+                "terrain plan: {count} tiles of {0}x{0} ({tiles}x{tiles}, {format}) for a {1}x{1} terrain => {2}, {3}{7} in {4} ms; run each with: asperity terrain --plan {5} --tile-index K (K = 0..{6})",
                 args.tile_size,
                 setup.extent,
                 manifest.display(),
                 args.output.join("mosaic.vrt").display(),
                 crate::cli::millis(start),
                 args.output.display(),
-                count - 1
+                count - 1,
+                plan.layer_mosaics.values().map(|m| format!(", {}", args.output.join(m).display())).collect::<String>()
             )
         },
         || {
             serde_json::json!({
                 "plan": manifest, "mosaic": args.output.join("mosaic.vrt"), "tiles": count,
+                "layer_mosaics": plan.layer_mosaics,
                 "tiles_per_side": tiles, "tile_size": args.tile_size, "size": setup.extent, "format": format,
                 "fingerprint": plan.fingerprint,
             })

@@ -19,7 +19,7 @@ pub(super) fn refuse_other_modes_flags(job: &Job) -> Result<()> {
     let coloured = mesh_output || job.preview.is_some();
     let heightfield = "--method classic and smooth";
     let hydraulic = g.erode.contains(&ErodeArg::Hydraulic);
-    let rules: [(&str, bool, bool, &str); 38] = [
+    let rules: [(&str, bool, bool, &str); 39] = [
         ("--iterations", g.iterations.is_some(), !dual, heightfield),
         (
             "--max-height",
@@ -68,6 +68,7 @@ pub(super) fn refuse_other_modes_flags(job: &Job) -> Result<()> {
         ("--dissolving", g.dissolving.is_some(), hydraulic, "--erode hydraulic"),
         ("--deposition", g.deposition.is_some(), hydraulic, "--erode hydraulic"),
         ("--time-step", g.time_step.is_some(), hydraulic, "--erode hydraulic"),
+        ("--layers", !g.layers.is_empty(), hydraulic, "--erode hydraulic"),
         ("--preset", g.preset.is_some(), !dual, heightfield),
         (
             "--sidecar",
