@@ -6,6 +6,7 @@
 mod clouds;
 mod diamond_square;
 mod dual;
+pub mod drainage;
 pub mod erosion;
 pub mod hydraulic;
 pub mod mosaic;
