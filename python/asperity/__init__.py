@@ -40,6 +40,7 @@ __all__ = [
     "hausdorff",
     "terrain",
     "terrain_mesh",
+    "terrain_layers",
     "noise",
     "render",
     "clouds",
@@ -360,6 +361,15 @@ def terrain(*, progress: bool = False, **options: Any) -> np.ndarray:
     ("thermal", "hydraulic", "thermal,hydraulic") with ``rain``, ``capacity``…,
     ``tile=(i, j)`` with ``tile_size``, ``preset``… (every heightfield flag)."""
     return _native.terrain(_flags(options), progress)
+
+
+def terrain_layers(*, progress: bool = False, **options: Any) -> Dict[str, np.ndarray]:
+    """The heights of ``terrain(erode="hydraulic", …)`` and the hydraulic erosion's layers
+    from the same run, as (rows, columns) float64 arrays keyed ``"heights"``, ``"flow"``,
+    ``"sediment"``, ``"water"``, ``"wetness"``: masks in [0, 1] (``layers="flow,water"``
+    picks some; all four by default). The same keyword arguments as ``terrain``."""
+    heights, layers = _native.terrain_layers(_flags(options), progress)
+    return {"heights": heights, **dict(layers)}
 
 
 def terrain_mesh(**options: Any) -> Mesh:

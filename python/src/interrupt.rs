@@ -69,10 +69,11 @@ pub fn run<T: Send>(py: Python<'_>, progress: bool, work: impl FnOnce() -> asper
         while !worker.is_finished() {
             py.detach(|| std::thread::sleep(Duration::from_millis(5)));
             if interrupted.is_none()
-                && let Err(signal) = py.check_signals() {
-                    CANCEL.store(true, Ordering::SeqCst);
-                    interrupted = Some(signal);
-                }
+                && let Err(signal) = py.check_signals()
+            {
+                CANCEL.store(true, Ordering::SeqCst);
+                interrupted = Some(signal);
+            }
         }
         (worker.join(), interrupted)
     });

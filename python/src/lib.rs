@@ -447,11 +447,34 @@ fn compare(
 #[pyfunction]
 fn terrain<'py>(py: Python<'py>, flags: Vec<String>, progress: bool) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let args: cli::terrain::TerrainArgs =
-        parse("terrain", &["-o", "<array>.f32"], flags, &["--range", "--peak-height", "--colors"])?;
+        parse("terrain", &["-o", "<array>.f32"], flags, &["--range", "--peak-height", "--colors", "--layers"])?;
     let field = run(py, progress, move || cli::terrain::heights_of(&args))?;
     let shape = (field.rect.height(), field.rect.width());
     let array = numpy::ndarray::Array2::from_shape_vec(shape, field.heights).expect("rows × columns");
     Ok(PyArray2::from_owned_array(py, array))
+}
+
+/// `asperity terrain --erode hydraulic --layers …`'s heights and layers as rows × columns
+/// arrays: the heights, then (name, mask) per layer.
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+fn terrain_layers<'py>(
+    py: Python<'py>,
+    flags: Vec<String>,
+    progress: bool,
+) -> PyResult<(Bound<'py, PyArray2<f64>>, Vec<(String, Bound<'py, PyArray2<f64>>)>)> {
+    let args: cli::terrain::TerrainArgs =
+        parse("terrain", &["-o", "<array>.f32"], flags, &["--range", "--peak-height", "--colors"])?;
+    let (heights, layers) = run(py, progress, move || cli::terrain::layers_of(&args))?;
+    let array = |field: asperity::terrain::Heightfield| {
+        let shape = (field.rect.height(), field.rect.width());
+        PyArray2::from_owned_array(
+            py,
+            numpy::ndarray::Array2::from_shape_vec(shape, field.heights).expect("rows × columns"),
+        )
+    };
+    let layers = layers.into_iter().map(|(layer, field)| (layer.name().to_string(), array(field))).collect();
+    Ok((array(heights), layers))
 }
 
 /// `asperity terrain`'s mesh (a heightfield's, or the dual method's surface): positions,
@@ -467,7 +490,7 @@ fn terrain_mesh<'py>(
     Option<Bound<'py, PyArray2<f64>>>,
     Option<Bound<'py, PyArray2<u8>>>,
 )> {
-    let args: cli::terrain::TerrainArgs = parse("terrain", &["-o", "<array>.ply"], flags, &["--range"])?;
+    let args: cli::terrain::TerrainArgs = parse("terrain", &["-o", "<array>.ply"], flags, &["--range", "--layers"])?;
     let mesh = run(py, false, move || cli::terrain::mesh_of(&args))?;
     let normals = mesh.normals.map(|n| vectors_array(py, n));
     let colors = mesh.colors.map(|c| arrays::colors_array(py, c));
@@ -532,6 +555,7 @@ fn _asperity(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(hausdorff, m)?)?;
     m.add_function(wrap_pyfunction!(terrain, m)?)?;
     m.add_function(wrap_pyfunction!(terrain_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(terrain_layers, m)?)?;
     m.add_function(wrap_pyfunction!(noise, m)?)?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(clouds, m)?)?;

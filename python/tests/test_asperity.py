@@ -211,6 +211,17 @@ def test_terrain_noise_render_clouds_compare_repair():
     np.testing.assert_array_equal(tile, heights[0:33, 32:65])
     eroded = asperity.terrain(size=65, seed=3, erode="thermal", erode_iterations=5)
     assert not np.array_equal(eroded, asperity.terrain(size=65, seed=3))
+    # The hydraulic erosion's layers, from the same run as its heights: masks in [0, 1].
+    rained = dict(size=65, seed=3, erode="hydraulic", erode_iterations=8)
+    layers = asperity.terrain_layers(**rained)
+    assert sorted(layers) == ["flow", "heights", "sediment", "water", "wetness"]
+    np.testing.assert_array_equal(layers["heights"], asperity.terrain(**rained))
+    assert all(((v >= 0) & (v <= 1)).all() for k, v in layers.items() if k != "heights")
+    assert sorted(asperity.terrain_layers(layers="flow,water", **rained)) == ["flow", "heights", "water"]
+    with pytest.raises(asperity.InputError, match="layers"):
+        asperity.terrain(layers="flow", **rained)
+    with pytest.raises(asperity.InputError, match="hydraulic"):
+        asperity.terrain_layers(size=65, erode="thermal")
     points = np.random.default_rng(1).random((100, 3))
     for kind in ("perlin", "fbm", "gabor", "phasor", "wood"):
         values = asperity.noise(kind, points, seed=2)

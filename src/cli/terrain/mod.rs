@@ -409,6 +409,28 @@ pub fn heights_of(args: &TerrainArgs) -> Result<crate::terrain::Heightfield> {
     crate::terrain::heights(&setup.params, setup.rect)
 }
 
+/// The heights [`heights_of`] gives and the hydraulic erosion's layers `--layers` names
+/// (all four when it names none), from one run, each a mask in [0, 1]
+/// ([`crate::terrain::ErosionLayers`]).
+///
+/// # Errors
+/// As [`heights_of`]; without `--erode hydraulic`.
+pub fn layers_of(
+    args: &TerrainArgs,
+) -> Result<(crate::terrain::Heightfield, Vec<(ErosionLayer, crate::terrain::Heightfield)>)> {
+    if args.generation.method == MethodArg::Dual {
+        return Err(Error::InvalidInput("--method dual makes a 3D surface, not a heightfield with layers".into()));
+    }
+    if !args.generation.erode.contains(&ErodeArg::Hydraulic) {
+        return Err(Error::InvalidInput("erosion layers need hydraulic erosion (--erode hydraulic)".into()));
+    }
+    let job = in_memory_job(args, "f32");
+    let setup = Setup::of(&job)?;
+    let layers = if setup.layers.is_empty() { ErosionLayer::ALL.to_vec() } else { setup.layers.clone() };
+    let (heights, fields) = crate::terrain::heights_and_layers(&setup.params, setup.rect, &layers)?;
+    Ok((heights, layers.into_iter().zip(fields).collect()))
+}
+
 /// The job of `args` made in memory rather than written: checked as if written as `format`.
 fn in_memory_job<'a>(args: &'a TerrainArgs, format: &str) -> Job<'a> {
     let output = args.output.clone().unwrap_or_else(|| PathBuf::from(format!("terrain.{format}")));
