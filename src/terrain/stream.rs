@@ -122,35 +122,19 @@ pub fn write_terrain(
     band: usize,
     w: &mut dyn Write,
 ) -> Result<()> {
-    write_terrain_observed(params, rect, format, range, band, w, &mut |_, _, _| {})
+    write_terrain_observed(params, rect, None, format, range, band, w, &mut |_, _, _| {})
 }
 
 /// [`write_terrain`], showing each band of finished heights to `observe(field, y0, y1)`
 /// once, as it is written (rows y0..=y1 of `field`): a preview or a statistic is then made
-/// from the streamed rows, in the stream's bounded memory.
-///
-/// # Errors
-/// As [`write_terrain`].
-pub fn write_terrain_observed(
-    params: &TerrainParams,
-    rect: Rect,
-    format: StreamFormat,
-    range: (f64, f64),
-    band: usize,
-    w: &mut dyn Write,
-    observe: &mut dyn FnMut(&super::Heightfield, u64, u64),
-) -> Result<()> {
-    write_heights_known(params, rect, None, format, range, band, w, observe)
-}
-
-/// [`write_terrain_observed`] where `known`, if given, already holds the finished heights
-/// on `rect` (from [`super::heights_and_layers`]): a heightmap is then written from them
-/// instead of being generated again.
+/// from the streamed rows, in the stream's bounded memory. `known`, if given, already holds
+/// the finished heights on `rect` (from [`super::heights_and_layers`]): a heightmap is then
+/// written from them instead of being generated again.
 ///
 /// # Errors
 /// As [`write_terrain`].
 #[allow(clippy::too_many_arguments)]
-pub fn write_heights_known(
+pub fn write_terrain_observed(
     params: &TerrainParams,
     rect: Rect,
     known: Option<&super::Heightfield>,

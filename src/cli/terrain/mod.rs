@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 use crate::io::{self, WriteOptions, write_atomically};
 use crate::terrain::sidecar::{HeightRange, Sidecar};
-use crate::terrain::stream::{LAYER_RANGE, StreamFormat, default_band, write_heights_known, write_layer};
+use crate::terrain::stream::{LAYER_RANGE, StreamFormat, default_band, write_layer, write_terrain_observed};
 use crate::terrain::{
     Distribution, ErosionLayer, Grid, HydraulicErosion, Method, Preset, Rect, TerrainParams, ThermalErosion, mesh,
     presets, tile_rect_in,
@@ -697,28 +697,13 @@ fn generate(job: &Job, setup: &Setup, start: Instant, ctx: crate::cli::Context) 
                     if let Some(sampler) = sampler.as_mut() {
                         sampler.take(field, y0, y1);
                     }
-                    if !setup.sidecar {
-                        return;
-                    }
-                    for y in y0..=y1 {
-                        for x in rect.x0..=rect.x1 {
-                            let h = field.at(x, y);
-                            extremes.min = extremes.min.min(h);
-                            extremes.max = extremes.max.max(h);
-                        }
+                    if setup.sidecar {
+                        widen(extremes, field, rect, y0, y1);
                     }
                 };
                 let known = known.as_ref().map(|(field, _)| field);
-                write_heights_known(params, rect, known, setup.format, setup.range, band, w, &mut observe).map_err(
-                    |e| match e {
-                        Error::Io { source, .. } => source,
-                        other => {
-                            let message = other.to_string();
-                            failure = Some(other);
-                            std::io::Error::other(message)
-                        }
-                    },
-                )
+                write_terrain_observed(params, rect, known, setup.format, setup.range, band, w, &mut observe)
+                    .map_err(|e| io_or_kept(e, &mut failure))
             })
         })
         .map_err(|e| failure.take().unwrap_or(e))?;
@@ -760,6 +745,30 @@ fn generate(job: &Job, setup: &Setup, start: Instant, ctx: crate::cli::Context) 
     Ok(())
 }
 
+/// Widens `extremes` to the values of rows y0..=y1 of `field` over `rect`'s columns.
+fn widen(extremes: &mut HeightRange, field: &crate::terrain::Heightfield, rect: Rect, y0: u64, y1: u64) {
+    for y in y0..=y1 {
+        for x in rect.x0..=rect.x1 {
+            let v = field.at(x, y);
+            extremes.min = extremes.min.min(v);
+            extremes.max = extremes.max.max(v);
+        }
+    }
+}
+
+/// A writer's error as `write_atomically` takes it: an I/O error goes back to it (which
+/// names the file); any other keeps its type in `failure` and returns its message.
+fn io_or_kept(e: Error, failure: &mut Option<Error>) -> std::io::Error {
+    match e {
+        Error::Io { source, .. } => source,
+        other => {
+            let message = other.to_string();
+            *failure = Some(other);
+            std::io::Error::other(message)
+        }
+    }
+}
+
 /// Writes `layer` beside the heightmap (its values on the rectangle when known, else
 /// streamed band by band) and, with the heightmap's, its sidecar; returns its path.
 fn write_layer_file(
@@ -774,23 +783,10 @@ fn write_layer_file(
     let rect = setup.rect;
     let mut failure = None;
     write_atomically(&path, |w| {
-        let mut observe = |field: &crate::terrain::Heightfield, y0: u64, y1: u64| {
-            for y in y0..=y1 {
-                for x in rect.x0..=rect.x1 {
-                    let v = field.at(x, y);
-                    extremes.min = extremes.min.min(v);
-                    extremes.max = extremes.max.max(v);
-                }
-            }
-        };
-        write_layer(&setup.params, rect, layer, values, setup.format, band, w, &mut observe).map_err(|e| match e {
-            Error::Io { source, .. } => source,
-            other => {
-                let message = other.to_string();
-                failure = Some(other);
-                std::io::Error::other(message)
-            }
-        })
+        let mut observe =
+            |field: &crate::terrain::Heightfield, y0: u64, y1: u64| widen(&mut extremes, field, rect, y0, y1);
+        write_layer(&setup.params, rect, layer, values, setup.format, band, w, &mut observe)
+            .map_err(|e| io_or_kept(e, &mut failure))
     })
     .map_err(|e| failure.take().unwrap_or(e))?;
     if setup.sidecar {
