@@ -5,8 +5,8 @@
 
 mod clouds;
 mod diamond_square;
-mod dual;
 pub mod drainage;
+mod dual;
 pub mod erosion;
 pub mod hydraulic;
 pub mod mosaic;
@@ -341,20 +341,34 @@ impl Heightfield {
 /// # Errors
 /// [`Error::InvalidInput`] for invalid parameters or a rectangle outside the grid.
 pub fn heights(params: &TerrainParams, rect: Rect) -> Result<Heightfield> {
+    Ok(finished(params, rect, &[])?.0)
+}
+
+/// The finished heights on `rect` and each of `which` layers of the hydraulic erosion
+/// (none without hydraulic erosion).
+fn finished(params: &TerrainParams, rect: Rect, which: &[ErosionLayer]) -> Result<(Heightfield, Vec<Heightfield>)> {
     let generator = params.generator()?;
     let last = params.size - 1;
     if rect.x0 > rect.x1 || rect.y0 > rect.y1 || rect.x1 > last || rect.y1 > last {
         return Err(Error::InvalidInput(format!("region {rect:?} is outside the {0}x{0} grid", params.size)));
     }
     let halo = params.erosion_halo();
+    let mut layers = Vec::new();
     let mut field = if halo > 0 || params.erosion.is_some() || params.hydraulic.is_some() {
         // Erosion's halo: the points whose erosion reaches the rectangle.
         let mut grown = generated_heights(params, &generator, rect.grown(halo, last));
         if let Some(erosion) = &params.erosion {
             erosion::erode(&mut grown, params, erosion);
         }
-        if let Some(hydraulic) = &params.hydraulic {
-            hydraulic::erode(&mut grown, params, hydraulic);
+        match &params.hydraulic {
+            Some(hydraulic) if !which.is_empty() => {
+                let (_, all) = hydraulic::erode_with_layers(&mut grown, params, hydraulic);
+                layers = which.iter().map(|layer| erosion::crop_values(grown.rect, layer.of(&all), rect)).collect();
+            }
+            Some(hydraulic) => {
+                hydraulic::erode(&mut grown, params, hydraulic);
+            }
+            None => {}
         }
         erosion::crop(&grown, rect)
     } else {
@@ -363,7 +377,7 @@ pub fn heights(params: &TerrainParams, rect: Rect) -> Result<Heightfield> {
     if let Some(sea) = params.sea_level {
         field.heights.par_iter_mut().for_each(|h| *h = h.max(sea));
     }
-    Ok(field)
+    Ok((field, layers))
 }
 
 /// A layer of hydraulic erosion written beside the heights (see [`ErosionLayers`] for what
@@ -422,28 +436,10 @@ pub fn heights_and_layers(
     rect: Rect,
     which: &[ErosionLayer],
 ) -> Result<(Heightfield, Vec<Heightfield>)> {
-    let Some(hydraulic) = &params.hydraulic else {
+    if params.hydraulic.is_none() {
         return Err(Error::InvalidInput("erosion layers need hydraulic erosion (--erode hydraulic)".into()));
-    };
-    if which.is_empty() {
-        return Ok((heights(params, rect)?, Vec::new()));
     }
-    let generator = params.generator()?;
-    let last = params.size - 1;
-    if rect.x0 > rect.x1 || rect.y0 > rect.y1 || rect.x1 > last || rect.y1 > last {
-        return Err(Error::InvalidInput(format!("region {rect:?} is outside the {0}x{0} grid", params.size)));
-    }
-    let mut grown = generated_heights(params, &generator, rect.grown(params.erosion_halo(), last));
-    if let Some(erosion) = &params.erosion {
-        erosion::erode(&mut grown, params, erosion);
-    }
-    let (_, layers) = hydraulic::erode_with_layers(&mut grown, params, hydraulic);
-    let mut field = erosion::crop(&grown, rect);
-    if let Some(sea) = params.sea_level {
-        field.heights.par_iter_mut().for_each(|h| *h = h.max(sea));
-    }
-    let fields = which.iter().map(|layer| erosion::crop_values(grown.rect, layer.of(&layers), rect)).collect();
-    Ok((field, fields))
+    finished(params, rect, which)
 }
 
 /// The generator's heights on `rect` times the height factor, smoothed by seed 002's
