@@ -2,14 +2,14 @@
 //! simulation and visualization on GPU", Pacific Graphics 2007, §3): rain raises the water
 //! on every point, water flows to the lattice neighbours through pipes whose flux grows
 //! with the difference of the water surfaces (eq. 2–5, the flux scaled down where it would
-//! take more than [`MAX_OUTFLOW_SHARE`] of the point's water), the flow's speed and the
+//! take more than `MAX_OUTFLOW_SHARE` of the point's water), the flow's speed and the
 //! terrain's tilt give the sediment capacity C = Kc·sin α·|v| (eq. 8), the terrain
 //! dissolves into the water where the water carries less than C and deposits where it
 //! carries more (eq. 9–10), the sediment moves with the water, and the water evaporates
 //! (eq. 11).
 //!
 //! Three departures: a point loses at most a quarter of its water per iteration
-//! ([`MAX_OUTFLOW_SHARE`], for stability), and two for tiles to equal the whole grid bit for
+//! (`MAX_OUTFLOW_SHARE`, for stability), and two for tiles to equal the whole grid bit for
 //! bit and for mass to be accounted for:
 //! - Sediment moves with the water through the pipes (the share of a point's water leaving
 //!   through each pipe takes that share of its sediment), not by Mei's semi-Lagrangian
