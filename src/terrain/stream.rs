@@ -3,6 +3,7 @@
 //! for normals — and written as soon as they are complete. Memory is O(width × band)
 //! instead of O(width²); the bytes equal those of the whole grid written at once.
 
+use std::borrow::Cow;
 use std::io::Write;
 
 use serde::{Deserialize, Serialize};
@@ -144,16 +145,26 @@ pub fn write_terrain_observed(
     w: &mut dyn Write,
     observe: &mut dyn FnMut(&super::Heightfield, u64, u64),
 ) -> Result<()> {
-    let source = |region: Rect| match known {
-        Some(field) if field.rect == region => Ok(field.clone()),
-        _ => heights(params, region),
-    };
+    let source = |region: Rect| known_or(known, region, || heights(params, region));
     let band = if known.is_some() && format.is_heightmap() { rect.height() } else { band };
     write_values(params, &source, rect, format, range, band, w, observe)
 }
 
-/// Where a writer's values come from: the values on a rectangle of the grid.
-type Source<'a> = &'a dyn Fn(Rect) -> Result<super::Heightfield>;
+/// Where a writer's values come from: the values on a rectangle of the grid, borrowed
+/// where they are known already.
+type Source<'a> = &'a dyn Fn(Rect) -> Result<Cow<'a, super::Heightfield>>;
+
+/// `known` where it covers exactly `region` (borrowed, not copied), else `compute`'s.
+fn known_or<'a>(
+    known: Option<&'a super::Heightfield>,
+    region: Rect,
+    compute: impl FnOnce() -> Result<super::Heightfield>,
+) -> Result<Cow<'a, super::Heightfield>> {
+    match known {
+        Some(field) if field.rect == region => Ok(Cow::Borrowed(field)),
+        _ => compute().map(Cow::Owned),
+    }
+}
 
 /// Writes one erosion layer (a mask in [0, 1], see [`super::ErosionLayers`]) on `rect` as a
 /// heightmap in `format`, `band` rows at a time (each band runs the erosion on its
@@ -181,11 +192,8 @@ pub fn write_layer(
             layer.name()
         )));
     }
-    let computed = |region: Rect| -> Result<super::Heightfield> {
-        match values {
-            Some(field) if field.rect == region => Ok(field.clone()),
-            _ => Ok(super::heights_and_layers(params, region, &[layer])?.1.remove(0)),
-        }
+    let computed = |region: Rect| {
+        known_or(values, region, || Ok(super::heights_and_layers(params, region, &[layer])?.1.remove(0)))
     };
     let band = if values.is_some() { rect.height() } else { band };
     write_values(params, &computed, rect, format, LAYER_RANGE, band, w, observe)

@@ -103,6 +103,19 @@ fn tile_output(x: u64, y: u64, format: &str) -> String {
         .into_owned()
 }
 
+/// For headerless tiles (RAW16, F32): each tile's descriptor beside it in `dir`, which
+/// the mosaic names ([`source_of`]).
+fn write_raw_descriptors(dir: &Path, tiles: &[MosaicTile], format: StreamFormat) -> Result<()> {
+    if !matches!(format, StreamFormat::Raw16 | StreamFormat::F32) {
+        return Ok(());
+    }
+    for t in tiles {
+        let name = Path::new(&t.file).file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        write_text(&dir.join(source_of(&t.file, format)), &raw_descriptor(&name, t.columns, t.rows, format))?;
+    }
+    Ok(())
+}
+
 /// A tile's file of `layer`, relative to the plan's folder (beside the tile, as
 /// `terrain --layers` names it).
 fn layer_file(tile_file: &str, layer: crate::terrain::ErosionLayer) -> String {
@@ -172,14 +185,7 @@ pub(super) fn run(args: PlanArgs, ctx: crate::cli::Context) -> Result<()> {
             rows: args.tile_size as usize,
         })
         .collect();
-    if matches!(stream_format, StreamFormat::Raw16 | StreamFormat::F32) {
-        for t in &planned {
-            let path = args.output.join(source_of(&t.output, stream_format));
-            let name = Path::new(&t.output).file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-            let side = args.tile_size as usize;
-            write_text(&path, &raw_descriptor(&name, side, side, stream_format))?;
-        }
-    }
+    write_raw_descriptors(&args.output, &mosaic_tiles, stream_format)?;
     let quantisation = stream_format.is_16_bit().then(|| Quantisation::of(setup.range));
     let mosaic = vrt(setup.extent, setup.extent, stream_format, quantisation, world, &mosaic_tiles);
     write_text(&args.output.join("mosaic.vrt"), &mosaic)?;
@@ -188,16 +194,7 @@ pub(super) fn run(args: PlanArgs, ctx: crate::cli::Context) -> Result<()> {
     for &layer in &setup.layers {
         let tiles: Vec<MosaicTile> =
             mosaic_tiles.iter().map(|t| MosaicTile { file: layer_file(&t.file, layer), ..t.clone() }).collect();
-        if matches!(stream_format, StreamFormat::Raw16 | StreamFormat::F32) {
-            for t in &tiles {
-                let name = Path::new(&t.file).file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-                let side = args.tile_size as usize;
-                write_text(
-                    &args.output.join(source_of(&t.file, stream_format)),
-                    &raw_descriptor(&name, side, side, stream_format),
-                )?;
-            }
-        }
+        write_raw_descriptors(&args.output, &tiles, stream_format)?;
         let quantisation = stream_format.is_16_bit().then(|| Quantisation::of(LAYER_RANGE));
         let name = format!("mosaic.{}.vrt", layer.name());
         write_text(
