@@ -243,7 +243,9 @@ pub fn apply_with(
         }
         let start = Instant::now();
         let allowed = insertable(hierarchy, &refiner, &state.frozen);
+        let step = hierarchy.steps() - 1 - refiner.level();
         refiner.refine_level(&|v| allowed.binary_search(&v).is_ok())?;
+        inherit_noised_marks(hierarchy.step(step), &refiner, &mut state.noised);
         seconds.refine += start.elapsed().as_secs_f64();
     }
     let mut result = refiner.mesh()?;
@@ -329,6 +331,19 @@ fn insertable(hierarchy: &Hierarchy, refiner: &Refiner, frozen: &[bool]) -> Vec<
         .collect();
     allowed.sort_unstable();
     allowed
+}
+
+/// §4.5's noised region carried through refinement: a vertex a level inserted is noised
+/// when at least two corners of the coarser face it was inserted into are (its parameter
+/// face, [`crate::hierarchy::Removal::local`]). A region noised at a coarse level thus
+/// stays a region as the levels fill it in, instead of dissolving into isolated marked
+/// base vertices among unmarked inserted ones (#37: the torus variation's fine step
+/// covered both halves, fine roughness 0.117 on the varied half vs 0.115).
+fn inherit_noised_marks(records: &[crate::hierarchy::Removal], refiner: &Refiner, noised: &mut [bool]) {
+    for r in records.iter().filter(|r| refiner.is_present(r.vertex)) {
+        let marked = r.local.face.iter().filter(|&&c| noised[c as usize]).count();
+        noised[r.vertex as usize] = marked >= 2;
+    }
 }
 
 /// A recipe level (negative: from the input's level back) as a refinement level.
@@ -463,7 +478,7 @@ fn run_step(step: &Step, refiner: &mut Refiner, state: &mut RunState, steps: usi
         for &([a, b], v) in &made.splits {
             debug_assert_eq!(v as usize, state.rest.len());
             state.rest.push((state.rest[a as usize] + state.rest[b as usize]) * 0.5);
-            state.noised.push(false);
+            state.noised.push(state.noised[a as usize] && state.noised[b as usize]);
             state.frozen.push(true);
             state.appear.push(level as u32);
             state.splits.push([a, b]);
