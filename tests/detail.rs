@@ -6,7 +6,8 @@ use std::process::Command;
 
 use asperity::analysis::FeatureClass;
 use asperity::detail::{
-    Attenuate, BoxFrame, DetailOptions, FunctionStep, GeometricParams, LevelNoise, LevelView, NoiseParams, OperatorKind, Recipe,
+    Attenuate, BoxFrame, DetailOptions, FunctionStep, GeometricParams, LevelNoise, LevelView, NoiseParams, OperatorKind,
+    OrganicParams, Recipe, organic_displacements,
     apply, apply_to, apply_with, laplacian_energy, loop_smooth, noise_displacements, select, subdivide_around,
     tangent_frame, taper, twist,
 };
@@ -859,4 +860,50 @@ fn torus_variation_keeps_the_fine_turbulence_off_the_half_noised_at_a_coarse_lev
     let (varied, turbulent) = (fine_roughness(&out, true), fine_roughness(&out, false));
     println!("fine roughness: varied half {varied:.5}, turbulent half {turbulent:.5}");
     assert!(turbulent >= 2.0 * varied, "varied half {varied:.5}, turbulent half {turbulent:.5}");
+}
+
+#[test]
+fn organic_widening_puts_a_cap_wider_than_its_stem() {
+    // Thesis §5.2.0.1 (Fig. 5.7): after the hill, a second displacement "moves the vertices
+    // to opposite directions creating a wide area at the top of the hill". On a sphere, one
+    // extension with a cap ring (2) and a stem ring (3): the cap's rim must lie farther
+    // from the extension's axis than the stem, which without widening it cannot.
+    let mesh = icosphere(1.0, 4);
+    let view = level_view(&mesh, 3);
+    let frame = BoxFrame::of(&mesh);
+    let centre = 0;
+    let mut selected = vec![false; mesh.vertex_count()];
+    selected[centre] = true;
+    let noise = NoiseParams {
+        kind: asperity::noise::NoiseKind::Perlin,
+        frequency: 3.0,
+        attenuate: Attenuate::None,
+        ..Default::default()
+    };
+    let rings = view.rings_from(&[centre], 4);
+    let spread = |widen: Vec<f64>| -> (f64, f64) {
+        let params = OrganicParams { height: 0.12, bend: 0.0, rings: vec![1.0, 1.0, 0.92, 0.6, 0.3], subdivide: 0, widen };
+        let moves = organic_displacements(&params, &noise, &view, &frame, &selected, &vec![false; selected.len()], 5)
+            .unwrap();
+        let mut positions = mesh.positions.clone();
+        for &(v, p) in &moves {
+            positions[v] = p;
+        }
+        let axis = mesh.positions[centre].normalize();
+        let from_axis = |p: DVec3| (p - axis * p.dot(axis)).length();
+        let mean_radius = |ring: usize| {
+            let radii: Vec<f64> = (0..positions.len())
+                .filter(|&v| rings[v].is_some_and(|(r, _)| r == ring))
+                .map(|v| from_axis(positions[v]))
+                .collect();
+            radii.iter().sum::<f64>() / radii.len() as f64
+        };
+        (mean_radius(2), mean_radius(3))
+    };
+    let (rim, stem) = spread(Vec::new());
+    println!("no widening: rim {rim:.4}, stem {stem:.4}");
+    assert!(rim < stem, "without widening the hill is a cone: rim {rim:.4}, stem {stem:.4}");
+    let (rim, stem) = spread(vec![0.0, 0.3, 0.6, -0.05, -0.1]);
+    println!("cap rim {rim:.4} from the axis on average, stem {stem:.4}");
+    assert!(rim > 1.1 * stem, "cap rim {rim:.4}, stem {stem:.4}");
 }

@@ -4,7 +4,10 @@
 //! direction"), by a height modulated by the noise at the centre; its 1-ring and 2-ring
 //! follow with falling weights (the mushroom planet's 1/1.5 and 1/2, §5.2.0.1). The level
 //! attenuation of eq. 4.5 applies when the noise table asks for it. Local subdivision
-//! beforehand (the `subdivide` parameter) gives the extensions more vertices.
+//! beforehand (the `subdivide` parameter) gives the extensions more vertices. The
+//! mushroom planet's second displacement (`widen`, §5.2.0.1) then moves each ring's
+//! vertices away from the extension's axis, by a share of its length that the noise at
+//! each vertex varies ("this area will vary from vertex to vertex"): a wide cap on a stem.
 
 use glam::DVec3;
 
@@ -48,10 +51,30 @@ pub fn organic_displacements(
     }
     let mut reach = view.rings_from(&centres, params.rings.len() - 1);
     super::displace::close_reach(view, &mut reach);
+    let positions = &view.mesh.positions;
     Ok((0..n)
         .filter_map(|v| {
             let (ring, centre) = reach[v]?;
-            free(v).then(|| (v, view.mesh.positions[v] + growth[centre] * params.rings[ring]))
+            let grown = positions[v] + growth[centre] * params.rings[ring];
+            let widen = params.widen.get(ring).copied().unwrap_or(0.0);
+            let moved = match widen {
+                0.0 => grown,
+                w => grown + outward(positions[v] - positions[centre], growth[centre]) * w * wobble(&field, v, view),
+            };
+            free(v).then_some((v, moved))
         })
         .collect())
+}
+
+/// The widening of a vertex `offset` from its centre, for an extension `growth`: the
+/// offset's part across the extension, with the extension's length (zero at the centre).
+fn outward(offset: DVec3, growth: DVec3) -> DVec3 {
+    let axis = growth.normalize_or_zero();
+    (offset - axis * offset.dot(axis)).normalize_or_zero() * growth.length()
+}
+
+/// How much of its ring's widening a vertex takes: 0.5 + |noise| at it, the same
+/// modulation as the extension's height.
+fn wobble(field: &LevelNoise, v: usize, view: &LevelView) -> f64 {
+    0.5 + field.at(view.mesh.positions[v], tangent_frame(view.normals[v], None, false)).abs()
 }

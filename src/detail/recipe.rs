@@ -573,11 +573,16 @@ pub struct OrganicParams {
     pub rings: Vec<f64>,
     /// Local subdivision steps before extending (0: none).
     pub subdivide: usize,
+    /// The second displacement of the mushroom planet (§5.2.0.1: "move the vertices to
+    /// opposite directions creating a wide area at the top of the hill"): per ring, how far
+    /// its vertices move away from the extension's axis, as a fraction of the extension's
+    /// length (negative: towards it, thinning a stem). Empty: no widening.
+    pub widen: Vec<f64>,
 }
 
 impl Default for OrganicParams {
     fn default() -> Self {
-        OrganicParams { height: 0.05, bend: 0.3, rings: vec![1.0, 1.0 / 1.5, 0.5], subdivide: 0 }
+        OrganicParams { height: 0.05, bend: 0.3, rings: vec![1.0, 1.0 / 1.5, 0.5], subdivide: 0, widen: Vec::new() }
     }
 }
 
@@ -630,8 +635,15 @@ impl Step {
             return Err("at most 1000 smoothing passes and 8 subdivision steps".into());
         }
         let o = &self.organic;
-        if !(o.height.is_finite() && o.bend.is_finite()) || o.rings.iter().any(|w| !w.is_finite()) {
+        if !(o.height.is_finite() && o.bend.is_finite()) || o.rings.iter().chain(&o.widen).any(|w| !w.is_finite()) {
             return Err("organic parameters must be finite".into());
+        }
+        if o.widen.len() > o.rings.len() {
+            return Err(format!(
+                "organic widen has {} weights for {} rings: one per ring at most",
+                o.widen.len(),
+                o.rings.len()
+            ));
         }
         if let Some(s) = &self.select.sphere
             && (s.radius.is_nan() || s.radius <= 0.0) {
