@@ -438,6 +438,12 @@ fn recipe_mistakes_name_the_line_and_write_nothing() {
         ("[[step]]\nop = \"noise\"\nnoise = { frequency = 0.0 }\n", "frequency"),
         ("[[step]]\nop = \"noise\"\nnoise = { kind = \"perlin\", k = 2.0 }\n", "k applies only to kind = \"gabor\""),
         ("[[step]]\nop = \"noise\"\nnoise = { kind = \"fbm\", offset = 0.3 }\n", "offset applies only"),
+        ("[[step]]\nop = \"noise\"\nsmooth = { iterations = 3 }\n", "the smooth table does not apply to op = \"noise\""),
+        ("[[step]]\nop = \"smooth\"\norganic = { widen = [0.5] }\n", "the organic table does not apply"),
+        ("[[step]]\nop = \"taper\"\nnoise = { amplitude = 0.5 }\n", "the noise table does not apply"),
+        ("[[step]]\nop = \"organic\"\norganic = { rings = [1.0], widen = [0.0, 0.5] }\n", "2 weights for 1 rings"),
+        ("[color]\nrest = [200, 200, 200]\ndeformed = [0, 0, 0]\nfrom = 0.8\nto = 0.5\n", "from < to"),
+        ("[color]\nrest = [200, 200, 200]\ndeformed = [0, 0, 300]\n", "300"),
         ("[[step]]\nop = \"noise\"\nselect = { around = { vertices = [99999] } }\n", ""),
     ] {
         match Recipe::parse(text) {
@@ -906,4 +912,43 @@ fn organic_widening_puts_a_cap_wider_than_its_stem() {
     let (rim, stem) = spread(vec![0.0, 0.3, 0.6, -0.05, -0.1]);
     println!("cap rim {rim:.4} from the axis on average, stem {stem:.4}");
     assert!(rim > 1.1 * stem, "cap rim {rim:.4}, stem {stem:.4}");
+}
+
+#[test]
+fn the_virus_recipe_grows_smooth_extensions_coloured_where_deformed() {
+    // Thesis Figs. 5.5-5.6: smooth organic extensions, black where deformed (#37: the
+    // recipe made faceted pyramids over the whole sphere, neighbouring faces up to 153°
+    // apart, and no colour).
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("recipes/sphere-virus.toml");
+    let mesh = recipe_input(&path).unwrap();
+    let r = Recipe::read(&path).unwrap();
+    let options = DetailOptions { simplify: recipe_simplify_options(&r, &mesh), ..Default::default() };
+    let out = apply(&mesh, &r, &options).unwrap();
+    let result = &out.result.mesh;
+    let faces = analysis::FaceGeometry::of(result);
+    let adjacency = asperity::mesh::Adjacency::of(result);
+    let mut sharpest: f64 = 0.0;
+    for (f, t) in result.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
+            for &g in adjacency.faces(a) {
+                let g = g as usize;
+                if g != f && result.triangles[g].contains(&(b as u32)) {
+                    sharpest = sharpest.max(faces.normals[f].angle_between(faces.normals[g]).to_degrees());
+                }
+            }
+        }
+    }
+    println!("largest angle between neighbouring face normals: {sharpest:.1}°");
+    assert!(sharpest < 75.0, "neighbouring faces {sharpest:.1}° apart: faceted");
+    // Black where deformed: the most displaced vertex has the recipe's `deformed` colour,
+    // the least displaced its `rest` colour.
+    let colors = result.colors.as_ref().expect("the recipe's [color] gives vertex colours");
+    let color = r.color.as_ref().unwrap();
+    let moved: Vec<f64> = result.positions.iter().zip(&out.rest).map(|(p, q)| p.distance(*q)).collect();
+    let order = |a: &usize, b: &usize| moved[*a].total_cmp(&moved[*b]);
+    let most = (0..moved.len()).max_by(order).unwrap();
+    let least = (0..moved.len()).min_by(order).unwrap();
+    assert_eq!(colors[most], color.deformed);
+    assert_eq!(colors[least], color.rest);
 }

@@ -253,7 +253,13 @@ pub fn apply_with(
     let start = Instant::now();
     let intersections = resolve_self_intersections(&mut result.mesh, &rest, options.no_self_intersections)?;
     seconds.intersections = start.elapsed().as_secs_f64();
-    let attribute_notes = carry_attributes(hierarchy, input, &state.splits, &mut result);
+    let mut attribute_notes = carry_attributes(hierarchy, input, &state.splits, &mut result);
+    if let Some(color) = &recipe.color {
+        if input.colors.is_some() {
+            attribute_notes.push("the recipe's [color] replaced the input's vertex colours".into());
+        }
+        result.mesh.colors = Some(color.colors(&result.mesh.positions, &rest));
+    }
     Ok(DetailOutcome {
         result,
         rest,

@@ -24,6 +24,58 @@ pub struct Recipe {
     /// The steps, applied in order within each level, coarse levels first.
     #[serde(default, rename = "step")]
     pub steps: Vec<Step>,
+    /// Vertex colours by how far detail moved each vertex (thesis Fig. 5.6: "black coloring
+    /// at the deformed areas"); none by default.
+    #[serde(default)]
+    pub color: Option<ColorSection>,
+}
+
+/// The `[color]` table: each vertex of the result coloured between `rest` and `deformed`
+/// by its displacement from its undeformed position, as a share s of the largest: `rest`
+/// up to s = `from`, `deformed` from s = `to`, linear between.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ColorSection {
+    /// Colour of the vertices moved least (sRGB, 0 to 255).
+    pub rest: [u8; 3],
+    /// Colour of the vertices moved most.
+    pub deformed: [u8; 3],
+    /// Share of the largest displacement up to which a vertex keeps `rest` (default 0).
+    #[serde(default)]
+    pub from: f64,
+    /// Share of the largest displacement from which a vertex is `deformed` (default 1).
+    #[serde(default = "one")]
+    pub to: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+impl ColorSection {
+    fn check(&self) -> std::result::Result<(), String> {
+        if !(0.0..1.0).contains(&self.from) || !(self.from < self.to && self.to <= 1.0) {
+            return Err(format!("color needs 0 <= from < to <= 1 (from = {}, to = {})", self.from, self.to));
+        }
+        Ok(())
+    }
+
+    /// The colour of each vertex of `positions` displaced from `rest`.
+    pub fn colors(&self, positions: &[glam::DVec3], rest: &[glam::DVec3]) -> Vec<[u8; 3]> {
+        let moved: Vec<f64> = positions.iter().zip(rest).map(|(p, r)| p.distance(*r)).collect();
+        let largest = moved.iter().copied().fold(0.0, f64::max);
+        moved
+            .iter()
+            .map(|&d| {
+                let share = if largest > 0.0 { d / largest } else { 0.0 };
+                let t = ((share - self.from) / (self.to - self.from)).clamp(0.0, 1.0);
+                [0, 1, 2].map(|c| {
+                    let (a, b) = (f64::from(self.rest[c]), f64::from(self.deformed[c]));
+                    (a + (b - a) * t).round() as u8
+                })
+            })
+            .collect()
+    }
 }
 
 /// The `[hierarchy]` table.
@@ -605,11 +657,29 @@ impl Recipe {
         for (i, step) in self.steps.iter().enumerate() {
             step.check().map_err(|m| format!("step {} ({:?}): {m}", i + 1, step.op).to_lowercase())?;
         }
-        Ok(())
+        self.color.as_ref().map_or(Ok(()), ColorSection::check)
     }
 }
 
 impl Step {
+    /// Refuses a parameter table the step's operator does not read (a table left at its
+    /// defaults is accepted): a `smooth` table on a noise step would otherwise be ignored.
+    fn check_tables_apply(&self) -> std::result::Result<(), String> {
+        use OperatorKind as Op;
+        let op = self.op;
+        let tables = [
+            ("noise", self.noise != NoiseParams::default(), matches!(op, Op::Noise | Op::Variation | Op::Feature | Op::Organic)),
+            ("geometric", self.geometric != GeometricParams::default(), matches!(op, Op::Taper | Op::Twist)),
+            ("smooth", self.smooth != SmoothParams::default(), op == Op::Smooth),
+            ("subdivide", self.subdivide != SubdivideParams::default(), op == Op::Subdivide),
+            ("organic", self.organic != OrganicParams::default(), op == Op::Organic),
+        ];
+        match tables.iter().find(|(_, given, read)| *given && !read) {
+            Some((name, _, _)) => Err(format!("the {name} table does not apply to op = \"{}\"", format!("{op:?}").to_lowercase())),
+            None => Ok(()),
+        }
+    }
+
     fn check(&self) -> std::result::Result<(), String> {
         let n = &self.noise;
         let finite = [n.amplitude, n.frequency, n.lacunarity, n.gain, n.offset, n.k, n.a, n.f0, n.omega, n.impulses];
@@ -634,6 +704,7 @@ impl Step {
         if self.smooth.iterations > 1000 || self.subdivide.steps > 8 || self.organic.subdivide > 8 {
             return Err("at most 1000 smoothing passes and 8 subdivision steps".into());
         }
+        self.check_tables_apply()?;
         let o = &self.organic;
         if !(o.height.is_finite() && o.bend.is_finite()) || o.rings.iter().chain(&o.widen).any(|w| !w.is_finite()) {
             return Err("organic parameters must be finite".into());
