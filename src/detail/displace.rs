@@ -27,6 +27,9 @@ pub struct LevelNoise {
     field: NoiseField,
     origin: DVec3,
     scale: f64,
+    /// Marble's sine term in radians per unit length along x, when the step sets
+    /// `stripes` (otherwise eq. 4.11's p_x, the noise-space x).
+    stripe_scale: Option<f64>,
 }
 
 impl LevelNoise {
@@ -76,19 +79,26 @@ impl LevelNoise {
         // diagonal, so F0 itself scales the cycles and a the kernel's width, independently
         // (#37: dividing by the step's own F0 cancelled it, leaving only a/F0).
         let scale = if params.kind.is_spectral() { per_unit / REFERENCE_F0 } else { per_unit };
-        Ok(LevelNoise { field, origin: frame.min, scale })
+        let stripe_scale = params.stripes.map(|cycles| std::f64::consts::TAU * cycles / frame.diagonal);
+        Ok(LevelNoise { field, origin: frame.min, scale, stripe_scale })
     }
 
     /// The noise value at `p` with the tangent frame `frame` (Gabor orientation), as a
     /// fraction of the kind's peak ([`NoiseField::unit`]).
     pub fn at(&self, p: DVec3, frame: Frame) -> f64 {
-        self.field.unit(self.field.sample3((p - self.origin) * self.scale, frame))
+        match (&self.field, self.stripe_scale) {
+            (NoiseField::Perlin { fractal: Some(f), .. }, Some(_)) => self.fractal_at(f, p),
+            _ => self.field.unit(self.field.sample3((p - self.origin) * self.scale, frame)),
+        }
     }
 
     /// [`LevelNoise::at`] at many points, through the field's batch form (Perlin and fBm four
     /// points at a time, #42), the same values bit for bit. Only for kinds without an
     /// orientation (the frames are the default).
     pub fn at_batch(&self, points: &[DVec3]) -> Vec<f64> {
+        if let (NoiseField::Perlin { fractal: Some(f), .. }, Some(_)) = (&self.field, self.stripe_scale) {
+            return points.iter().map(|&p| self.fractal_at(f, p)).collect();
+        }
         let local: Vec<DVec3> = points.iter().map(|&p| (p - self.origin) * self.scale).collect();
         self.field.sample3_batch(&local, &[]).into_iter().map(|v| self.field.unit(v)).collect()
     }
@@ -97,13 +107,23 @@ impl LevelNoise {
     /// noise and Gabor noise ignore the shift.
     fn at_shifted(&self, p: DVec3, frame: Frame, lacunarity_shift: f64) -> f64 {
         match &self.field {
-            NoiseField::Perlin { basis, fractal: Some(f) } if lacunarity_shift != 0.0 => {
-                let q = (p - self.origin) * self.scale;
+            NoiseField::Perlin { fractal: Some(f), .. } if lacunarity_shift != 0.0 => {
                 let shifted = Fractal { lacunarity: (f.lacunarity + lacunarity_shift).max(1.0), ..*f };
-                self.field.unit(shifted.eval(q.x, ScaledPerlin { perlin: basis, point: q }))
+                self.fractal_at(&shifted, p)
             }
             _ => self.at(p, frame),
         }
+    }
+
+    /// `fractal` (this field's, or a shifted copy) at `p` as a fraction of its peak, with
+    /// marble's sine term along x at the step's `stripes` when set (eq. 4.11 with its p_x
+    /// measured at its own frequency: the turbulence term 4·T(p/2) has a phase gradient
+    /// several times p_x's at every frequency, so with the literal p_x no stripe forms, #37).
+    fn fractal_at(&self, fractal: &Fractal, p: DVec3) -> f64 {
+        let NoiseField::Perlin { basis, .. } = &self.field else { unreachable!("fractal_at needs a Perlin field") };
+        let q = (p - self.origin) * self.scale;
+        let x = self.stripe_scale.map_or(q.x, |radians| (p.x - self.origin.x) * radians);
+        self.field.unit(fractal.eval(x, ScaledPerlin { perlin: basis, point: q }))
     }
 }
 

@@ -503,6 +503,11 @@ pub struct NoiseParams {
     pub attenuation: Attenuation,
     /// Variation operator: random per-centre shift of lacunarity and amplitude (§5.2.0.1).
     pub shift: Option<f64>,
+    /// Marble only: cycles of eq. 4.11's sine per bounding-box diagonal along x, measured
+    /// apart from `frequency` (which then sets the turbulence's features alone). Unset, the
+    /// sine runs on the noise-space p_x as the equation writes it, whose stripes the
+    /// turbulence term drowns at any frequency.
+    pub stripes: Option<f64>,
 }
 
 impl Default for NoiseParams {
@@ -530,6 +535,7 @@ impl Default for NoiseParams {
             rings: Vec::new(),
             attenuation: Attenuation::InverseDistance,
             shift: None,
+            stripes: None,
         }
     }
 }
@@ -556,6 +562,12 @@ impl NoiseParams {
             }
         if self.kind != NoiseKind::Phasor && self.profile != d.profile {
             return Err(format!("noise profile applies only to kind = \"phasor\", not to \"{kind}\""));
+        }
+        if self.kind != NoiseKind::Marble && self.stripes.is_some() {
+            return Err(format!("noise stripes applies only to kind = \"marble\", not to \"{kind}\""));
+        }
+        if self.stripes.is_some_and(|c| !(c.is_finite() && c > 0.0)) {
+            return Err("noise stripes must be a positive number of cycles per diagonal".into());
         }
         if self.kind != NoiseKind::Multifractal && self.offset != d.offset {
             return Err(format!("noise offset applies only to kind = \"multifractal\", not to \"{kind}\""));
