@@ -990,3 +990,36 @@ fn the_marble_recipe_makes_stripes_along_x_at_its_frequency() {
     println!("displacement along x peaks at {peak} cycles per diagonal (sine: {expected:.2})");
     assert!((peak - expected).abs() <= 0.15 * expected, "peak at {peak}, the sine's frequency {expected:.2}");
 }
+
+#[test]
+fn the_stronger_femur_wearing_wears_one_side_of_the_head_twice_as_deep() {
+    // Thesis Fig. 5.3a: Table 5.1's arguments with the noise influence doubled, focused on
+    // one side of the femur head (#37: no recipe made it).
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("recipes");
+    let run = |name: &str| {
+        let path = dir.join(name);
+        let mesh = recipe_input(&path).unwrap();
+        let r = Recipe::read(&path).unwrap();
+        let out = apply(&mesh, &r, &DetailOptions { simplify: recipe_simplify_options(&r, &mesh), ..Default::default() })
+            .unwrap();
+        let frame = BoxFrame::of(&mesh);
+        // Deepest wear (displacement) in the focused box and beyond its far side, by the
+        // undeformed position normalised to the box.
+        let (mut inside, mut far) = (0.0f64, 0.0f64);
+        for (p, q) in out.result.mesh.positions.iter().zip(&out.rest) {
+            let n = frame.normalise(*q);
+            let moved = p.distance(*q) / frame.diagonal;
+            if n.x <= 0.5 && n.z <= 0.35 {
+                inside = inside.max(moved);
+            } else if n.x > 0.75 || n.z > 0.6 {
+                far = far.max(moved);
+            }
+        }
+        (inside, far)
+    };
+    let (plain_inside, plain_far) = run("femur-wearing.toml");
+    let (strong_inside, strong_far) = run("femur-wearing-strong.toml");
+    println!("deepest wear in the focused region: {plain_inside:.4} vs {strong_inside:.4}; far from it {plain_far:.4} vs {strong_far:.4}");
+    assert!(strong_inside >= 1.5 * plain_inside, "{strong_inside:.4} vs {plain_inside:.4}");
+    assert!(strong_far <= 0.1 * plain_far, "far from the focus: {strong_far:.4} vs {plain_far:.4}");
+}
