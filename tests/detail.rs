@@ -653,7 +653,10 @@ fn wood_rings_never_jump_across_an_edge() {
         }
         let range = offset.iter().copied().fold(f64::MIN, f64::max) - offset.iter().copied().fold(f64::MAX, f64::min);
         eprintln!("wood at frequency {frequency}: largest edge jump {:.2}, range {:.2} of the peak", jump / peak, range / peak);
-        assert!(jump <= 0.7 * peak, "frequency {frequency}: an edge jumps by {:.2} of the peak", jump / peak);
+        // #37: at most 0.45 (a fall of half the peak over one edge reads as a notch; before
+        // the fall was spread and the density measured over an edge: 0.58, 0.51, 0.46,
+        // 0.50, 0.40 at these frequencies; now 0.35, 0.29, 0.42, 0, 0.02).
+        assert!(jump <= 0.45 * peak, "frequency {frequency}: an edge jumps by {:.2} of the peak", jump / peak);
         if frequency <= 2.0 {
             assert!(range >= 0.9 * peak, "frequency {frequency}: rings lost their depth ({:.2})", range / peak);
         }

@@ -14,7 +14,8 @@ use super::recipe::{Attenuation, Direction, NoiseParams, OperatorKind};
 use crate::error::Result;
 use crate::noise::hash::{Stream, derive_seed, hash_coords};
 use crate::noise::{
-    Fractal, FractalKind, Frame, GaborParams, NoiseField, NoiseKind, NoiseSpec, Precision, ScaledPerlin, fill_parallel,
+    Fractal, FractalKind, Frame, GaborParams, NoiseField, NoiseKind, NoiseSpec, Precision, ScaledPerlin, WOOD_RING_FALL,
+    fill_parallel, wood_ring, wood_ring_falling_over,
 };
 
 /// The Gabor frequency F0 at which a step's `frequency` is its cycles per bounding-box
@@ -130,11 +131,14 @@ impl LevelNoise {
 impl LevelNoise {
     /// `value` (this field's unit value at `p`) with wood's rings faded to their mean where
     /// they are denser than a mesh with edges of `edge` can show: kept whole where a ring
-    /// spans eight edges or more (its fall, two), replaced by the mean ½ where it spans
-    /// four or fewer, a smoothstep between. Rings finer than the mesh alias into serrated
-    /// cliffs (#26 B9); this is clamping (Norton, Rockwood & Skolmoski 1982), the ring
-    /// density |∇(10·|F|)| taken from central differences of F. Other kinds are returned
-    /// unchanged.
+    /// spans eight edges or more, replaced by the mean ½ where it spans four or fewer, a
+    /// smoothstep between. Rings finer than the mesh alias into serrated cliffs (#26 B9);
+    /// this is clamping (Norton, Rockwood & Skolmoski 1982), the ring density taken as the
+    /// change of 10·|F| over one edge along each axis. A ring's fall, a quarter of it, is also spread
+    /// over at least [`WOOD_FALL_EDGES`] edges where the ring is narrower than twelve: at
+    /// six to eight edges a quarter is under two, and a fall of half the peak per edge
+    /// reads as a notch (#37: 365 edges of the sphere-wood recipe jumped by more than 0.3
+    /// of the peak). Other kinds are returned unchanged.
     pub fn clamped(&self, value: f64, p: DVec3, edge: f64) -> f64 {
         let NoiseField::Perlin { basis, fractal: Some(f) } = &self.field else { return value };
         if f.kind != FractalKind::Wood || edge.is_nan() || edge <= 0.0 {
@@ -143,15 +147,35 @@ impl LevelNoise {
         let fbm = Fractal { kind: FractalKind::Fbm, ..*f };
         let rings = |q: DVec3| 10.0 * fbm.eval(q.x, ScaledPerlin { perlin: basis, point: q }).abs();
         let q = (p - self.origin) * self.scale;
-        let h = 1e-4;
-        let slope = |axis: DVec3| (rings(q + axis * h) - rings(q - axis * h)) / (2.0 * h);
-        let gradient = DVec3::new(slope(DVec3::X), slope(DVec3::Y), slope(DVec3::Z));
-        let rings_per_edge = gradient.length() * self.scale * edge;
+        let ring = rings(q);
+        // Rings an edge near `p` crosses: per axis the largest change of the ring coordinate
+        // per edge over half an edge, one and two either way (half: the coordinate may rise
+        // and fall back within an edge; two: neighbouring vertices see overlapping windows,
+        // so the fade does not switch within one edge). Not the gradient: at a critical point of F the gradient is
+        // zero while an edge away the rings are dense, and such a vertex kept its whole
+        // ring value among neighbours faded to ½ (#37: edges jumping by half the peak).
+        let h = self.scale * edge;
+        let crossed = |axis: DVec3| {
+            let per_edge = |s: f64| (rings(q + axis * s * h) - ring).abs() / s.abs().max(1.0);
+            [0.5, -0.5, 1.0, -1.0, 2.0, -2.0].into_iter().map(per_edge).fold(0.0, f64::max)
+        };
+        let rings_per_edge = DVec3::new(crossed(DVec3::X), crossed(DVec3::Y), crossed(DVec3::Z)).length();
+        let fall = (WOOD_FALL_EDGES * rings_per_edge).min(0.5);
+        // Only this field's own ring is re-profiled (a variation step's shifted lacunarity
+        // gives another value, kept as it is).
+        let value = if fall > WOOD_RING_FALL && (value - wood_ring(ring)).abs() <= 1e-12 {
+            wood_ring_falling_over(ring, fall)
+        } else {
+            value
+        };
         let t = ((rings_per_edge - 1.0 / 8.0) * 8.0).clamp(0.0, 1.0);
         let shown = 1.0 - t * t * (3.0 - 2.0 * t);
         shown * value + (1.0 - shown) * 0.5
     }
 }
+
+/// The fewest edges a wood ring's fall spans in a detail step ([`LevelNoise::clamped`]).
+pub const WOOD_FALL_EDGES: f64 = 3.0;
 
 fn fractal_kind(kind: NoiseKind) -> FractalKind {
     match kind {

@@ -34,9 +34,14 @@ pub const WOOD_RING_FALL: f64 = 0.25;
 /// a mesh samples each jump as a one-edge cliff whose outline follows the edges (the
 /// "staircase of cliffs" of #26 B9); the fall keeps the rings' asymmetric grain.
 pub fn wood_ring(v: f64) -> f64 {
+    wood_ring_falling_over(v, WOOD_RING_FALL)
+}
+
+/// [`wood_ring`] with the fall spread over the share `fall` of each ring (in (0, 1)).
+pub fn wood_ring_falling_over(v: f64, fall: f64) -> f64 {
     let t = v - v.trunc();
-    let rise = 1.0 - WOOD_RING_FALL;
-    if t < rise { t / rise } else { (1.0 - t) / WOOD_RING_FALL }
+    let rise = 1.0 - fall;
+    if t < rise { t / rise } else { (1.0 - t) / fall }
 }
 
 /// Octave parameters. Thesis defaults: lacunarity 2.0, gain 0.5 (its inverse), offset 1.0.

@@ -20,7 +20,7 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-pub use fractal::{Basis, Fractal, FractalKind, ScaledPerlin, WOOD_RING_FALL, wood_ring};
+pub use fractal::{Basis, Fractal, FractalKind, ScaledPerlin, WOOD_RING_FALL, wood_ring, wood_ring_falling_over};
 pub use gabor::{Frame, Gabor, GaborParams, MAX_IMPULSES_PER_KERNEL};
 pub use perlin::{PERLIN_PEAK, Perlin, plane_point};
 pub use phasor::{Phasor, Profile};
