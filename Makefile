@@ -1,7 +1,7 @@
 # asperity — the two commands: `make demo` and `make test`.
 CARGO ?= cargo
 
-.PHONY: all deps build demo test clippy doc bench clean install-cpp fuzz sanitize python python-test
+.PHONY: all deps build demo figures test clippy doc bench clean install-cpp fuzz sanitize python python-test
 
 all: build
 
@@ -15,6 +15,10 @@ build: deps
 # The main job on built-in inputs: meshes and previews under out/.
 demo: build
 	./target/release/asperity demo --out out
+
+# The thesis' figures as we reproduce them, with the thesis' captions (docs/figures.md).
+figures: build
+	./scripts/figures.sh
 
 test: deps
 	@./scripts/install-deps.sh --test

@@ -94,3 +94,18 @@ fn readme_console_examples_print_what_the_commands_print() {
         }
     }
 }
+
+#[test]
+fn the_figure_sheet_shows_every_shipped_recipe() {
+    // docs/figures.md (scripts/figures.sh --docs) pairs each thesis figure with its recipe
+    // (#37): a recipe added to recipes/ must be added to the sheet too.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let sheet = std::fs::read_to_string(root.join("docs/figures.md")).unwrap();
+    let script = std::fs::read_to_string(root.join("scripts/figures.sh")).unwrap();
+    for entry in std::fs::read_dir(root.join("recipes")).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_stem().unwrap().to_string_lossy().to_string();
+        assert!(sheet.contains(&format!("`recipes/{name}.toml`")), "docs/figures.md lacks {name}: run scripts/figures.sh --docs");
+        assert!(script.contains(&format!("|{name}|")), "scripts/figures.sh lacks {name}");
+    }
+}

@@ -479,8 +479,9 @@ impl Demo {
             let options = DetailOptions { simplify, no_self_intersections: true, ..DetailOptions::default() };
             let outcome = self.ctx.spin("detail", name, || detail::apply(&mesh, &recipe, &options))?;
             self.mesh(&outcome.result.mesh, &format!("detail-{name}.ply"))?;
+            // The result in its recipe's colours where it has a [color] table (Fig. 5.6).
             let views =
-                [&mesh, &outcome.result.mesh].map(|m| view(m, PANEL, up, ColorSource::None, Mode::Faces, false));
+                [&mesh, &outcome.result.mesh].map(|m| view(m, PANEL, up, ColorSource::Attribute, Mode::Faces, false));
             let views: Vec<Picture> = views.into_iter().collect::<Result<_>>()?;
             self.picture(&Picture::side_by_side(&views, 8, WHITE)?, &format!("detail-{name}.png"))?;
             let touched: usize = outcome.steps.iter().map(|s| s.touched).sum();
