@@ -1050,3 +1050,88 @@ fn the_fandisk_erosion_recipe_wears_its_creases_visibly() {
     println!("crease vertices moved by {:.3} % of the diagonal on average", 100.0 * mean);
     assert!(mean >= 0.003, "creases moved by {:.3} % of the diagonal", 100.0 * mean);
 }
+
+/// The result's positions (by id, so a subdivision's extra vertices count too) of one
+/// step on a small torus at its finest level after `setup` (noised regions, say).
+fn one_step_result(step: &str) -> Vec<DVec3> {
+    let text = format!("seed = 4\n[hierarchy]\ntarget_vertices = \"40%\"\n{step}");
+    let r = Recipe::parse(&text).unwrap_or_else(|e| panic!("{step}: {e:?}"));
+    let mesh = torus(1.0, 0.35, 32, 16);
+    let options = DetailOptions {
+        simplify: recipe_simplify_options(&r, &mesh),
+        no_self_intersections: false,
+        ..Default::default()
+    };
+    let out = apply(&mesh, &r, &options).unwrap_or_else(|e| panic!("{step}: {e}"));
+    let mut by_id: Vec<(u32, DVec3)> = out.result.ids.iter().copied().zip(out.result.mesh.positions.iter().copied()).collect();
+    by_id.sort_by_key(|(id, _)| *id);
+    by_id.into_iter().map(|(_, p)| p).collect()
+}
+
+#[test]
+fn no_operator_or_noise_parameter_is_without_effect() {
+    // #37: "no parameter of any operator or noise kind is without effect". Each case is a
+    // step and the same step with one parameter changed; the results must differ.
+    let noise = |params: &str| format!("[[step]]\nop = \"noise\"\nlevel = -2\nnoise = {{ {params} }}\n");
+    let organic = |params: &str| {
+        format!("[[step]]\nop = \"organic\"\nselect = {{ independent = {{ exclusion = 3 }} }}\norganic = {{ {params} }}\nnoise = {{ kind = \"perlin\", attenuate = false }}\n")
+    };
+    let geometric = |op: &str, params: &str| {
+        format!("[[step]]\nop = \"{op}\"\nselect = {{ half_space = {{ axis = \"z\", above = 0.3 }} }}\ngeometric = {{ {params} }}\n")
+    };
+    let two_steps = |params: &str| {
+        format!("[[step]]\nop = \"noise\"\nlevel = -2\nselect = {{ half_space = {{ axis = \"x\", below = 0.5 }} }}\n[[step]]\nop = \"noise\"\nnoise = {{ {params} }}\n")
+    };
+    let cases: Vec<(String, String)> = vec![
+        (noise("kind = \"fbm\""), noise("kind = \"fbm\", amplitude = 0.02")),
+        (noise("kind = \"fbm\""), noise("kind = \"fbm\", frequency = 4.0")),
+        (noise("kind = \"fbm\""), noise("kind = \"fbm\", octaves = 2")),
+        (noise("kind = \"fbm\""), noise("kind = \"fbm\", lacunarity = 2.5")),
+        (noise("kind = \"fbm\""), noise("kind = \"fbm\", gain = 0.7")),
+        (noise("kind = \"fbm\""), noise("kind = \"fbm\", direction = \"inward\"")),
+        (noise("kind = \"fbm\""), noise("kind = \"fbm\", direction = \"diffusion\"")),
+        (noise("kind = \"fbm\""), noise("kind = \"fbm\", direction = \"normal_cross_diffusion\"")),
+        (noise("kind = \"fbm\""), noise("kind = \"fbm\", attenuate = false")),
+        (noise("kind = \"fbm\""), noise("kind = \"fbm\", attenuate = \"vertex\"")),
+        (noise("kind = \"fbm\""), noise("kind = \"fbm\", modulate = true")),
+        (noise("kind = \"fbm\""), noise("kind = \"fbm\", shift = 0.5")),
+        (noise("kind = \"perlin\""), noise("kind = \"turbulence\"")),
+        (noise("kind = \"marble\""), noise("kind = \"marble\", stripes = 3.0")),
+        (noise("kind = \"multifractal\""), noise("kind = \"multifractal\", offset = 0.8")),
+        // Wood's octaves past what the mesh can show fade with its rings (clamping): one
+        // against two at a low frequency, where the second is still coarse enough.
+        (noise("kind = \"wood\", frequency = 0.25, octaves = 1"), noise("kind = \"wood\", frequency = 0.25, octaves = 2")),
+        (noise("kind = \"gabor\""), noise("kind = \"gabor\", follow_diffusion = false")),
+        (noise("kind = \"phasor\""), noise("kind = \"phasor\", profile = \"square\"")),
+        (two_steps("kind = \"fbm\""), two_steps("kind = \"fbm\", accumulate = true")),
+        (
+            format!("[[step]]\nop = \"noise\"\nselect = {{ around = {{ vertices = [5] }} }}\nnoise = {{ kind = \"fbm\", rings = [{{ influence = 0.5 }}] }}\n"),
+            format!("[[step]]\nop = \"noise\"\nselect = {{ around = {{ vertices = [5] }} }}\nnoise = {{ kind = \"fbm\", rings = [{{ influence = 0.9 }}] }}\n"),
+        ),
+        (
+            format!("[[step]]\nop = \"noise\"\nselect = {{ around = {{ vertices = [5] }} }}\nnoise = {{ kind = \"fbm\", rings = [{{ influence = 0.5 }}] }}\n"),
+            format!("[[step]]\nop = \"noise\"\nselect = {{ around = {{ vertices = [5] }} }}\nnoise = {{ kind = \"fbm\", rings = [{{ influence = 0.5 }}], attenuation = \"none\" }}\n"),
+        ),
+        (organic("height = 0.05"), organic("height = 0.08")),
+        (organic("bend = 0.0"), organic("bend = 0.5")),
+        (organic("rings = [1.0, 0.6]"), organic("rings = [1.0, 0.9]")),
+        (organic("widen = []"), organic("widen = [0.0, 0.5]")),
+        (organic("subdivide = 0"), organic("subdivide = 1")),
+        (geometric("taper", "axis = \"z\""), geometric("taper", "axis = \"x\"")),
+        (geometric("taper", "axis = \"z\""), geometric("taper", "axis = \"z\", scale = 3.0")),
+        (geometric("taper", "axis = \"z\""), geometric("taper", "axis = \"z\", normalize = false")),
+        (geometric("taper", "axis = \"z\""), geometric("taper", "axis = \"z\", offset = 0.2")),
+        (geometric("twist", "axis = \"z\""), geometric("twist", "axis = \"z\", scale = 30.0")),
+        ("[[step]]\nop = \"noise\"\n[[step]]\nop = \"smooth\"\nsmooth = { iterations = 1 }\n".into(),
+         "[[step]]\nop = \"noise\"\n[[step]]\nop = \"smooth\"\nsmooth = { iterations = 3 }\n".into()),
+        ("[[step]]\nop = \"subdivide\"\nselect = { around = { vertices = [5] } }\nsubdivide = { steps = 1 }\n[[step]]\nop = \"noise\"\n".into(),
+         "[[step]]\nop = \"subdivide\"\nselect = { around = { vertices = [5] } }\nsubdivide = { steps = 2 }\n[[step]]\nop = \"noise\"\n".into()),
+    ];
+    let mut dead = Vec::new();
+    for (base, changed) in &cases {
+        if one_step_result(base) == one_step_result(changed) {
+            dead.push(format!("no effect:\n{base}--- vs ---\n{changed}"));
+        }
+    }
+    assert!(dead.is_empty(), "{}", dead.join("\n\n"));
+}
