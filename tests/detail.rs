@@ -846,7 +846,7 @@ fn fine_roughness(out: &asperity::detail::DetailOutcome, left: bool) -> f64 {
     let (lo, hi) = out.rest.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| (lo.min(p.x), hi.max(p.x)));
     let middle = 0.5 * (lo + hi);
     let (mut sum, mut count) = (0.0, 0usize);
-    for v in 0..mesh.vertex_count() {
+    for (v, normal) in normals.iter().enumerate() {
         if (out.rest[v].x < middle) != left {
             continue;
         }
@@ -854,7 +854,7 @@ fn fine_roughness(out: &asperity::detail::DetailOutcome, left: bool) -> f64 {
         let p = mesh.positions[v];
         let mean = ring.iter().map(|&u| mesh.positions[u as usize]).sum::<DVec3>() / ring.len() as f64;
         let edge = ring.iter().map(|&u| mesh.positions[u as usize].distance(p)).sum::<f64>() / ring.len() as f64;
-        let along = (mean - p).dot(normals[v]) / edge;
+        let along = (mean - p).dot(*normal) / edge;
         sum += along * along;
         count += 1;
     }
@@ -1079,6 +1079,9 @@ fn no_operator_or_noise_parameter_is_without_effect() {
     let geometric = |op: &str, params: &str| {
         format!("[[step]]\nop = \"{op}\"\nselect = {{ half_space = {{ axis = \"z\", above = 0.3 }} }}\ngeometric = {{ {params} }}\n")
     };
+    let around = |params: &str| {
+        format!("[[step]]\nop = \"noise\"\nselect = {{ around = {{ vertices = [5] }} }}\nnoise = {{ kind = \"fbm\", {params} }}\n")
+    };
     let two_steps = |params: &str| {
         format!("[[step]]\nop = \"noise\"\nlevel = -2\nselect = {{ half_space = {{ axis = \"x\", below = 0.5 }} }}\n[[step]]\nop = \"noise\"\nnoise = {{ {params} }}\n")
     };
@@ -1104,14 +1107,8 @@ fn no_operator_or_noise_parameter_is_without_effect() {
         (noise("kind = \"gabor\""), noise("kind = \"gabor\", follow_diffusion = false")),
         (noise("kind = \"phasor\""), noise("kind = \"phasor\", profile = \"square\"")),
         (two_steps("kind = \"fbm\""), two_steps("kind = \"fbm\", accumulate = true")),
-        (
-            format!("[[step]]\nop = \"noise\"\nselect = {{ around = {{ vertices = [5] }} }}\nnoise = {{ kind = \"fbm\", rings = [{{ influence = 0.5 }}] }}\n"),
-            format!("[[step]]\nop = \"noise\"\nselect = {{ around = {{ vertices = [5] }} }}\nnoise = {{ kind = \"fbm\", rings = [{{ influence = 0.9 }}] }}\n"),
-        ),
-        (
-            format!("[[step]]\nop = \"noise\"\nselect = {{ around = {{ vertices = [5] }} }}\nnoise = {{ kind = \"fbm\", rings = [{{ influence = 0.5 }}] }}\n"),
-            format!("[[step]]\nop = \"noise\"\nselect = {{ around = {{ vertices = [5] }} }}\nnoise = {{ kind = \"fbm\", rings = [{{ influence = 0.5 }}], attenuation = \"none\" }}\n"),
-        ),
+        (around("rings = [{ influence = 0.5 }]"), around("rings = [{ influence = 0.9 }]")),
+        (around("rings = [{ influence = 0.5 }]"), around("rings = [{ influence = 0.5 }], attenuation = \"none\"")),
         (organic("height = 0.05"), organic("height = 0.08")),
         (organic("bend = 0.0"), organic("bend = 0.5")),
         (organic("rings = [1.0, 0.6]"), organic("rings = [1.0, 0.9]")),

@@ -54,7 +54,7 @@ fn one() -> f64 {
 
 impl ColorSection {
     fn check(&self) -> std::result::Result<(), String> {
-        if !(0.0..1.0).contains(&self.from) || !(self.from < self.to && self.to <= 1.0) {
+        if !((0.0..1.0).contains(&self.from) && self.from < self.to && self.to <= 1.0) {
             return Err(format!("color needs 0 <= from < to <= 1 (from = {}, to = {})", self.from, self.to));
         }
         Ok(())
