@@ -36,11 +36,13 @@ mod bridge {
         seconds: f64,
     }
 
-    /// A result mesh with its report.
+    /// A result mesh with its report, and vertex colours (r g b per vertex) where the
+    /// result has them (a detail recipe's `[color]` table), else empty.
     #[derive(Debug, Default)]
     struct Outcome {
         mesh: MeshArrays,
         report: Report,
+        colors: Vec<u8>,
     }
 
     /// A hierarchy level's mesh, or a refinement's: the input vertex id of each vertex, and

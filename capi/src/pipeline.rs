@@ -24,7 +24,8 @@ pub fn keep_features_of(name: &str) -> asperity::Result<KeepFeatures> {
 }
 
 fn outcome(mesh: &Mesh, report: Report) -> Outcome {
-    Outcome { mesh: arrays_of(mesh), report }
+    let colors = mesh.colors.iter().flatten().flatten().copied().collect();
+    Outcome { mesh: arrays_of(mesh), report, colors }
 }
 
 pub fn simplify(

@@ -20,6 +20,8 @@
 #include <string>
 #include <vector>
 
+#include <OpenMesh/Core/Utils/color_cast.hh>
+
 #include "asperity/analysis.hpp"
 #include "asperity/errors.hpp"
 #include "asperity/hierarchy.hpp"
@@ -40,6 +42,15 @@ Report run_in_place(Mesh& mesh, Call&& bridge_call) {
   to_arrays(mesh, p, t);
   auto out = call([&] { return bridge_call(slice(p), slice(t)); });
   from_arrays(mesh, out.mesh);
+  // Vertex colours the result has (a detail recipe's [color] table) are requested and set.
+  if (!out.colors.empty() && out.colors.size() == 3 * mesh.n_vertices()) {
+    mesh.request_vertex_colors();
+    for (auto v : mesh.vertices()) {
+      const auto i = 3 * std::size_t(v.idx());
+      mesh.set_color(v, OpenMesh::color_cast<typename Mesh::Color>(
+                            OpenMesh::Vec3uc(out.colors[i], out.colors[i + 1], out.colors[i + 2])));
+    }
+  }
   return out.report;
 }
 
@@ -73,7 +84,8 @@ std::string repair(Mesh& mesh) {
   return std::string(out.report);
 }
 
-/// Applies a detail recipe (TOML text; see docs/recipes.md) to `mesh` in place.
+/// Applies a detail recipe (TOML text; see docs/recipes.md) to `mesh` in place; a recipe
+/// with a `[color]` table also requests and sets the mesh's vertex colours.
 template <class Mesh>
 Report detail(Mesh& mesh, const std::string& recipe_toml, bool no_self_intersections = false) {
   return impl::run_in_place(mesh, [&](auto positions, auto triangles) {

@@ -28,6 +28,10 @@ using Mesh = OpenMesh::TriMesh_ArrayKernelT<>;
 static const char* RECIPE = R"(
 seed = 11
 
+[color]
+rest = [200, 190, 180]
+deformed = [20, 20, 20]
+
 [[step]]
 op = "variation"
 level = 1
@@ -263,6 +267,7 @@ static void recipe_and_terrain(const Mesh& input, const std::string& out) {
   const double moved = largest_move(input, detailed);
   std::cout << "detail: " << r.output_vertices << " vertices over " << r.levels << " levels, largest move " << moved << "\n";
   expect(detailed.n_vertices() == input.n_vertices() && moved > 1e-4 && std::isfinite(moved), "the recipe moved the mesh");
+  expect(detailed.has_vertex_colors(), "the recipe's [color] table coloured the vertices");
   write(detailed, out + "/cpp-detail.off");
 
   asperity::TerrainOptions land_options;

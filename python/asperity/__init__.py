@@ -325,10 +325,12 @@ def detail(
     levels and refines back to full resolution. ``recipe`` is a recipe's TOML text or the
     same as a dict (``{"seed": 3, "step": [{"op": "noise", ...}]}``); without one this is
     the round trip. Options are ``detail``'s (``allow_self_intersections``, the
-    hierarchy's). Returns the mesh and the report."""
+    hierarchy's). Returns the mesh (with ``attributes["colors"]`` when the recipe has a
+    ``[color]`` table) and the report."""
     text, is_json = _recipe_text(recipe)
-    positions, triangles, report = _native.detail(*_arrays(mesh), text, is_json, _flags(options), progress)
-    return Mesh(positions, triangles), json.loads(report)
+    positions, triangles, colors, report = _native.detail(*_arrays(mesh), text, is_json, _flags(options), progress)
+    attributes = {} if colors is None else {"colors": colors}
+    return Mesh(positions, triangles, attributes), json.loads(report)
 
 
 def compare(

@@ -368,7 +368,8 @@ impl Hierarchy {
     }
 }
 
-/// `asperity detail`: the refined mesh (positions, triangles) and the report as JSON.
+/// `asperity detail`: the refined mesh (positions, triangles, the recipe's vertex colours
+/// when it has a `[color]` table) and the report as JSON.
 #[pyfunction]
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
 fn detail<'py>(
@@ -379,7 +380,7 @@ fn detail<'py>(
     recipe_is_json: bool,
     flags: Vec<String>,
     progress: bool,
-) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>, String)> {
+) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>, Option<Bound<'py, PyArray2<u8>>>, String)> {
     let args: cli::detail::DetailArgs = parse("detail", &["<array>", "-o", "<array>.ply"], flags, &["--recipe"])?;
     // A recipe given as a dict arrives as JSON and is read as the TOML it stands for.
     let text = if recipe_is_json {
@@ -410,7 +411,8 @@ fn detail<'py>(
         });
         Ok((outcome.result.mesh, report))
     })?;
-    Ok((positions_array(py, mesh.positions), triangles_array(py, mesh.triangles), report.to_string()))
+    let colors = mesh.colors.map(|c| arrays::colors_array(py, c));
+    Ok((positions_array(py, mesh.positions), triangles_array(py, mesh.triangles), colors, report.to_string()))
 }
 
 /// The symmetric Hausdorff distance between two meshes (CGAL), as a share of the first's

@@ -202,6 +202,13 @@ def test_detail_takes_a_recipe_as_toml_or_dict():
     assert report["output_vertices"] == len(positions) and report["steps"][0]["op"] == "noise"
     same, _ = asperity.detail((positions, triangles))
     assert faces_as_set(same.positions, same.triangles) == faces_as_set(positions, triangles)
+    assert "colors" not in a.attributes
+    # A recipe's [color] table comes back as vertex colours (Fig. 5.6).
+    coloured = dict(as_dict, color={"rest": [200, 190, 180], "deformed": [10, 10, 10]})
+    c, _ = asperity.detail((positions, triangles), coloured)
+    colors = c.attributes["colors"]
+    assert colors.shape == (len(c.positions), 3) and colors.dtype == np.uint8
+    assert tuple(colors.min(axis=0)) == (10, 10, 10) and (colors <= [200, 190, 180]).all()
 
 
 def test_terrain_noise_render_clouds_compare_repair():
