@@ -135,7 +135,7 @@ impl LevelNoise {
     /// smoothstep between. Rings finer than the mesh alias into serrated cliffs (#26 B9);
     /// this is clamping (Norton, Rockwood & Skolmoski 1982), the ring density taken as the
     /// change of 10·|F| over one edge along each axis. A ring's fall, a quarter of it, is also spread
-    /// over at least [`WOOD_FALL_EDGES`] edges where the ring is narrower than twelve: at
+    /// over at least three edges (`WOOD_FALL_EDGES`) where the ring is narrower than twelve: at
     /// six to eight edges a quarter is under two, and a fall of half the peak per edge
     /// reads as a notch (#37: 365 edges of the sphere-wood recipe jumped by more than 0.3
     /// of the peak). Other kinds are returned unchanged.
