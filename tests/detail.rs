@@ -60,6 +60,17 @@ fn recipe_simplify_options(recipe: &Recipe, mesh: &Mesh) -> SimplifyOptions {
     }
 }
 
+/// A shipped recipe (`recipes/NAME`) run on the mesh its first line names, with its own
+/// hierarchy options and self-intersections damped: the input, the recipe and the outcome.
+fn run_shipped(name: &str) -> (Mesh, Recipe, asperity::detail::DetailOutcome) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("recipes").join(name);
+    let mesh = recipe_input(&path).unwrap();
+    let r = Recipe::read(&path).unwrap();
+    let options = DetailOptions { simplify: recipe_simplify_options(&r, &mesh), ..Default::default() };
+    let out = apply(&mesh, &r, &options).unwrap_or_else(|e| panic!("{name}: {e}"));
+    (mesh, r, out)
+}
+
 fn recipes() -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("recipes"))
         .unwrap()
@@ -866,11 +877,7 @@ fn torus_variation_keeps_the_fine_turbulence_off_the_half_noised_at_a_coarse_lev
     // Thesis Fig. 5.1: the coarse variation's half is "noised", so the fine step, which
     // applies only where nothing was noised, leaves it smooth (#37: the coarse marks
     // dissolved among the vertices refinement inserted, and both halves came out alike).
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("recipes/torus-variation.toml");
-    let mesh = recipe_input(&path).unwrap();
-    let r = Recipe::read(&path).unwrap();
-    let options = DetailOptions { simplify: recipe_simplify_options(&r, &mesh), ..Default::default() };
-    let out = apply(&mesh, &r, &options).unwrap();
+    let (_, _, out) = run_shipped("torus-variation.toml");
     let (varied, turbulent) = (fine_roughness(&out, true), fine_roughness(&out, false));
     println!("fine roughness: varied half {varied:.5}, turbulent half {turbulent:.5}");
     assert!(turbulent >= 2.0 * varied, "varied half {varied:.5}, turbulent half {turbulent:.5}");
@@ -927,11 +934,7 @@ fn the_virus_recipe_grows_smooth_extensions_coloured_where_deformed() {
     // Thesis Figs. 5.5-5.6: smooth organic extensions, black where deformed (#37: the
     // recipe made faceted pyramids over the whole sphere, neighbouring faces up to 153°
     // apart, and no colour).
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("recipes/sphere-virus.toml");
-    let mesh = recipe_input(&path).unwrap();
-    let r = Recipe::read(&path).unwrap();
-    let options = DetailOptions { simplify: recipe_simplify_options(&r, &mesh), ..Default::default() };
-    let out = apply(&mesh, &r, &options).unwrap();
+    let (_, r, out) = run_shipped("sphere-virus.toml");
     let result = &out.result.mesh;
     let faces = analysis::FaceGeometry::of(result);
     let adjacency = asperity::mesh::Adjacency::of(result);
@@ -966,13 +969,9 @@ fn the_marble_recipe_makes_stripes_along_x_at_its_frequency() {
     // Thesis Fig. 4.23: marble veins across the sphere. The displacement along the normal,
     // seen as a signal over x, must peak at the sine's frequency (#37: with eq. 4.11's
     // literal p_x the turbulence term drowned the sine: a smooth blotch, no stripes).
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("recipes/sphere-marble.toml");
-    let mesh = recipe_input(&path).unwrap();
-    let r = Recipe::read(&path).unwrap();
+    let (mesh, r, out) = run_shipped("sphere-marble.toml");
     let noise = &r.steps[0].noise;
     let expected = noise.stripes.unwrap_or(noise.frequency / std::f64::consts::TAU);
-    let out = apply(&mesh, &r, &DetailOptions { simplify: recipe_simplify_options(&r, &mesh), ..Default::default() })
-        .unwrap();
     let frame = BoxFrame::of(&mesh);
     let along: Vec<f64> =
         out.result.mesh.positions.iter().zip(&out.rest).map(|(p, q)| (*p - *q).dot(q.normalize())).collect();
@@ -998,13 +997,8 @@ fn the_marble_recipe_makes_stripes_along_x_at_its_frequency() {
 fn the_stronger_femur_wearing_wears_one_side_of_the_head_twice_as_deep() {
     // Thesis Fig. 5.3a: Table 5.1's arguments with the noise influence doubled, focused on
     // one side of the femur head (#37: no recipe made it).
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("recipes");
     let run = |name: &str| {
-        let path = dir.join(name);
-        let mesh = recipe_input(&path).unwrap();
-        let r = Recipe::read(&path).unwrap();
-        let out = apply(&mesh, &r, &DetailOptions { simplify: recipe_simplify_options(&r, &mesh), ..Default::default() })
-            .unwrap();
+        let (mesh, _, out) = run_shipped(name);
         let frame = BoxFrame::of(&mesh);
         // Deepest wear (displacement) in the focused box and beyond its far side, by the
         // undeformed position normalised to the box.
@@ -1032,11 +1026,7 @@ fn the_fandisk_erosion_recipe_wears_its_creases_visibly() {
     // Thesis Fig. 4.28: erosion across the fandisk's feature lines (#37: the recipe moved
     // its crease vertices by 0.096 % of the diagonal on average: wavy, hardly eroded; now
     // 0.42 %).
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("recipes/fandisk-erosion.toml");
-    let mesh = recipe_input(&path).unwrap();
-    let r = Recipe::read(&path).unwrap();
-    let out = apply(&mesh, &r, &DetailOptions { simplify: recipe_simplify_options(&r, &mesh), ..Default::default() })
-        .unwrap();
+    let (mesh, _, out) = run_shipped("fandisk-erosion.toml");
     let classes = analysis::analyze(&mesh, &analysis::AnalysisOptions::default()).unwrap().classes;
     let diagonal = BoxFrame::of(&mesh).diagonal;
     let (mut crease, mut count) = (0.0, 0);

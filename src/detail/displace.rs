@@ -134,11 +134,11 @@ impl LevelNoise {
     /// spans eight edges or more, replaced by the mean ½ where it spans four or fewer, a
     /// smoothstep between. Rings finer than the mesh alias into serrated cliffs (#26 B9);
     /// this is clamping (Norton, Rockwood & Skolmoski 1982), the ring density taken as the
-    /// change of 10·|F| over one edge along each axis. A ring's fall, a quarter of it, is also spread
-    /// over at least three edges (`WOOD_FALL_EDGES`) where the ring is narrower than twelve: at
-    /// six to eight edges a quarter is under two, and a fall of half the peak per edge
-    /// reads as a notch (#37: 365 edges of the sphere-wood recipe jumped by more than 0.3
-    /// of the peak). Other kinds are returned unchanged.
+    /// change of 10·|F| per edge over half an edge to two along each axis. A ring's fall, a
+    /// quarter of it, is also spread over at least three edges (`WOOD_FALL_EDGES`) where
+    /// the ring is narrower than twelve: at six to eight edges a quarter is under two, and
+    /// a fall of half the peak per edge reads as a notch (#37: 365 edges of the sphere-wood
+    /// recipe jumped by more than 0.3 of the peak). Other kinds are returned unchanged.
     pub fn clamped(&self, value: f64, p: DVec3, edge: f64) -> f64 {
         let NoiseField::Perlin { basis, fractal: Some(f) } = &self.field else { return value };
         if f.kind != FractalKind::Wood || edge.is_nan() || edge <= 0.0 {
@@ -151,9 +151,10 @@ impl LevelNoise {
         // Rings an edge near `p` crosses: per axis the largest change of the ring coordinate
         // per edge over half an edge, one and two either way (half: the coordinate may rise
         // and fall back within an edge; two: neighbouring vertices see overlapping windows,
-        // so the fade does not switch within one edge). Not the gradient: at a critical point of F the gradient is
-        // zero while an edge away the rings are dense, and such a vertex kept its whole
-        // ring value among neighbours faded to ½ (#37: edges jumping by half the peak).
+        // so the fade does not switch within one edge). Not the gradient: at a critical
+        // point of F it is zero while an edge away the rings are dense, and such a vertex
+        // kept its whole ring value among neighbours faded to ½ (#37: edges jumping by half
+        // the peak).
         let h = self.scale * edge;
         let crossed = |axis: DVec3| {
             let per_edge = |s: f64| (rings(q + axis * s * h) - ring).abs() / s.abs().max(1.0);

@@ -54,14 +54,13 @@ pub fn organic_displacements(
     let positions = &view.mesh.positions;
     Ok((0..n)
         .filter_map(|v| {
-            let (ring, centre) = reach[v]?;
+            let (ring, centre) = reach[v].filter(|_| free(v))?;
             let grown = positions[v] + growth[centre] * params.rings[ring];
-            let widen = params.widen.get(ring).copied().unwrap_or(0.0);
-            let moved = match widen {
+            let moved = match params.widen.get(ring).copied().unwrap_or(0.0) {
                 0.0 => grown,
                 w => grown + outward(positions[v] - positions[centre], growth[centre]) * w * wobble(&field, v, view),
             };
-            free(v).then_some((v, moved))
+            Some((v, moved))
         })
         .collect())
 }
