@@ -1091,8 +1091,10 @@ fn no_operator_or_noise_parameter_is_without_effect() {
         (noise("kind = \"perlin\""), noise("kind = \"turbulence\"")),
         (noise("kind = \"marble\""), noise("kind = \"marble\", stripes = 3.0")),
         (noise("kind = \"multifractal\""), noise("kind = \"multifractal\", offset = 0.8")),
-        // Wood's octaves past what the mesh can show fade with its rings (clamping): one
-        // against two at a low frequency, where the second is still coarse enough.
+        // Wood's rings are ten times denser than its lattice cells and, at the default gain
+        // and lacunarity, each octave adds as much ring density as the first: on this
+        // coarse level four octaves (or two) make rings finer than the mesh, which the
+        // clamp fades to their mean. One octave against two shows the parameter acting.
         (noise("kind = \"wood\", frequency = 0.25, octaves = 1"), noise("kind = \"wood\", frequency = 0.25, octaves = 2")),
         (noise("kind = \"gabor\""), noise("kind = \"gabor\", follow_diffusion = false")),
         (noise("kind = \"phasor\""), noise("kind = \"phasor\", profile = \"square\"")),
