@@ -17,7 +17,7 @@ FIGURES=(
   "5.1|torus-variation|multiscale variation: the fine turbulence only where nothing was noised before|fine roughness 0.119 on the turbulent half, 0.044 on the varied one (torus_variation_keeps_the_fine_turbulence_off_the_half_noised_at_a_coarse_level)"
   "5.2|femur-wearing|\"Wearing simulation, using Perlin noise to represent fraying or local damage\" (Gabor, Table 5.1)|Table 5.1 per-ring influence (propagation_follows_table_5_1_influence_per_ring)"
   "5.3a|femur-wearing-strong|\"Femur with a more intense erosion on the left side\" (\"the noise influence by a factor of two\")|deepest wear twice femur-wearing's in the focus, none far from it (the_stronger_femur_wearing_wears_one_side_of_the_head_twice_as_deep)"
-  "5.5–5.6|sphere-virus|\"Virus looking surface with black coloring at the deformed areas\"|neighbouring faces at most 67° apart, black at the most displaced vertex (the_virus_recipe_grows_smooth_extensions_coloured_where_deformed)"
+  "5.5–5.6|sphere-virus|\"Virus looking surface with black coloring at the deformed areas\"|neighbouring faces at most 67.3° apart (the test allows 75°; the old recipe 153°), black at the most displaced vertex (the_virus_recipe_grows_smooth_extensions_coloured_where_deformed)"
   "5.7|mushroom-planet|\"a wide area at the top of the hill\": mushroom caps on stems|a cap's rim 1.14× its stem's distance from the axis (organic_widening_puts_a_cap_wider_than_its_stem)"
 )
 
