@@ -34,7 +34,7 @@ pub use subdivide::{Subdivision, subdivide_around};
 
 use crate::analysis::{AnalysisOptions, FeatureClass, analyze};
 use crate::error::{Error, Result};
-use crate::hierarchy::{Hierarchy, LevelMesh, Refiner, SimplifyOptions, build};
+use crate::hierarchy::{Hierarchy, LevelMesh, Refiner, Removal, SimplifyOptions, build};
 use crate::mesh::Mesh;
 use crate::noise::hash::derive_seed;
 
@@ -242,10 +242,11 @@ pub fn apply_with(
             break;
         }
         let start = Instant::now();
-        let allowed = insertable(hierarchy, &refiner, &state.frozen);
-        let step = hierarchy.steps() - 1 - refiner.level();
+        // The removals the next level re-inserts.
+        let records = hierarchy.step(hierarchy.steps() - 1 - refiner.level());
+        let allowed = insertable(hierarchy, records, &refiner, &state.frozen);
         refiner.refine_level(&|v| allowed.binary_search(&v).is_ok())?;
-        inherit_noised_marks(hierarchy.step(step), &refiner, &mut state.noised);
+        inherit_noised_marks(records, &refiner, &mut state.noised);
         seconds.refine += start.elapsed().as_secs_f64();
     }
     let mut result = refiner.mesh()?;
@@ -320,13 +321,12 @@ fn carry_attributes(hierarchy: &Hierarchy, input: &Mesh, splits: &[[u32; 2]], re
     notes
 }
 
-/// The vertices the next refinement level may insert (sorted): those whose parameter face
-/// and recorded degree-fix flips only involve vertices that are present and outside the
-/// subdivided regions (so every insertion restores its recorded neighbourhood exactly).
-fn insertable(hierarchy: &Hierarchy, refiner: &Refiner, frozen: &[bool]) -> Vec<u32> {
-    let step = hierarchy.steps() - 1 - refiner.level();
-    let mut allowed: Vec<u32> = hierarchy
-        .step(step)
+/// The vertices of `records` (the removals the next refinement level re-inserts) it may
+/// insert (sorted): those whose parameter face and recorded degree-fix flips only involve
+/// vertices that are present and outside the subdivided regions (so every insertion
+/// restores its recorded neighbourhood exactly).
+fn insertable(hierarchy: &Hierarchy, records: &[Removal], refiner: &Refiner, frozen: &[bool]) -> Vec<u32> {
+    let mut allowed: Vec<u32> = records
         .iter()
         .filter(|r| {
             let f = r.local.face;
@@ -345,7 +345,7 @@ fn insertable(hierarchy: &Hierarchy, refiner: &Refiner, frozen: &[bool]) -> Vec<
 /// stays a region as the levels fill it in, instead of dissolving into isolated marked
 /// base vertices among unmarked inserted ones (#37: the torus variation's fine step
 /// covered both halves, fine roughness 0.117 on the varied half vs 0.115).
-fn inherit_noised_marks(records: &[crate::hierarchy::Removal], refiner: &Refiner, noised: &mut [bool]) {
+fn inherit_noised_marks(records: &[Removal], refiner: &Refiner, noised: &mut [bool]) {
     for r in records.iter().filter(|r| refiner.is_present(r.vertex)) {
         let marked = r.local.face.iter().filter(|&&c| noised[c as usize]).count();
         noised[r.vertex as usize] = marked >= 2;

@@ -69,10 +69,7 @@ impl ColorSection {
             .map(|&d| {
                 let share = if largest > 0.0 { d / largest } else { 0.0 };
                 let t = ((share - self.from) / (self.to - self.from)).clamp(0.0, 1.0);
-                [0, 1, 2].map(|c| {
-                    let (a, b) = (f64::from(self.rest[c]), f64::from(self.deformed[c]));
-                    (a + (b - a) * t).round() as u8
-                })
+                crate::mesh::blend_rgb(self.rest, self.deformed, t)
             })
             .collect()
     }

@@ -41,6 +41,11 @@ use crate::error::{Error, Result};
 /// An RGB colour with 8 bits per channel.
 pub type Rgb = [u8; 3];
 
+/// `a` blended towards `b` by `s` (0: `a`, 1: `b`), each channel a + s·(b − a), rounded.
+pub fn blend_rgb(a: Rgb, b: Rgb, s: f64) -> Rgb {
+    [0, 1, 2].map(|k| (f64::from(a[k]) + s * (f64::from(b[k]) - f64::from(a[k]))).round() as u8)
+}
+
 /// A triangle mesh with optional per-vertex attributes. Attribute vectors, when present,
 /// have one entry per vertex.
 #[derive(Debug, Clone, Default, PartialEq)]

@@ -3,7 +3,7 @@
 
 use super::{TerrainParams, whole};
 use crate::error::{Error, Result};
-use crate::mesh::Rgb;
+use crate::mesh::{Rgb, blend_rgb};
 
 /// Cloud image parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -55,9 +55,7 @@ pub fn clouds(params: &CloudParams) -> Result<(Vec<u8>, f64)> {
         }
         // Square root: thin cloud edges fade in quickly, as wisps do.
         let t = density.sqrt();
-        rgb.extend((0..3).map(|k| {
-            (f64::from(params.sky[k]) + t * (f64::from(params.cloud[k]) - f64::from(params.sky[k]))).round() as u8
-        }));
+        rgb.extend(blend_rgb(params.sky, params.cloud, t));
     }
     Ok((rgb, covered as f64 / plasma.heights.len() as f64))
 }

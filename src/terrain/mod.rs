@@ -317,7 +317,7 @@ pub fn ramp_color(palette: &Palette, t: f64, logistic: bool) -> Rgb {
     let ((t0, c0), (t1, c1)) = (stops[k], stops[k + 1]);
     let linear = (t - t0) / (t1 - t0);
     let s = if logistic { 1.0 / (1.0 + (-12.0 * (linear - 0.5)).exp()) } else { linear };
-    [0, 1, 2].map(|i| (f64::from(c0[i]) + s * (f64::from(c1[i]) - f64::from(c0[i]))).round() as u8)
+    crate::mesh::blend_rgb(c0, c1, s)
 }
 
 /// Heights on a rectangle of the grid, after the sea clamp.
