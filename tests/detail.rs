@@ -1124,3 +1124,20 @@ fn no_operator_or_noise_parameter_is_without_effect() {
     }
     assert!(dead.is_empty(), "{}", dead.join("\n\n"));
 }
+
+#[test]
+fn color_from_and_to_set_where_the_ramp_starts_and_ends() {
+    // The recipe's [color]: rest up to `from` of the largest displacement, deformed from
+    // `to`, linear between; each of the two bounds changes the colours.
+    let rest = vec![DVec3::ZERO; 5];
+    let moved: Vec<DVec3> = [0.0, 0.25, 0.5, 0.75, 1.0].iter().map(|&d| DVec3::new(d, 0.0, 0.0)).collect();
+    let section = |extra: &str| {
+        recipe(&format!("[color]\nrest = [200, 100, 0]\ndeformed = [0, 100, 200]\n{extra}")).color.unwrap()
+    };
+    let plain = section("").colors(&moved, &rest);
+    assert_eq!(plain, vec![[200, 100, 0], [150, 100, 50], [100, 100, 100], [50, 100, 150], [0, 100, 200]]);
+    let late = section("from = 0.5\n").colors(&moved, &rest);
+    assert_eq!(late, vec![[200, 100, 0], [200, 100, 0], [200, 100, 0], [100, 100, 100], [0, 100, 200]]);
+    let early = section("to = 0.5\n").colors(&moved, &rest);
+    assert_eq!(early, vec![[200, 100, 0], [100, 100, 100], [0, 100, 200], [0, 100, 200], [0, 100, 200]]);
+}
