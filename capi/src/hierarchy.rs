@@ -129,6 +129,14 @@ impl BuiltHierarchy {
         }
     }
 
+    /// The build's report as `simplify --json` prints it ([`asperity::hierarchy::BuildReport`]).
+    pub fn report_json(&self) -> Result<String, String> {
+        guarded(|| {
+            let report = asperity::hierarchy::BuildReport::of(&self.input, &self.inner, &self.inner.base_mesh().mesh)?;
+            Ok(serde_json::to_string(&report).expect("a report serialises"))
+        })
+    }
+
     pub fn stages_json(&self) -> String {
         serde_json::to_string(&self.inner.stages).expect("stages serialise")
     }
@@ -171,9 +179,7 @@ pub unsafe fn start_refinement(hierarchy: &BuiltHierarchy) -> Result<Box<Refinem
     guarded(|| {
         let mut refiner = Refiner::new(&hierarchy.inner)?;
         refiner.set_follow_deformation(true);
-        let steps = hierarchy.inner.steps() as u32;
-        let appear =
-            hierarchy.inner.base_parametrization().iter().map(|p| p.map_or(steps, |p| p.level)).collect();
+        let appear = hierarchy.inner.appearance_levels();
         Ok(Box::new(Refinement { hierarchy, refiner, appear, view: None }))
     })
 }

@@ -184,6 +184,7 @@ mod bridge {
         fn report(self: &BuiltHierarchy) -> Report;
         /// Build time by stage, as JSON.
         fn stages_json(self: &BuiltHierarchy) -> String;
+        fn report_json(self: &BuiltHierarchy) -> Result<String>;
         /// Refines whole up to `base_level`, then only the vertices `inside` marks (one
         /// byte per input vertex) and what they need.
         fn refine_region(self: &BuiltHierarchy, inside: &[u8], base_level: usize) -> Result<RegionOutcome>;

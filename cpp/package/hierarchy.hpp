@@ -208,6 +208,10 @@ class Hierarchy {
 
   /// The build's report: input and base vertices, levels, seconds.
   Report report() const { return inner_->report(); }
+  /// The build's whole report as JSON, `simplify --json`'s fields: counts, the Hausdorff
+  /// distance to the input, triangle shapes, and "target" (reached, what gave way, what
+  /// stopped the build), measured on this call.
+  std::string report_json() const { return std::string(impl::call([&] { return inner_->report_json(); })); }
   /// Build time by stage, as JSON.
   std::string stages_json() const { return std::string(inner_->stages_json()); }
 

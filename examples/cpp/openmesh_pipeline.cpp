@@ -84,6 +84,10 @@ static void levels_and_parametrization(const asperity::Hierarchy<Mesh>& h, Mesh&
   std::cout << "hierarchy: " << h.level_count() << " levels, " << r.input_vertices << " => " << r.output_vertices
             << " vertices in " << r.seconds << " s\n";
   expect(h.level_count() >= 3, "a hierarchy of several levels");
+  // The whole report (simplify --json's): whether the target was reached, what stopped it.
+  const std::string report = h.report_json();
+  expect(report.find("\"reached\":true") != std::string::npos, "the report says the target was reached");
+  expect(report.find("\"hausdorff\":") != std::string::npos, "the report measures the distance to the input");
   Mesh base = h.level(0);
   expect(base.n_vertices() == r.output_vertices, "level 0 is the base domain");
   expect(h.level(h.level_count() - 1).n_vertices() == input.n_vertices(), "the last level is the input");

@@ -18,18 +18,19 @@ from __future__ import annotations
 import json
 import os
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, Iterator, List, Literal, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from . import _asperity as _native
-from ._asperity import InputError, InternalError, __version__
+from ._asperity import InputError, InternalError, Level, __version__
 
 __all__ = [
     "InputError",
     "InternalError",
     "Mesh",
     "Hierarchy",
+    "Level",
     "read",
     "write",
     "info",
@@ -73,6 +74,28 @@ class Mesh:
     def faces(self) -> np.ndarray:
         """The triangles, under trimesh's name."""
         return self.triangles
+
+    def __iter__(self) -> Iterator[np.ndarray]:
+        """``positions, triangles = mesh``."""
+        return iter((self.positions, self.triangles))
+
+    def to_trimesh(self) -> Any:
+        """The mesh as a ``trimesh.Trimesh`` (vertices and faces as they are, not merged or
+        reordered; ``normals`` and ``colors`` as vertex normals and colours, the other
+        attributes in ``vertex_attributes``). Needs trimesh installed."""
+        try:
+            import trimesh
+        except ImportError as missing:
+            raise ImportError("Mesh.to_trimesh needs trimesh: pip install trimesh") from missing
+        extra = {k: v for k, v in self.attributes.items() if k not in ("normals", "colors")}
+        return trimesh.Trimesh(
+            vertices=self.positions,
+            faces=self.triangles,
+            vertex_normals=self.attributes.get("normals"),
+            vertex_colors=self.attributes.get("colors"),
+            vertex_attributes=extra,
+            process=False,
+        )
 
 
 MeshLike = Union[Mesh, Tuple[Any, Any], Any]
@@ -191,10 +214,22 @@ class Hierarchy:
     """The feature-sensitive 4-k hierarchy of a mesh (``asperity simplify``), every level
     kept: ``levels`` levels, level 0 the base domain and level ``levels - 1`` the input.
 
-    Options are ``simplify``'s: ``target_vertices`` (a count or "5%"), ``levels``,
-    ``max_error``, ``keep_features`` ("none", "corners", "strong", "all"), ``feature_vertices``
-    ("along-lines", "keep"), ``removal_weight``, ``swap_weight``,
-    ``no_intersection_guard``, ``repair``; ``progress`` prints the build's progress."""
+    Options are ``simplify``'s, as typed keyword arguments (a misspelt one is a
+    ``TypeError``; a bad value an :class:`InputError` with the command line's message):
+
+    - ``target_vertices``: stop at this many vertices (``377``) or this share of the
+      input's (``"1%"``); ``levels``: stop after this many levels; ``max_error``: never
+      remove a vertex whose error exceeds this share of the bounding-box diagonal.
+    - ``keep_features``: the feature vertices kept — ``"none"``, ``"corners"`` (thesis
+      Fig. 5.15), ``"strong"`` (the default) or ``"all"``; ``feature_vertices``:
+      ``"along-lines"`` (the default: removed along their line) or ``"keep"``.
+    - ``removal_weight`` and ``swap_weight``: the weights of E(v) (eq. 4.1).
+    - ``intersection_guard``: leave out the clusters whose new faces would cut the
+      surface (on by default).
+    - ``repair``: repair the mesh first (every array stays in the caller's numbering);
+      ``progress``: print the build's progress to stderr.
+
+    What the build made and what stopped it is :attr:`report`."""
 
     def __init__(
         self,
@@ -202,13 +237,43 @@ class Hierarchy:
         triangles: Any = None,
         *,
         target_vertices: Union[int, str, None] = "5%",
+        levels: Optional[int] = None,
+        max_error: Optional[float] = None,
+        keep_features: Optional[Literal["none", "corners", "strong", "all"]] = None,
+        feature_vertices: Optional[Literal["along-lines", "keep"]] = None,
+        removal_weight: float = 0.75,
+        swap_weight: float = 0.25,
+        intersection_guard: bool = True,
+        repair: bool = False,
         progress: bool = False,
-        **options: Any,
     ) -> None:
         p, t = _arrays(positions, triangles)
-        flags = _flags({"target_vertices": target_vertices, **options})
-        self._native = _native.Hierarchy(p, t, flags, progress)
+        options = {
+            "target_vertices": target_vertices,
+            "levels": levels,
+            "max_error": max_error,
+            "keep_features": keep_features,
+            "feature_vertices": feature_vertices,
+            "removal_weight": removal_weight,
+            "swap_weight": swap_weight,
+            "no_intersection_guard": not intersection_guard,
+            "repair": repair,
+        }
+        self._native = _native.Hierarchy(p, t, _flags(options), progress)
         self._parametrization: Optional[Tuple[np.ndarray, np.ndarray]] = None
+        self._report: Optional[Dict[str, Any]] = None
+
+    @property
+    def report(self) -> Dict[str, Any]:
+        """The build's report, ``simplify --json``'s fields: ``input_vertices``,
+        ``output_vertices`` (the base domain's), faces, ``levels``,
+        ``feature_vertices_kept``, ``hausdorff`` (share of the bounding-box diagonal),
+        ``min_angle_deg``, ``sliver_share``, ``target`` (``reached``, ``floor_vertices``,
+        ``stopped_by`` and what gave way, counted), ``gave_way`` (in words), ``seconds``
+        and ``stage_seconds``. Measured on first use."""
+        if self._report is None:
+            self._report = json.loads(self._native.report())
+        return self._report
 
     @property
     def levels(self) -> int:
@@ -254,14 +319,29 @@ class Hierarchy:
             self._parametrization = self._native.parametrization()
         return self._parametrization
 
-    def refine(self, region: Any = None, base_level: int = 0) -> Tuple[np.ndarray, np.ndarray]:
-        """Refines the base domain back to full resolution — or, with ``region`` (a
-        boolean per input vertex, or input vertex indices), the region refinement of the
-        command line's ``refine --region``: the region at the input's resolution, the rest
-        at ``base_level`` (0: the base domain). Returns positions and triangles; the input
-        vertex id of each position is then ``refined_ids``, and the report
-        ``refine_report``. A region that is not booleans or distinct vertex indices in
-        range is an ``InputError``."""
+    def refine(
+        self,
+        op: Optional[Callable[[Level], Any]] = None,
+        region: Any = None,
+        base_level: int = 0,
+    ) -> Mesh:
+        """Refines the base domain back to full resolution.
+
+        With ``op``, a function called with each level as a :class:`Level` (the base
+        domain first, the input's level last): it may move ``level.positions`` in place (or
+        return new positions), and the next level inserts its vertices on the moved surface
+        (thesis §4.5.1, the C++ ``Hierarchy::refine(op)``). An exception it raises arrives
+        unchanged; Ctrl-C stops between levels.
+
+        With ``region`` (a boolean per input vertex, or input vertex indices): the region
+        at the input's resolution, the rest at ``base_level`` (0: the base domain) — the
+        command line's ``refine --region``; with ``op`` too, the levels from ``base_level``
+        on insert the region's vertices and the removal rings they need.
+
+        Returns a :class:`Mesh` (``positions, triangles = h.refine()`` still unpacks) whose
+        ``attributes["ids"]`` is each vertex's input id; the same ids are
+        ``refined_ids`` and what the refinement did is ``refine_report``. A region that is
+        not booleans or distinct vertex indices in range is an ``InputError``."""
         mask = None if region is None else self._region_mask(region)
         if isinstance(base_level, bool) or not isinstance(base_level, (int, np.integer)):
             raise InputError(f"base_level must be an integer level, not {type(base_level).__name__}")
@@ -269,10 +349,22 @@ class Hierarchy:
             raise InputError(f"base_level {base_level}: the hierarchy has levels 0 (the base domain) to {self.levels - 1}")
         if mask is None and base_level != 0:
             raise InputError("base_level applies to a region refinement: give region= too")
-        positions, triangles, ids, report = self._native.refine(mask, int(base_level))
+        if op is None:
+            positions, triangles, ids, report = self._native.refine(mask, int(base_level))
+        else:
+            if not callable(op):
+                raise InputError(f"op must be a function of a Level, not {type(op).__name__}")
+
+            def step(level: Level) -> None:
+                moved = op(level)
+                if moved is not None:
+                    level.positions = moved
+                level.positions = np.ascontiguousarray(level.positions, dtype=np.float64)
+
+            positions, triangles, ids, report = self._native.refine_with(step, mask, int(base_level))
         self.refined_ids: np.ndarray = ids
         self.refine_report: Dict[str, Any] = json.loads(report)
-        return positions, triangles
+        return Mesh(positions, triangles, {"ids": ids})
 
     def _region_mask(self, region: Any) -> np.ndarray:
         n = self._native.input_vertices

@@ -8,6 +8,7 @@
 mod arrays;
 mod flags;
 mod interrupt;
+mod level;
 
 use std::path::PathBuf;
 
@@ -159,17 +160,7 @@ fn analyze<'py>(
     let mesh = mesh_of(&positions, &triangles)?;
     let analysis =
         run(py, false, move || asperity::analysis::analyze(&repaired(mesh, args.repair())?, &args.options()))?;
-    let out = PyDict::new(py);
-    let c = &analysis.curvatures;
-    out.set_item("normals", vectors_array(py, analysis.normals.clone()))?;
-    out.set_item("mean_curvature", PyArray1::from_vec(py, c.mean.clone()))?;
-    out.set_item("gaussian_curvature", PyArray1::from_vec(py, c.gaussian.clone()))?;
-    out.set_item("k1", PyArray1::from_vec(py, c.k1.clone()))?;
-    out.set_item("k2", PyArray1::from_vec(py, c.k2.clone()))?;
-    let classes: Vec<u8> = analysis.classes.iter().map(|&k| k as u8).collect();
-    out.set_item("feature_class", PyArray1::from_vec(py, classes))?;
-    out.set_item("diffusion", vectors_array(py, analysis.diffusion()))?;
-    Ok(out)
+    level::analysis_dict(py, &analysis)
 }
 
 /// The 4-k hierarchy of a mesh (`asperity simplify`'s), every level recorded.
@@ -195,6 +186,18 @@ impl Hierarchy {
             Some(o) => o.stands_for[u],
             None => Some(u as u32),
         }
+    }
+
+    /// A region given per caller vertex, in the hierarchy's numbering (a split copy is
+    /// inside where its original is).
+    fn own_region(&self, region: Option<PyReadonlyArray1<'_, bool>>) -> PyResult<Option<Vec<bool>>> {
+        let Some(r) = region else { return Ok(None) };
+        let n = self.caller_vertices;
+        let r = r.as_slice().map_err(|e| InputError::new_err(format!("region: {e}")))?;
+        if r.len() != n {
+            return Err(InputError::new_err(format!("region has {} values for {n} vertices", r.len())));
+        }
+        Ok(Some((0..self.inner.positions.len() as u32).map(|v| r[self.caller_id(v) as usize]).collect()))
     }
 
     /// The base domain, its triangles in the order of `base_triangles` (which
@@ -311,20 +314,7 @@ impl Hierarchy {
         region: Option<PyReadonlyArray1<'py, bool>>,
         base_level: usize,
     ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>, Bound<'py, PyArray1<u32>>, String)> {
-        let n = self.caller_vertices;
-        let region = match region {
-            Some(r) => {
-                let r = r.as_slice().map_err(|e| InputError::new_err(format!("region: {e}")))?.to_vec();
-                if r.len() != n {
-                    return Err(InputError::new_err(format!("region has {} values for {n} vertices", r.len())));
-                }
-                // In the hierarchy's numbering: a split copy is inside where its original is.
-                let own: Vec<bool> =
-                    (0..self.inner.positions.len() as u32).map(|v| r[self.caller_id(v) as usize]).collect();
-                Some(own)
-            }
-            None => None,
-        };
+        let region = self.own_region(region)?;
         let hierarchy = &self.inner;
         let (level, report) = run(py, false, move || match &region {
             None => {
@@ -354,6 +344,53 @@ impl Hierarchy {
             PyArray1::from_vec(py, ids),
             report.to_string(),
         ))
+    }
+
+    /// Refines level by level with `op` called on each level (an `asperity._asperity.Level`,
+    /// the base domain first): the operator's exceptions arrive unchanged. With `region` (a
+    /// boolean per caller vertex), levels from `base_level` on insert only the region and
+    /// the removal rings it needs. Positions, triangles, caller ids and the report as JSON.
+    #[pyo3(signature = (op, region=None, base_level=0))]
+    #[allow(clippy::type_complexity)]
+    fn refine_with<'py>(
+        &self,
+        py: Python<'py>,
+        op: Bound<'py, PyAny>,
+        region: Option<PyReadonlyArray1<'py, bool>>,
+        base_level: usize,
+    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>, Bound<'py, PyArray1<u32>>, String)> {
+        let own = self.own_region(region)?;
+        let wanted = own.map(|own| {
+            asperity::hierarchy::region::region_with_dependencies(&self.inner, &|v| own[v as usize])
+        });
+        let selection = level::Selection { base_level, wanted };
+        let (refined, reports) =
+            level::refine_with_operator(py, &self.inner, &op, &selection, &|v| self.caller_id(v))?;
+        let t = asperity::hierarchy::LevelReport::total(&reports);
+        let report = serde_json::json!({
+            "levels": reports.len(), "base_level": base_level,
+            "region_vertices": selection.wanted.as_ref().map(|w| w.iter().filter(|&&i| i).count()),
+            "inserted": t.inserted, "relocated": t.relocated, "skipped": t.skipped, "flips": t.flips,
+            "degree_misses": t.degree_misses,
+        });
+        let ids: Vec<u32> = refined.ids.iter().map(|&v| self.caller_id(v)).collect();
+        Ok((
+            positions_array(py, refined.mesh.positions),
+            triangles_array(py, refined.mesh.triangles),
+            PyArray1::from_vec(py, ids),
+            report.to_string(),
+        ))
+    }
+
+    /// The build's report as JSON: `simplify --json`'s fields (the Hausdorff distance is
+    /// measured on this call, with the GIL released).
+    fn report(&self, py: Python<'_>) -> PyResult<String> {
+        let hierarchy = &self.inner;
+        let report = run(py, false, move || {
+            let input = Mesh::new(hierarchy.positions.clone(), hierarchy.input_triangles.clone());
+            asperity::hierarchy::BuildReport::of(&input, hierarchy, &hierarchy.base_mesh().mesh)
+        })?;
+        Ok(serde_json::to_string(&report).expect("a report serialises"))
     }
 
     /// Build time by stage, as JSON.
@@ -562,5 +599,6 @@ fn _asperity(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(clouds, m)?)?;
     m.add_class::<Hierarchy>()?;
+    m.add_class::<level::Level>()?;
     Ok(())
 }

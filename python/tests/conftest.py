@@ -76,3 +76,13 @@ def icosphere(subdivisions: int = 2):
             refined += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
         faces = refined
     return np.array(positions), np.array(faces, dtype=np.int64)
+
+
+def faces_as_set(positions, triangles):
+    """Triangles as a set of position triples (independent of vertex order and rotation)."""
+    out = set()
+    for t in triangles:
+        corners = [tuple(positions[v]) for v in t]
+        k = corners.index(min(corners))
+        out.add(tuple(corners[k:] + corners[:k]))
+    return out

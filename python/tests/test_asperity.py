@@ -17,17 +17,7 @@ import numpy as np
 import pytest
 
 import asperity
-from conftest import REPO, icosphere, run_cli
-
-
-def faces_as_set(positions, triangles):
-    """Triangles as a set of position triples (independent of vertex order and rotation)."""
-    out = set()
-    for t in triangles:
-        corners = [tuple(positions[v]) for v in t]
-        k = corners.index(min(corners))
-        out.add(tuple(corners[k:] + corners[:k]))
-    return out
+from conftest import REPO, faces_as_set, icosphere, run_cli
 
 
 def test_a_numpy_mesh_round_trips_through_every_format(tmp_path):

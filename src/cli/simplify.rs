@@ -9,8 +9,7 @@ use serde_json::json;
 
 use crate::detail::HierarchySection;
 use crate::error::{Error, Result};
-use crate::hierarchy::compare::{ShapeReport, relative_hausdorff};
-use crate::hierarchy::{FeatureVertices, Hierarchy, KeepFeatures, LevelMesh, SimplifyOptions, VertexTarget, build};
+use crate::hierarchy::{BuildReport, FeatureVertices, Hierarchy, KeepFeatures, LevelMesh, SimplifyOptions, VertexTarget, build};
 use crate::io::glb::{GlbPart, write_glb_parts};
 use crate::io::{self, WriteOptions};
 use crate::mesh::Mesh;
@@ -230,60 +229,22 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
     if let Some(p) = &args.param_out {
         io::write(&parametrization_mesh(mesh, &hierarchy), p, WriteOptions::default())?;
     }
-    let hausdorff = relative_hausdorff(mesh, &base)?;
-    let shape = ShapeReport::of(&base);
+    let report = BuildReport::of(mesh, &hierarchy, &base)?;
     if ctx.json {
-        let report = json!({
-            "input": args.input.display().to_string(),
-            "output": args.output.display().to_string(),
-            "input_vertices": mesh.vertex_count(),
-            "output_vertices": base.vertex_count(),
-            "input_faces": mesh.face_count(),
-            "output_faces": base.face_count(),
-            "levels": hierarchy.steps(),
-            "feature_vertices_kept": hierarchy.feature_vertices,
-            "stage_seconds": hierarchy.stages,
-            "hausdorff": hausdorff,
-            "target": hierarchy.target,
-            "min_angle_deg": shape.min_angle_deg,
-            "sliver_share": shape.sliver_share,
-            "repair": input.repair_json(),
-            "seconds": hierarchy.seconds,
-            "total_seconds": start.elapsed().as_secs_f64(),
-        });
-        println!("{}", serde_json::to_string_pretty(&report).expect("report serialises"));
+        let mut json = serde_json::to_value(&report).expect("report serialises");
+        let fields = json.as_object_mut().expect("a struct serialises to an object");
+        fields.insert("input".into(), json!(args.input.display().to_string()));
+        fields.insert("output".into(), json!(args.output.display().to_string()));
+        fields.insert("repair".into(), input.repair_json());
+        fields.insert("total_seconds".into(), json!(start.elapsed().as_secs_f64()));
+        println!("{}", serde_json::to_string_pretty(&json).expect("report serialises"));
     } else if !ctx.quiet {
-        println!(
-            "simplify: {} tris => {} tris, {} levels, {} feature vertices kept (hausdorff {:.3}%, min angle {:.2}°, slivers {:.2}%) in {} ms",
-            mesh.face_count(),
-            base.face_count(),
-            hierarchy.steps(),
-            hierarchy.feature_vertices,
-            hausdorff * 100.0,
-            shape.min_angle_deg,
-            shape.sliver_share * 100.0,
-            super::millis(start)
-        );
-        print_target_notes(&hierarchy.target, base.vertex_count());
+        println!("simplify: {} in {} ms", report.line(), super::millis(start));
+        for line in report.target_lines() {
+            println!("{line}");
+        }
     }
     Ok(())
-}
-
-/// The human lines of a build's [`crate::hierarchy::TargetReport`]: what gave way to reach the target, and
-/// a `note:` when it was not reached.
-pub fn print_target_notes(target: &crate::hierarchy::TargetReport, vertices: usize) {
-    let Some(asked) = target.target_vertices else { return };
-    let gave_way = target.gave_way();
-    if gave_way != "nothing" {
-        println!("target: {asked} vertices asked, {vertices} reached; gave way: {gave_way}");
-    }
-    if !target.reached {
-        println!(
-            "note: the target of {asked} vertices was not reached ({vertices} vertices; the topology allows {}): stopped by {}",
-            target.floor_vertices,
-            target.stopped_by.as_deref().unwrap_or("nothing left to remove")
-        );
-    }
 }
 
 /// Every level as DIR/level_NN.ply, or in the input's format when it carries UVs or

@@ -202,11 +202,7 @@ pub fn apply_with(
         rest: hierarchy.positions.clone(),
         noised: vec![false; hierarchy.positions.len()],
         frozen: vec![false; hierarchy.positions.len()],
-        appear: hierarchy
-            .base_parametrization()
-            .iter()
-            .map(|p| p.map_or(hierarchy.steps() as u32, |p| p.level))
-            .collect(),
+        appear: hierarchy.appearance_levels(),
         splits: Vec::new(),
     };
     let steps = hierarchy.steps();

@@ -20,6 +20,7 @@ mod param;
 mod record;
 mod refine;
 pub mod region;
+mod report;
 mod rings;
 mod simplify;
 mod sliver_budget;
@@ -33,6 +34,7 @@ pub use cluster::{ClusterPlan, ClusterRules, nearest_edge, widest_link_edge};
 pub use conformal::{Flattening, barycentric, clamp_barycentric, interpolate, locate};
 pub use give_way::{TargetReport, topological_floor};
 pub use param::ParamPoint;
+pub use report::BuildReport;
 pub use refine::{LevelMesh, LevelReport, Refiner, connectivity_match};
 pub use rings::{RingVec, Rings};
 pub use simplify::{build, build_with_openmesh_replay};
@@ -348,6 +350,14 @@ impl Hierarchy {
             }
         }
         out
+    }
+
+    /// The refinement level at which each vertex first appears (0: a base vertex; the
+    /// input's level, [`Hierarchy::steps`], for a vertex on no face): what a level's
+    /// operator reads as each vertex's age ([`crate::detail::LevelView::with_appearance`]).
+    pub fn appearance_levels(&self) -> Vec<u32> {
+        let steps = self.steps() as u32;
+        self.base_parametrization().iter().map(|p| p.map_or(steps, |p| p.level)).collect()
     }
 
     /// [`Hierarchy::base_parametrization`] with each face as its index in `base_triangles`

@@ -89,6 +89,24 @@ pub struct LevelReport {
     pub degree_misses: usize,
 }
 
+impl LevelReport {
+    /// `reports` summed (`level` is the last one's).
+    pub fn total(reports: &[LevelReport]) -> LevelReport {
+        let mut t = LevelReport::default();
+        for r in reports {
+            t.level = r.level;
+            t.inserted += r.inserted;
+            t.relocated += r.relocated;
+            t.widened += r.widened;
+            t.skipped += r.skipped;
+            t.flips += r.flips;
+            t.widest_flips += r.widest_flips;
+            t.degree_misses += r.degree_misses;
+        }
+        t
+    }
+}
+
 /// How an inserted vertex's edge was found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Placement {

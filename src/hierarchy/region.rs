@@ -26,18 +26,7 @@ pub struct RegionRefinement {
 impl RegionRefinement {
     /// The reports summed over levels (`level` is the last one).
     pub fn totals(&self) -> LevelReport {
-        let mut t = LevelReport::default();
-        for r in &self.reports {
-            t.level = r.level;
-            t.inserted += r.inserted;
-            t.relocated += r.relocated;
-            t.widened += r.widened;
-            t.skipped += r.skipped;
-            t.flips += r.flips;
-            t.widest_flips += r.widest_flips;
-            t.degree_misses += r.degree_misses;
-        }
-        t
+        LevelReport::total(&self.reports)
     }
 }
 
@@ -60,8 +49,7 @@ pub fn refine_region(hierarchy: &Hierarchy, base_level: usize, inside: &dyn Fn(u
     }
     let n = hierarchy.positions.len();
     let rings = removal_rings(hierarchy);
-    let mut wanted: Vec<bool> = (0..n as u32).map(inside).collect();
-    close_under_dependencies(&mut wanted, &rings);
+    let mut wanted = with_dependencies(inside, n, &rings);
     let mut rounds = 0;
     loop {
         let (mesh, reports) = refine_selected(hierarchy, base_level, &wanted)?;
@@ -90,6 +78,19 @@ pub fn refine_region(hierarchy: &Hierarchy, base_level: usize, inside: &dyn Fn(u
             return Ok(RegionRefinement { mesh, reports, missing, rounds, self_intersections: pairs.len() });
         }
     }
+}
+
+/// The vertices a region refinement inserts above its base level: those `inside` accepts
+/// (input ids) and, recursively, the removal rings they need (as [`refine_region`] starts
+/// from). A level-by-level refinement that selects these gives the same region.
+pub fn region_with_dependencies(hierarchy: &Hierarchy, inside: &dyn Fn(u32) -> bool) -> Vec<bool> {
+    with_dependencies(inside, hierarchy.positions.len(), &removal_rings(hierarchy))
+}
+
+fn with_dependencies(inside: &dyn Fn(u32) -> bool, n: usize, rings: &[Vec<u32>]) -> Vec<bool> {
+    let mut wanted: Vec<bool> = (0..n as u32).map(inside).collect();
+    close_under_dependencies(&mut wanted, rings);
+    wanted
 }
 
 /// How often [`refine_region`] grows the refined set around self-intersections.
