@@ -1,7 +1,7 @@
 # asperity — the two commands: `make demo` and `make test`.
 CARGO ?= cargo
 
-.PHONY: all deps build demo figures test clippy doc bench clean install-cpp fuzz sanitize python python-test
+.PHONY: all deps build demo figures test clippy doc bench clean install-cpp fuzz sanitize python python-test wheel
 
 all: build
 
@@ -36,11 +36,18 @@ python: deps
 	./scripts/python-package.sh
 
 # pytest over python/tests, against the command line's binary for the identity tests (the
-# one `cargo test` built; any build gives the same bits).
+# one `cargo test` built; any build gives the same bits); then the same wheel in a fresh
+# environment with the system's OpenMesh and GMP hidden.
 python-test: deps
 	@./scripts/python-package.sh --test
 	@[ -x target/debug/asperity ] || $(CARGO) build --bin asperity
 	ASPERITY_CLI=target/debug/asperity target/python-venv/bin/python -m pytest -q python/tests
+	@./scripts/python-wheel-check.sh target/wheels/manylinux/*.whl
+
+# The Python package as a manylinux wheel with OpenMesh and GMP bundled, in
+# target/wheels/manylinux/ (pip install it on any x86-64 Linux with glibc >= 2.35).
+wheel: deps
+	./scripts/python-wheel.sh
 
 # API documentation, private items included; a broken link fails the tests.
 doc:

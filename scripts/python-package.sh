@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Builds and installs the Python package (python/, PyO3 + maturin) into a virtual
-# environment the project creates: target/python-venv, or $ASPERITY_VENV. With --test, also
+# Builds the Python package (python/, PyO3 + maturin) as a manylinux wheel
+# (scripts/python-wheel.sh) and installs it into a virtual environment the project creates:
+# target/python-venv, or $ASPERITY_VENV. With --test, also
 # pytest and the optional packages the tests use when they install (trimesh, matplotlib).
 # Needs the Debian packages of scripts/install-deps.sh (make python runs it first).
 set -euo pipefail
@@ -10,7 +11,11 @@ if [ ! -x "$venv/bin/python" ]; then
   python3 -m venv "$venv"
 fi
 "$venv/bin/python" -m pip install -q --upgrade pip
-"$venv/bin/python" -m pip install -q ./python
+# The manylinux wheel `make wheel` ships (its native libraries bundled), not a build of its
+# own: what the tests pass on is what users install.
+wheel=$(./scripts/python-wheel.sh)
+"$venv/bin/python" -m pip install -q "$wheel"
+"$venv/bin/python" -m pip install -q --force-reinstall --no-deps "$wheel"
 if [ "${1:-}" = "--test" ]; then
   "$venv/bin/python" -m pip install -q pytest
   "$venv/bin/python" -m pip install -q trimesh matplotlib \

@@ -31,7 +31,11 @@ def meshes() -> Path:
 @pytest.fixture(scope="session")
 def cli() -> Path:
     """The command-line binary the Python results are compared with ($ASPERITY_CLI, or a
-    build in target/)."""
+    build in target/). With ASPERITY_NO_CLI set (scripts/python-wheel-check.sh, where the
+    system's OpenMesh the binary links is hidden), the tests comparing with it are skipped:
+    the same tests ran with it against the same wheel just before."""
+    if os.environ.get("ASPERITY_NO_CLI"):
+        pytest.skip("the command line cannot run where the system's native libraries are hidden")
     named = os.environ.get("ASPERITY_CLI")
     candidates = [Path(named).resolve()] if named else [REPO / "target/release/asperity", REPO / "target/debug/asperity"]
     for c in candidates:
