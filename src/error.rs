@@ -71,14 +71,27 @@ pub enum Error {
     /// A bug in asperity.
     #[error("internal error (please report): {0}")]
     Internal(String),
+    /// The caller's progress callback asked to stop ([`crate::progress::cancellable`]);
+    /// nothing the call was making is left.
+    #[error("cancelled by the progress callback at {stage} ({done} of {total})")]
+    Cancelled {
+        /// The stage reporting when the callback said stop.
+        stage: String,
+        /// Steps of that stage done.
+        done: u64,
+        /// Steps of that stage in all.
+        total: u64,
+    },
 }
 
 impl Error {
-    /// Process exit code for this error: 2 for bad input or usage, 1 for internal failures.
+    /// Process exit code for this error: 2 for bad input or usage, 1 for internal failures,
+    /// 130 (as for Ctrl-C) for a cancellation.
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Parse { .. } | Error::InvalidInput(_) | Error::Topology { .. } | Error::Io { .. } => 2,
             Error::Native(_) | Error::Internal(_) => 1,
+            Error::Cancelled { .. } => 130,
         }
     }
 

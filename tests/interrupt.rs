@@ -52,3 +52,53 @@ fn sigint_leaves_no_partial_output() {
 fn sigterm_leaves_no_partial_output() {
     interrupt_a_streamed_terrain("TERM", 15, "terrain.obj");
 }
+
+/// A progress callback sees the build's reports on the calling thread and, by returning
+/// false, stops it with `Error::Cancelled` naming where; the same build without a stop is
+/// unchanged by being watched.
+#[test]
+fn a_progress_callback_watches_and_cancels_a_hierarchy_build() {
+    use std::sync::{Arc, Mutex};
+
+    use asperity::hierarchy::{SimplifyOptions, build};
+    use asperity::mesh::primitives::icosphere;
+    use asperity::progress::cancellable;
+
+    let mesh = icosphere(1.0, 4);
+    let options = SimplifyOptions { target_vertices: Some(40), ..SimplifyOptions::default() };
+    let seen: Arc<Mutex<Vec<(String, u64, u64)>>> = Arc::default();
+    let log = Arc::clone(&seen);
+    let watched = cancellable(
+        Box::new(move |stage, done, total| {
+            log.lock().unwrap().push((stage.to_string(), done, total));
+            true
+        }),
+        || build(&mesh, &options),
+    )
+    .unwrap();
+    let reports = seen.lock().unwrap().clone();
+    assert!(reports.len() >= 3, "{reports:?}");
+    assert!(reports.iter().all(|(_, done, total)| done <= total), "{reports:?}");
+    let plain = build(&mesh, &options).unwrap();
+    assert_eq!(watched.base_triangles, plain.base_triangles, "watching changed the build");
+
+    // Stop at the third report.
+    let calls = Arc::new(Mutex::new(0));
+    let counter = Arc::clone(&calls);
+    let stopped = cancellable(
+        Box::new(move |_, _, _| {
+            let mut n = counter.lock().unwrap();
+            *n += 1;
+            *n < 3
+        }),
+        || build(&mesh, &options),
+    );
+    match stopped {
+        Err(e @ asperity::Error::Cancelled { .. }) => {
+            assert_eq!(e.exit_code(), 130);
+            assert!(e.to_string().starts_with("cancelled by the progress callback at "), "{e}");
+        }
+        other => panic!("expected a cancellation, got {:?}", other.map(|h| h.base_triangles.len())),
+    }
+    assert_eq!(*calls.lock().unwrap(), 3, "the build stopped at the report that said stop");
+}

@@ -10,7 +10,10 @@ the same one-line messages; results are bit for bit the command line's.
 Errors raise :class:`InputError` (a ``ValueError``: a bad file, mesh, recipe or option)
 or :class:`InternalError` (a ``RuntimeError``: please report it). Long calls release the
 GIL and stop at their next progress report on Ctrl-C (``KeyboardInterrupt``); progress is
-printed to stderr only with ``progress=True``.
+printed to stderr only with ``progress=True``. ``progress`` may also be a function
+``(stage, done, total)`` called at each report from the call's worker thread (under the
+GIL): returning ``False`` stops the call with :class:`Cancelled` (nothing half-made is
+left); an exception it raises stops the call and arrives unchanged.
 """
 
 from __future__ import annotations
@@ -23,9 +26,10 @@ from typing import Any, Callable, Dict, Iterator, List, Literal, Mapping, Option
 import numpy as np
 
 from . import _asperity as _native
-from ._asperity import InputError, InternalError, Level, __version__
+from ._asperity import Cancelled, InputError, InternalError, Level, __version__
 
 __all__ = [
+    "Cancelled",
     "InputError",
     "InternalError",
     "Mesh",
@@ -99,6 +103,10 @@ class Mesh:
 
 
 MeshLike = Union[Mesh, Tuple[Any, Any], Any]
+
+#: ``progress=``: False (silent), True (printed to stderr) or a function
+#: ``(stage, done, total)``; ``False`` from it cancels the call (:class:`Cancelled`).
+Progress = Union[bool, Callable[[str, int, int], Optional[bool]]]
 
 
 def _arrays(mesh: MeshLike, triangles: Any = None) -> Tuple[np.ndarray, np.ndarray]:
@@ -227,7 +235,8 @@ class Hierarchy:
     - ``intersection_guard``: leave out the clusters whose new faces would cut the
       surface (on by default).
     - ``repair``: repair the mesh first (every array stays in the caller's numbering);
-      ``progress``: print the build's progress to stderr.
+      ``progress``: True prints the build's progress to stderr; a function
+      ``(stage, done, total)`` watches it, and stops it by returning False.
 
     What the build made and what stopped it is :attr:`report`."""
 
@@ -245,7 +254,7 @@ class Hierarchy:
         swap_weight: float = 0.25,
         intersection_guard: bool = True,
         repair: bool = False,
-        progress: bool = False,
+        progress: Progress = False,
     ) -> None:
         p, t = _arrays(positions, triangles)
         options = {
@@ -324,6 +333,7 @@ class Hierarchy:
         op: Optional[Callable[[Level], Any]] = None,
         region: Any = None,
         base_level: int = 0,
+        progress: Progress = False,
     ) -> Mesh:
         """Refines the base domain back to full resolution.
 
@@ -341,7 +351,8 @@ class Hierarchy:
         Returns a :class:`Mesh` (``positions, triangles = h.refine()`` still unpacks) whose
         ``attributes["ids"]`` is each vertex's input id; the same ids are
         ``refined_ids`` and what the refinement did is ``refine_report``. A region that is
-        not booleans or distinct vertex indices in range is an ``InputError``."""
+        not booleans or distinct vertex indices in range is an ``InputError``. ``progress``
+        as for the build (with ``op``: one report per level)."""
         mask = None if region is None else self._region_mask(region)
         if isinstance(base_level, bool) or not isinstance(base_level, (int, np.integer)):
             raise InputError(f"base_level must be an integer level, not {type(base_level).__name__}")
@@ -350,7 +361,7 @@ class Hierarchy:
         if mask is None and base_level != 0:
             raise InputError("base_level applies to a region refinement: give region= too")
         if op is None:
-            positions, triangles, ids, report = self._native.refine(mask, int(base_level))
+            positions, triangles, ids, report = self._native.refine(mask, int(base_level), progress)
         else:
             if not callable(op):
                 raise InputError(f"op must be a function of a Level, not {type(op).__name__}")
@@ -361,7 +372,7 @@ class Hierarchy:
                     level.positions = moved
                 level.positions = np.ascontiguousarray(level.positions, dtype=np.float64)
 
-            positions, triangles, ids, report = self._native.refine_with(step, mask, int(base_level))
+            positions, triangles, ids, report = self._native.refine_with(step, mask, int(base_level), progress)
         self.refined_ids: np.ndarray = ids
         self.refine_report: Dict[str, Any] = json.loads(report)
         return Mesh(positions, triangles, {"ids": ids})
@@ -410,7 +421,7 @@ def detail(
     mesh: MeshLike,
     recipe: Union[str, Mapping[str, Any], None] = None,
     *,
-    progress: bool = False,
+    progress: Progress = False,
     **options: Any,
 ) -> Tuple[Mesh, Dict[str, Any]]:
     """``asperity detail``: builds the hierarchy, applies the recipe's steps at their
@@ -430,7 +441,7 @@ def compare(
     *,
     target_vertices: Union[int, str] = "1%",
     methods: Optional[Sequence[str]] = None,
-    progress: bool = False,
+    progress: Progress = False,
     **options: Any,
 ) -> Dict[str, Any]:
     """``asperity compare``: ours against OpenMesh, CGAL and meshoptimizer, as the
@@ -449,7 +460,7 @@ def hausdorff(reference: MeshLike, other: MeshLike) -> float:
     return _native.hausdorff(*_arrays(reference), *_arrays(other))
 
 
-def terrain(*, progress: bool = False, **options: Any) -> np.ndarray:
+def terrain(*, progress: Progress = False, **options: Any) -> np.ndarray:
     """``asperity terrain``'s heights as a (rows, columns) float64 array: ``size``,
     ``method`` ("classic", "smooth"), ``hurst``, ``seed``, ``sea_level``, ``erode``
     ("thermal", "hydraulic", "thermal,hydraulic") with ``rain``, ``capacity``…,
@@ -457,7 +468,7 @@ def terrain(*, progress: bool = False, **options: Any) -> np.ndarray:
     return _native.terrain(_flags(options), progress)
 
 
-def terrain_layers(*, progress: bool = False, **options: Any) -> Dict[str, np.ndarray]:
+def terrain_layers(*, progress: Progress = False, **options: Any) -> Dict[str, np.ndarray]:
     """The heights of ``terrain(erode="hydraulic", …)`` and the hydraulic erosion's layers
     from the same run, as (rows, columns) float64 arrays keyed ``"heights"``, ``"flow"``,
     ``"sediment"``, ``"water"``, ``"wetness"``: masks in [0, 1] (``layers="flow,water"``

@@ -2,16 +2,66 @@
 //! worker thread while the calling thread, holding the GIL only between naps, checks for
 //! signals; on Ctrl-C it raises a cancellation flag that the library's progress reports
 //! (`asperity::progress`) turn into an unwind of the worker at its next report, so no
-//! computation is left running. Progress is printed to stderr only when asked for.
+//! computation is left running. Progress is printed to stderr only when asked for, or
+//! handed to a Python callback (`progress=callable`): it runs on the worker thread under
+//! the GIL, and returning False stops the call (`asperity.Cancelled`) through the
+//! library's `progress::cancellable`; an exception it raises arrives unchanged.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
+use std::sync::Arc;
+
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 
 use crate::{InternalError, to_py};
+
+/// What a call does with its progress reports: the Python `progress` argument.
+pub enum Progress {
+    /// Nothing (False).
+    Off,
+    /// Printed to stderr (True).
+    Print,
+    /// Handed to a callable `(stage, done, total)`; False from it cancels.
+    Call(Py<PyAny>),
+}
+
+impl Progress {
+    /// `progress=`: a bool or a callable.
+    pub fn of(value: &Bound<'_, PyAny>) -> PyResult<Self> {
+        if let Ok(on) = value.extract::<bool>() {
+            return Ok(if on { Progress::Print } else { Progress::Off });
+        }
+        if value.is_callable() {
+            return Ok(Progress::Call(value.clone().unbind()));
+        }
+        Err(PyTypeError::new_err(format!(
+            "progress must be True, False or a function (stage, done, total), not {}",
+            value.get_type().name()?
+        )))
+    }
+
+    /// The callback's answer to one report (true: go on); an exception it raises is kept
+    /// in `raised` and stops the call.
+    pub fn ask(callback: &Py<PyAny>, raised: &Mutex<Option<PyErr>>, stage: &str, done: u64, total: u64) -> bool {
+        Python::attach(|py| match callback.call1(py, (stage, done, total)) {
+            Ok(answer) => !answer.bind(py).is(&*pyo3::types::PyBool::new(py, false)),
+            Err(error) => {
+                *raised.lock().unwrap_or_else(|p| p.into_inner()) = Some(error);
+                false
+            }
+        })
+    }
+}
+
+impl From<bool> for Progress {
+    fn from(on: bool) -> Self {
+        if on { Progress::Print } else { Progress::Off }
+    }
+}
 
 /// Set by Ctrl-C during a call; the progress sink unwinds the worker when it sees it.
 static CANCEL: AtomicBool = AtomicBool::new(false);
@@ -34,7 +84,26 @@ pub fn quiet_cancellation_panics() {
 
 /// Runs `work` on a worker thread with the GIL released, interruptible by Ctrl-C at the
 /// library's progress reports; `progress` prints them to stderr.
-pub fn run<T: Send>(py: Python<'_>, progress: bool, work: impl FnOnce() -> asperity::Result<T> + Send) -> PyResult<T> {
+pub fn run<T: Send>(
+    py: Python<'_>,
+    progress: impl Into<Progress>,
+    work: impl FnOnce() -> asperity::Result<T> + Send,
+) -> PyResult<T> {
+    let progress = progress.into();
+    let print = matches!(progress, Progress::Print);
+    let callback = match progress {
+        Progress::Call(callback) => Some(callback),
+        _ => None,
+    };
+    let raised: Arc<Mutex<Option<PyErr>>> = Arc::default();
+    let kept = Arc::clone(&raised);
+    let work = move || match callback {
+        None => work(),
+        Some(callback) => asperity::progress::cancellable(
+            Box::new(move |stage, done, total| Progress::ask(&callback, &kept, stage, done, total)),
+            work,
+        ),
+    };
     // Waiting for another thread's call, this thread holds the GIL only between naps: that
     // call's thread needs it to finish (#36: taking the lock with the GIL held deadlocked
     // two Python threads for good).
@@ -54,7 +123,7 @@ pub fn run<T: Send>(py: Python<'_>, progress: bool, work: impl FnOnce() -> asper
         if CANCEL.load(Ordering::SeqCst) {
             std::panic::panic_any(Cancelled);
         }
-        if progress {
+        if print {
             let percent = (done * 100).checked_div(total).unwrap_or(100);
             let mut last = last.lock().unwrap_or_else(|p| p.into_inner());
             if last.0 != stage || last.1 != percent {
@@ -81,6 +150,9 @@ pub fn run<T: Send>(py: Python<'_>, progress: bool, work: impl FnOnce() -> asper
     CANCEL.store(false, Ordering::SeqCst);
     if let Some(signal) = interrupted {
         return Err(signal);
+    }
+    if let Some(error) = raised.lock().unwrap_or_else(|p| p.into_inner()).take() {
+        return Err(error);
     }
     match outcome {
         Ok(Ok(Ok(value))) => Ok(value),

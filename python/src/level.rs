@@ -13,6 +13,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays::{positions_array, triangles_array, vectors_array};
+use crate::interrupt::Progress;
 use crate::{InputError, to_py};
 
 /// One refinement level as `Hierarchy.refine(op=...)`'s operator sees it: `level` (0 is
@@ -101,6 +102,7 @@ pub fn refine_with_operator(
     op: &Bound<'_, PyAny>,
     selection: &Selection,
     caller_id: &dyn Fn(u32) -> u32,
+    progress: &Progress,
 ) -> PyResult<(LevelMesh, Vec<LevelReport>)> {
     let steps = hierarchy.steps();
     let mut refiner = Refiner::new(hierarchy).map_err(to_py)?;
@@ -127,8 +129,29 @@ pub fn refine_with_operator(
         let wanted = selection.wanted.as_deref();
         let select = |v: u32| whole || wanted.is_none_or(|w| w[v as usize]);
         reports.push(refiner.refine_level(&select).map_err(to_py)?);
+        level_done(py, progress, refiner.level() as u64, steps as u64)?;
     }
     Ok((refiner.mesh().map_err(to_py)?, reports))
+}
+
+/// Reports a refined level to `progress`: printed, or asked of the callback (False:
+/// `Cancelled`; its exception arrives unchanged).
+fn level_done(py: Python<'_>, progress: &Progress, done: u64, total: u64) -> PyResult<()> {
+    match progress {
+        Progress::Off => Ok(()),
+        Progress::Print => {
+            eprint!("\rrefine: {:3}%{}", done * 100 / total.max(1), if done >= total { "\n" } else { "" });
+            Ok(())
+        }
+        Progress::Call(callback) => {
+            let answer = callback.call1(py, ("refine", done, total))?;
+            if answer.bind(py).is(&*pyo3::types::PyBool::new(py, false)) {
+                let error = asperity::Error::Cancelled { stage: "refine".into(), done, total };
+                return Err(crate::Cancelled::new_err(error.to_string()));
+            }
+            Ok(())
+        }
+    }
 }
 
 impl Level {

@@ -21,7 +21,7 @@ use arrays::{mesh_of, points_of, positions_array, triangles_array, vectors_array
 use asperity::cli;
 use asperity::mesh::Mesh;
 use flags::parse;
-use interrupt::run;
+use interrupt::{Progress, run};
 
 pyo3::create_exception!(
     _asperity,
@@ -36,9 +36,18 @@ pyo3::create_exception!(
     "A failure inside asperity or its native libraries (the command line's exit 1): please report it."
 );
 
+pyo3::create_exception!(
+    _asperity,
+    Cancelled,
+    pyo3::exceptions::PyException,
+    "The call's progress callback returned False: the call stopped there and left nothing half-made."
+);
+
 /// The Python exception of an asperity error, with the command line's message.
 fn to_py(error: asperity::Error) -> PyErr {
-    if error.exit_code() == 2 {
+    if let asperity::Error::Cancelled { .. } = error {
+        Cancelled::new_err(error.to_string())
+    } else if error.exit_code() == 2 {
         InputError::new_err(error.to_string())
     } else {
         InternalError::new_err(error.to_string())
@@ -214,7 +223,7 @@ impl Hierarchy {
         positions: PyReadonlyArray2<'_, f64>,
         triangles: PyReadonlyArray2<'_, u32>,
         flags: Vec<String>,
-        progress: bool,
+        progress: Bound<'_, PyAny>,
     ) -> PyResult<Self> {
         let py = positions.py();
         let repair = flags.iter().any(|f| f == "--repair");
@@ -222,7 +231,7 @@ impl Hierarchy {
         let args: cli::simplify::HierarchyArgs = parse("simplify", &[], flags, &[])?;
         let mesh = mesh_of(&positions, &triangles)?;
         let caller_vertices = mesh.vertex_count();
-        let (inner, origins) = run(py, progress, move || {
+        let (inner, origins) = run(py, Progress::of(&progress)?, move || {
             let (mesh, origins) = if repair {
                 let (mesh, _, origins) = asperity::mesh::repair_with_origins(&mesh)?;
                 (mesh, Some(origins))
@@ -306,17 +315,19 @@ impl Hierarchy {
     /// library's region refinement (thesis §4.6, the command line's `refine --region`): the
     /// region at the input's resolution, the rest at `base_level`. Positions, triangles, the
     /// caller's id of each vertex, and the report as JSON.
-    #[pyo3(signature = (region=None, base_level=0))]
+    #[pyo3(signature = (region=None, base_level=0, progress=None))]
     #[allow(clippy::type_complexity)]
     fn refine<'py>(
         &self,
         py: Python<'py>,
         region: Option<PyReadonlyArray1<'py, bool>>,
         base_level: usize,
+        progress: Option<Bound<'py, PyAny>>,
     ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>, Bound<'py, PyArray1<u32>>, String)> {
         let region = self.own_region(region)?;
         let hierarchy = &self.inner;
-        let (level, report) = run(py, false, move || match &region {
+        let progress = progress.map_or(Ok(Progress::Off), |p| Progress::of(&p))?;
+        let (level, report) = run(py, progress, move || match &region {
             None => {
                 let mut refiner = asperity::hierarchy::Refiner::new(hierarchy)?;
                 let reports = refiner.refine_all()?;
@@ -350,7 +361,7 @@ impl Hierarchy {
     /// the base domain first): the operator's exceptions arrive unchanged. With `region` (a
     /// boolean per caller vertex), levels from `base_level` on insert only the region and
     /// the removal rings it needs. Positions, triangles, caller ids and the report as JSON.
-    #[pyo3(signature = (op, region=None, base_level=0))]
+    #[pyo3(signature = (op, region=None, base_level=0, progress=None))]
     #[allow(clippy::type_complexity)]
     fn refine_with<'py>(
         &self,
@@ -358,14 +369,16 @@ impl Hierarchy {
         op: Bound<'py, PyAny>,
         region: Option<PyReadonlyArray1<'py, bool>>,
         base_level: usize,
+        progress: Option<Bound<'py, PyAny>>,
     ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>, Bound<'py, PyArray1<u32>>, String)> {
         let own = self.own_region(region)?;
         let wanted = own.map(|own| {
             asperity::hierarchy::region::region_with_dependencies(&self.inner, &|v| own[v as usize])
         });
         let selection = level::Selection { base_level, wanted };
+        let progress = progress.map_or(Ok(Progress::Off), |p| Progress::of(&p))?;
         let (refined, reports) =
-            level::refine_with_operator(py, &self.inner, &op, &selection, &|v| self.caller_id(v))?;
+            level::refine_with_operator(py, &self.inner, &op, &selection, &|v| self.caller_id(v), &progress)?;
         let t = asperity::hierarchy::LevelReport::total(&reports);
         let report = serde_json::json!({
             "levels": reports.len(), "base_level": base_level,
@@ -416,7 +429,7 @@ fn detail<'py>(
     recipe: &str,
     recipe_is_json: bool,
     flags: Vec<String>,
-    progress: bool,
+    progress: Bound<'py, PyAny>,
 ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>, Option<Bound<'py, PyArray2<u8>>>, String)> {
     let args: cli::detail::DetailArgs = parse("detail", &["<array>", "-o", "<array>.ply"], flags, &["--recipe"])?;
     // A recipe given as a dict arrives as JSON and is read as the TOML it stands for.
@@ -434,7 +447,7 @@ fn detail<'py>(
         })
     })?;
     let mesh = mesh_of(&positions, &triangles)?;
-    let (mesh, report) = run(py, progress, move || {
+    let (mesh, report) = run(py, Progress::of(&progress)?, move || {
         let mesh = repaired(mesh, args.repair())?;
         let (hierarchy, outcome) = args.apply(&mesh, &recipe)?;
         let report = serde_json::json!({
@@ -474,20 +487,20 @@ fn compare(
     positions: PyReadonlyArray2<'_, f64>,
     triangles: PyReadonlyArray2<'_, u32>,
     flags: Vec<String>,
-    progress: bool,
+    progress: Bound<'_, PyAny>,
 ) -> PyResult<String> {
     let args: cli::compare::CompareArgs = parse("compare", &["<array>"], flags, &[])?;
     let mesh = mesh_of(&positions, &triangles)?;
-    let report = run(py, progress, move || args.compare(&repaired(mesh, args.repair())?))?;
+    let report = run(py, Progress::of(&progress)?, move || args.compare(&repaired(mesh, args.repair())?))?;
     Ok(serde_json::to_string(&report).expect("the report serialises"))
 }
 
 /// `asperity terrain`'s heights as a rows × columns array.
 #[pyfunction]
-fn terrain<'py>(py: Python<'py>, flags: Vec<String>, progress: bool) -> PyResult<Bound<'py, PyArray2<f64>>> {
+fn terrain<'py>(py: Python<'py>, flags: Vec<String>, progress: Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let args: cli::terrain::TerrainArgs =
         parse("terrain", &["-o", "<array>.f32"], flags, &["--range", "--peak-height", "--colors", "--layers"])?;
-    let field = run(py, progress, move || cli::terrain::heights_of(&args))?;
+    let field = run(py, Progress::of(&progress)?, move || cli::terrain::heights_of(&args))?;
     let shape = (field.rect.height(), field.rect.width());
     let array = numpy::ndarray::Array2::from_shape_vec(shape, field.heights).expect("rows × columns");
     Ok(PyArray2::from_owned_array(py, array))
@@ -500,11 +513,11 @@ fn terrain<'py>(py: Python<'py>, flags: Vec<String>, progress: bool) -> PyResult
 fn terrain_layers<'py>(
     py: Python<'py>,
     flags: Vec<String>,
-    progress: bool,
+    progress: Bound<'py, PyAny>,
 ) -> PyResult<(Bound<'py, PyArray2<f64>>, Vec<(String, Bound<'py, PyArray2<f64>>)>)> {
     let args: cli::terrain::TerrainArgs =
         parse("terrain", &["-o", "<array>.f32"], flags, &["--range", "--peak-height", "--colors"])?;
-    let (heights, layers) = run(py, progress, move || cli::terrain::layers_of(&args))?;
+    let (heights, layers) = run(py, Progress::of(&progress)?, move || cli::terrain::layers_of(&args))?;
     let array = |field: asperity::terrain::Heightfield| {
         let shape = (field.rect.height(), field.rect.width());
         PyArray2::from_owned_array(
@@ -584,6 +597,7 @@ fn _asperity(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("InputError", m.py().get_type::<InputError>())?;
     m.add("InternalError", m.py().get_type::<InternalError>())?;
+    m.add("Cancelled", m.py().get_type::<Cancelled>())?;
     m.add_function(wrap_pyfunction!(read, m)?)?;
     m.add_function(wrap_pyfunction!(write, m)?)?;
     m.add_function(wrap_pyfunction!(info, m)?)?;

@@ -158,3 +158,78 @@ def test_results_come_back_as_trimesh_objects(sphere):
     assert refined.is_watertight
     assert refined.area == pytest.approx(trimesh.Trimesh(positions, triangles, process=False).area, rel=1e-12)
     np.testing.assert_array_equal(refined.vertex_attributes["ids"], h.refined_ids)
+
+
+def test_a_progress_function_watches_and_cancels_builds_and_refinements(sphere):
+    positions, triangles, h = sphere
+    reports = []
+    built = asperity.Hierarchy(positions, triangles, target_vertices="5%",
+                               progress=lambda stage, done, total: reports.append((stage, done, total)))
+    assert len(reports) >= 3 and all(0 <= d <= t for _, d, t in reports), reports
+    np.testing.assert_array_equal(built.level(0)[1], h.level(0)[1])  # watching changes nothing
+
+    calls = []
+
+    def stop_at_third(stage, done, total):
+        calls.append(stage)
+        return len(calls) < 3
+
+    with pytest.raises(asperity.Cancelled, match="cancelled by the progress callback"):
+        asperity.Hierarchy(positions, triangles, target_vertices="5%", progress=stop_at_third)
+    assert len(calls) == 3
+
+    class Stop(Exception):
+        pass
+
+    def raise_it(stage, done, total):
+        raise Stop(stage)
+
+    with pytest.raises(Stop):
+        asperity.Hierarchy(positions, triangles, target_vertices="5%", progress=raise_it)
+
+    levels = []
+    h.refine(lambda level: None, progress=lambda stage, done, total: levels.append((stage, done, total)))
+    assert levels == [("refine", k, h.levels - 1) for k in range(1, h.levels)]
+    with pytest.raises(asperity.Cancelled):
+        h.refine(lambda level: None, progress=lambda *report: False)
+    seen = []
+    h.refine(progress=lambda stage, done, total: seen.append(stage))
+    assert "refine" in seen
+    with pytest.raises(asperity.Cancelled):
+        h.refine(progress=lambda *report: False)
+    with pytest.raises(TypeError, match="progress must be"):
+        asperity.Hierarchy(positions, triangles, progress="yes")
+
+
+def test_threads_build_and_refine_side_by_side(sphere):
+    """The documented thread-safety: calls from several threads are safe (each long call
+    runs with the GIL released, one at a time), and one hierarchy serves concurrent
+    refinements with results equal to one thread's."""
+    import threading
+
+    positions, triangles, h = sphere
+    alone = h.refine(lambda level: level.positions.__imul__(1.01)).positions
+    built, refined, failures = [], [], []
+
+    def build():
+        try:
+            built.append(asperity.Hierarchy(positions, triangles, target_vertices="5%").level(0)[1])
+        except Exception as e:  # noqa: BLE001 — reported below
+            failures.append(e)
+
+    def refine():
+        try:
+            refined.append(h.refine(lambda level: level.positions.__imul__(1.01)).positions)
+        except Exception as e:  # noqa: BLE001
+            failures.append(e)
+
+    threads = [threading.Thread(target=f) for f in (build, refine, build, refine)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not failures, failures
+    for b in built:
+        np.testing.assert_array_equal(b, h.level(0)[1])
+    for r in refined:
+        np.testing.assert_array_equal(r, alone)
