@@ -1,13 +1,19 @@
 //! Generates the C++ side of the bridge. When `ASPERITY_HEADER_DIR` is set (by the CMake
 //! package build in `cpp/`), the generated header and `rust/cxx.h` are copied there as
-//! `asperity/bridge.rs.h` and `rust/cxx.h`, for installation.
+//! `asperity/bridge.rs.h` and `rust/cxx.h`, for installation (with the package's headers,
+//! among them `asperity/progress.hpp`, which the bridge includes).
 
 use std::path::{Path, PathBuf};
 
 fn main() {
     println!("cargo:rerun-if-changed=src/lib.rs");
+    println!("cargo:rerun-if-changed=../cpp/package/progress.hpp");
     println!("cargo:rerun-if-env-changed=ASPERITY_HEADER_DIR");
-    cxx_build::bridge("src/lib.rs").std("c++17").compile("asperity_cxx_bridge");
+    // The bridge includes the C++ side's own type (the progress callback) as its users
+    // do: <asperity/progress.hpp>, staged here from cpp/package/.
+    let staged = PathBuf::from(std::env::var_os("OUT_DIR").expect("cargo sets OUT_DIR")).join("package-include");
+    copy(Path::new("../cpp/package/progress.hpp"), &staged.join("asperity/progress.hpp"));
+    cxx_build::bridge("src/lib.rs").std("c++17").include(&staged).compile("asperity_cxx_bridge");
     let Some(dest) = std::env::var_os("ASPERITY_HEADER_DIR").map(PathBuf::from) else { return };
     println!("cargo:rerun-if-changed={}", dest.join("asperity/bridge.rs.h").display());
     let generated = PathBuf::from(std::env::var_os("OUT_DIR").expect("cargo sets OUT_DIR")).join("cxxbridge/include");

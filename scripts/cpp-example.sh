@@ -29,3 +29,16 @@ cmake --build target/cpp-example
 mkdir -p target/cpp-example/out
 # An empty MESH argument means "the built-in sphere".
 ./target/cpp-example/openmesh_pipeline "" target/cpp-example/out
+./target/cpp-example/integration target/cpp-example/out
+
+# The same integration example against the shared library, built with pkg-config alone.
+pc=target/cpp-install/lib/pkgconfig
+[ -f "$pc/asperity.pc" ] || pc=$(dirname "$(find target/cpp-install -name asperity.pc | head -1)")
+# shellcheck disable=SC2046 # pkg-config's output is words by design
+g++ -std=c++17 -O1 examples/cpp/integration.cpp -o target/cpp-example/integration-shared \
+  $(PKG_CONFIG_PATH="$pc" pkg-config --cflags --libs asperity)
+libdir=$(PKG_CONFIG_PATH="$pc" pkg-config --variable=libdir asperity)
+LD_LIBRARY_PATH="$libdir" ldd target/cpp-example/integration-shared | grep -q "libasperity.so.0 => $libdir" \
+  || { echo "cpp-example: the pkg-config build does not use $libdir/libasperity.so.0" >&2; exit 1; }
+mkdir -p target/cpp-example/out-shared
+LD_LIBRARY_PATH="$libdir" ./target/cpp-example/integration-shared target/cpp-example/out-shared

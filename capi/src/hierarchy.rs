@@ -3,6 +3,9 @@
 //! level's vertices between two calls (the thesis' D(VS, l, f), eq. 4.4, with f in C++).
 
 use asperity::detail::LevelView;
+
+use crate::bridge::ProgressCallback;
+use crate::progress::watched;
 use asperity::hierarchy::region::refine_region;
 use asperity::hierarchy::{FeatureVertices, Hierarchy, Refiner, SimplifyOptions, build};
 use asperity::{Error, Mesh, Result};
@@ -69,11 +72,13 @@ pub fn build_hierarchy(
     triangles: &[u32],
     corner_uvs: &[f64],
     options: &HierarchyOptions,
+    progress: &ProgressCallback,
 ) -> Result<Box<BuiltHierarchy>, String> {
     guarded(|| {
         let mut input = mesh_of(positions, triangles)?;
         input.uvs = corner_uvs_of(corner_uvs, input.face_count())?;
-        let inner = build(&input, &simplify_options(options)?)?;
+        let options = simplify_options(options)?;
+        let inner = watched(progress, || build(&input, &options))?;
         Ok(Box::new(BuiltHierarchy { input, inner }))
     })
 }
@@ -141,11 +146,16 @@ impl BuiltHierarchy {
         serde_json::to_string(&self.inner.stages).expect("stages serialise")
     }
 
-    pub fn refine_region(&self, inside: &[u8], base_level: usize) -> Result<RegionOutcome, String> {
+    pub fn refine_region(
+        &self,
+        inside: &[u8],
+        base_level: usize,
+        progress: &ProgressCallback,
+    ) -> Result<RegionOutcome, String> {
         guarded(|| {
             let start = std::time::Instant::now();
             let mask = mask_of(inside, self.input.vertex_count())?;
-            let mut region = refine_region(&self.inner, base_level, &|v| mask[v as usize])?;
+            let mut region = watched(progress, || refine_region(&self.inner, base_level, &|v| mask[v as usize]))?;
             // A face whose wedge is not found (a seam vertex placed off its seam by
             // Algorithm 2's search) leaves the UVs out: the C++ result then has no
             // texcoords, as `hierarchy.hpp` documents.

@@ -5,17 +5,21 @@
 //! Errors: every function returns `Result<_, String>`, the message prefixed with the
 //! command line's exit code and a bar (`2|…` bad input, `1|…` internal), which the C++
 //! side turns into `asperity::InputError` or `asperity::InternalError`. Nothing panics
-//! across the FFI (every call is caught), and no call goes from Rust into C++ code the
-//! user wrote: a C++ operator runs between calls (see `hierarchy::Refinement`), so a C++ exception
-//! never crosses into Rust either.
+//! across the FFI (every call is caught). The one call from Rust into C++ code the user
+//! wrote is a progress function (`progress.rs`), and its C++ wrapper catches every
+//! exception and rethrows it after the call; a C++ operator runs between calls (see
+//! `hierarchy::Refinement`), so no C++ exception crosses into Rust.
 
 mod arrays;
 mod fields;
 mod hierarchy;
+mod measures;
 mod pipeline;
+mod progress;
 
 use fields::{analyze, noise, terrain_mesh};
 use hierarchy::{BuiltHierarchy, Refinement, build_hierarchy, default_hierarchy_options, start_refinement};
+use measures::{hausdorff, triangulate, validate};
 use pipeline::{detail, repair, simplify, version};
 
 #[cxx::bridge(namespace = "asperity::ffi")]
@@ -131,6 +135,16 @@ mod bridge {
         report: Report,
     }
 
+    unsafe extern "C++" {
+        include!("asperity/progress.hpp");
+        /// A C++ progress function (`asperity::ProgressFunction`), exceptions caught.
+        type ProgressCallback;
+        /// Whether a function is set.
+        fn watching(self: &ProgressCallback) -> bool;
+        /// The function's answer to one report (false: stop).
+        fn report(self: &ProgressCallback, stage: &str, done: u64, total: u64) -> bool;
+    }
+
     extern "Rust" {
         /// asperity's version.
         fn version() -> String;
@@ -160,6 +174,19 @@ mod bridge {
         fn noise(points: &[f64], dimension: usize, flags: &Vec<String>) -> Result<Vec<f64>>;
         /// Normals, curvatures and feature classes of a mesh (`asperity analyze`).
         fn analyze(positions: &[f64], triangles: &[u32]) -> Result<Analysis>;
+        /// `asperity info`'s validation report, as JSON.
+        fn validate(positions: &[f64], triangles: &[u32]) -> Result<String>;
+        /// The two-sided Hausdorff distance between two meshes, a share of the first's
+        /// bounding-box diagonal (CGAL).
+        fn hausdorff(
+            reference_positions: &[f64],
+            reference_triangles: &[u32],
+            other_positions: &[f64],
+            other_triangles: &[u32],
+        ) -> Result<f64>;
+        /// Polygons (corner counts, then their corners) as triangles, n − 2 per polygon in
+        /// polygon order (the readers' ear clipping).
+        fn triangulate(positions: &[f64], corner_counts: &[u32], corners: &[u32]) -> Result<Vec<u32>>;
 
         /// The library's default hierarchy options.
         fn default_hierarchy_options() -> HierarchyOptions;
@@ -173,6 +200,7 @@ mod bridge {
             triangles: &[u32],
             corner_uvs: &[f64],
             options: &HierarchyOptions,
+            progress: &ProgressCallback,
         ) -> Result<Box<BuiltHierarchy>>;
         /// Levels, the base domain and the input included.
         fn level_count(self: &BuiltHierarchy) -> usize;
@@ -187,7 +215,12 @@ mod bridge {
         fn report_json(self: &BuiltHierarchy) -> Result<String>;
         /// Refines whole up to `base_level`, then only the vertices `inside` marks (one
         /// byte per input vertex) and what they need.
-        fn refine_region(self: &BuiltHierarchy, inside: &[u8], base_level: usize) -> Result<RegionOutcome>;
+        fn refine_region(
+            self: &BuiltHierarchy,
+            inside: &[u8],
+            base_level: usize,
+            progress: &ProgressCallback,
+        ) -> Result<RegionOutcome>;
 
         /// A refinement in progress, level by level from the base domain.
         type Refinement<'a>;

@@ -38,21 +38,29 @@ inline Analysis analysis_of(const ffi::Analysis& a) {
 
 }  // namespace impl
 
-/// Analyses `mesh` (asperity analyze) and adds the results to it as vertex properties:
-/// "asperity:mean_curvature", "asperity:gaussian_curvature", "asperity:k1", "asperity:k2"
-/// (double) and "asperity:feature_class" (int, FeatureClass's values); the mesh's vertex
-/// normals are set too when it has them. Returns the same values.
+/// Analyses `mesh` (asperity analyze) without changing it: normals, curvatures and feature
+/// classes per vertex.
 template <class Mesh>
-Analysis analyze(Mesh& mesh) {
+Analysis analyze(const Mesh& mesh) {
   std::vector<double> p;
   std::vector<std::uint32_t> t;
   to_arrays(mesh, p, t);
-  Analysis a = impl::analysis_of(impl::call([&] { return ffi::analyze(impl::slice(p), impl::slice(t)); }));
-  auto mean = OpenMesh::getOrMakeProperty<OpenMesh::VertexHandle, double>(mesh, "asperity:mean_curvature");
-  auto gauss = OpenMesh::getOrMakeProperty<OpenMesh::VertexHandle, double>(mesh, "asperity:gaussian_curvature");
-  auto k1 = OpenMesh::getOrMakeProperty<OpenMesh::VertexHandle, double>(mesh, "asperity:k1");
-  auto k2 = OpenMesh::getOrMakeProperty<OpenMesh::VertexHandle, double>(mesh, "asperity:k2");
-  auto cls = OpenMesh::getOrMakeProperty<OpenMesh::VertexHandle, int>(mesh, "asperity:feature_class");
+  return impl::analysis_of(impl::call([&] { return ffi::analyze(impl::slice(p), impl::slice(t)); }));
+}
+
+/// Analyses `mesh` and adds the results to it as persistent vertex properties (OpenMesh's
+/// .om writer keeps them): "asperity:mean_curvature", "asperity:gaussian_curvature",
+/// "asperity:k1", "asperity:k2" (double) and "asperity:feature_class" (int, FeatureClass's
+/// values); the mesh's vertex normals are set too when it has them. Returns the same
+/// values. (A const mesh gets the values only: the overload above.)
+template <class Mesh>
+Analysis analyze(Mesh& mesh) {
+  Analysis a = analyze(static_cast<const Mesh&>(mesh));
+  auto mean = impl::vertex_property<double>(mesh, "asperity:mean_curvature");
+  auto gauss = impl::vertex_property<double>(mesh, "asperity:gaussian_curvature");
+  auto k1 = impl::vertex_property<double>(mesh, "asperity:k1");
+  auto k2 = impl::vertex_property<double>(mesh, "asperity:k2");
+  auto cls = impl::vertex_property<int>(mesh, "asperity:feature_class");
   for (auto v : mesh.vertices()) {
     const auto i = std::size_t(v.idx());
     mean[v] = a.mean_curvature[i];

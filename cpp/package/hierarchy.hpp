@@ -18,6 +18,7 @@
 
 #include "asperity/analysis.hpp"
 #include "asperity/mesh_arrays.hpp"
+#include "asperity/progress.hpp"
 
 namespace asperity {
 
@@ -44,6 +45,9 @@ struct HierarchyOptions {
   double fix_threshold_degrees;
   /// Leave out the clusters whose new faces would cut the surface.
   bool intersection_guard;
+  /// Watches the build (stage, done, total); returning false stops it with
+  /// asperity::Cancelled. Empty: unwatched.
+  ProgressFunction progress;
 
   HierarchyOptions() {
     const auto d = ffi::default_hierarchy_options();
@@ -161,9 +165,9 @@ class Hierarchy {
       throw InputError("attach_parametrization: the mesh has " + std::to_string(input.n_vertices()) +
                        " vertices, the hierarchy's input " + std::to_string(p.level.size()));
     }
-    auto level = OpenMesh::getOrMakeProperty<OpenMesh::VertexHandle, int>(input, "asperity:level");
-    auto face = OpenMesh::getOrMakeProperty<OpenMesh::VertexHandle, int>(input, "asperity:base_face");
-    auto bary = OpenMesh::getOrMakeProperty<OpenMesh::VertexHandle, OpenMesh::Vec3d>(input, "asperity:barycentric");
+    auto level = impl::vertex_property<int>(input, "asperity:level");
+    auto face = impl::vertex_property<int>(input, "asperity:base_face");
+    auto bary = impl::vertex_property<OpenMesh::Vec3d>(input, "asperity:barycentric");
     for (auto v : input.vertices()) {
       const auto i = std::size_t(v.idx());
       level[v] = int(p.level[i]);
@@ -180,16 +184,24 @@ class Hierarchy {
   /// each vertex, with halfedge texcoords when the input had texture coordinates and every
   /// face's side of the seams is found (a vertex Algorithm 2's search placed off its seam
   /// leaves them out: the result then has none).
+  /// `progress`, when set, is called after each refined level ("refine", level, levels
+  /// to go through); returning false stops with asperity::Cancelled.
   template <class Operator>
-  Mesh refine(Operator&& op, const std::vector<bool>* region = nullptr) const {
+  Mesh refine(Operator&& op, const std::vector<bool>* region = nullptr, const ProgressFunction& progress = {}) const {
     auto session = impl::call([&] { return ffi::start_refinement(*inner_); });
     const std::vector<std::uint8_t> inside = region ? impl::bytes(*region) : std::vector<std::uint8_t>();
+    const std::uint64_t steps = level_count() - 1;
     while (true) {
       LevelView view(*session, level_count());
       op(view);
       view.commit();
       if (session->finished()) break;
       impl::call([&] { session->refine_next(impl::slice(inside)); });
+      const std::uint64_t done = session->current_level();
+      if (progress && !progress("refine", done, steps)) {
+        throw Cancelled("cancelled by the progress callback at refine (" + std::to_string(done) + " of " +
+                        std::to_string(steps) + ")");
+      }
     }
     return level_mesh<Mesh>(impl::call([&] { return session->result(); }));
   }
@@ -198,10 +210,13 @@ class Hierarchy {
   /// (a flag per input vertex) and what they need, up to the input's level (thesis §4.6):
   /// a conforming mesh, fine in the region and coarse elsewhere. `missing`, when given,
   /// receives the region vertices no edge could take.
+  /// `progress` watches it as it does the build.
   Mesh refine_region(const std::vector<bool>& inside, std::size_t base_level = 0,
-                     std::vector<std::uint32_t>* missing = nullptr) const {
+                     std::vector<std::uint32_t>* missing = nullptr, const ProgressFunction& progress = {}) const {
     const auto mask = impl::bytes(inside);
-    const auto out = impl::call([&] { return inner_->refine_region(impl::slice(mask), base_level); });
+    const ffi::ProgressCallback watch(progress);
+    const auto out =
+        impl::call(watch, [&] { return inner_->refine_region(impl::slice(mask), base_level, watch); });
     if (missing) missing->assign(out.missing.begin(), out.missing.end());
     return level_mesh<Mesh>(out.level);
   }
@@ -235,8 +250,16 @@ class Hierarchy {
     f.swap_weight = o.swap_weight;
     f.fix_threshold_degrees = o.fix_threshold_degrees;
     f.intersection_guard = o.intersection_guard;
-    const std::vector<double> uvs = corner_uvs(mesh);
-    return impl::call([&] { return ffi::build_hierarchy(impl::slice(p), impl::slice(t), impl::slice(uvs), f); });
+    std::vector<double> uvs;
+    if (mesh.has_halfedge_texcoords2D() || mesh.has_vertex_texcoords2D()) {
+      std::vector<typename Mesh::FaceHandle> faces;  // each triangle's face (a polygon's several)
+      impl::triangles_of(mesh, p, t, &faces);
+      uvs = corner_uvs(mesh, t, faces);
+    }
+    const ffi::ProgressCallback progress(o.progress);
+    return impl::call(progress, [&] {
+      return ffi::build_hierarchy(impl::slice(p), impl::slice(t), impl::slice(uvs), f, progress);
+    });
   }
 
   rust::Box<ffi::BuiltHierarchy> inner_;

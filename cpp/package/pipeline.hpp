@@ -2,6 +2,8 @@
 // package:
 //
 //   asperity::repair(mesh);                              // what --repair does, in place
+//   std::string report = asperity::validate(mesh);       // asperity info's report (JSON)
+//   double d = asperity::hausdorff(mesh, other);         // share of the diagonal
 //   asperity::simplify(mesh, 500);                       // the base domain, in place
 //   asperity::detail(mesh, recipe_toml);                 // a recipe (docs/recipes.md)
 //   asperity::Hierarchy<Mesh> h(mesh, options);          // levels, parametrization,
@@ -10,9 +12,10 @@
 //   auto values = asperity::noise(points, noise_options);
 //   auto land = asperity::terrain<Mesh>(terrain_options);
 //
-// Errors are thrown as asperity::InputError (bad input; the command line's exit 2) or
-// asperity::InternalError (exit 1), both std::runtime_error, with asperity's one-line
-// message. The in-place calls replace the mesh's contents; vertex attributes other than
+// Meshes are OpenMesh TriMeshes or PolyMeshes (polygons are triangulated as the file
+// readers do). Errors are thrown as asperity::InputError (bad input; the command line's
+// exit 2), asperity::InternalError (exit 1) or asperity::Cancelled (a progress function
+// said stop), all std::runtime_error, with asperity's one-line message. The in-place calls replace the mesh's contents; vertex attributes other than
 // positions are not carried over.
 #pragma once
 
@@ -79,9 +82,30 @@ std::string repair(Mesh& mesh) {
   to_arrays(mesh, p, t);
   auto out = impl::call([&] { return ffi::repair(impl::slice(p), impl::slice(t)); });
   from_arrays(mesh, out.mesh);
-  auto source = OpenMesh::getOrMakeProperty<OpenMesh::VertexHandle, int>(mesh, "asperity:source");
+  auto source = impl::vertex_property<int>(mesh, "asperity:source");
   for (auto v : mesh.vertices()) source[v] = int(out.source[std::size_t(v.idx())]);
   return std::string(out.report);
+}
+
+/// `asperity info`'s validation report of `mesh`, as JSON: counts, boundary loops,
+/// manifoldness, orientation, components, Euler characteristic, genus, degenerate faces.
+template <class Mesh>
+std::string validate(const Mesh& mesh) {
+  std::vector<double> p;
+  std::vector<std::uint32_t> t;
+  to_arrays(mesh, p, t);
+  return std::string(impl::call([&] { return ffi::validate(impl::slice(p), impl::slice(t)); }));
+}
+
+/// The two-sided Hausdorff distance between `reference` and `other` (CGAL), as a share of
+/// the reference's bounding-box diagonal (measured in its unit frame: no unit enters).
+template <class MeshA, class MeshB>
+double hausdorff(const MeshA& reference, const MeshB& other) {
+  std::vector<double> p, q;
+  std::vector<std::uint32_t> t, u;
+  to_arrays(reference, p, t);
+  to_arrays(other, q, u);
+  return impl::call([&] { return ffi::hausdorff(impl::slice(p), impl::slice(t), impl::slice(q), impl::slice(u)); });
 }
 
 /// Applies a detail recipe (TOML text; see docs/recipes.md) to `mesh` in place; a recipe

@@ -233,3 +233,30 @@ def test_threads_build_and_refine_side_by_side(sphere):
         np.testing.assert_array_equal(b, h.level(0)[1])
     for r in refined:
         np.testing.assert_array_equal(r, alone)
+
+
+def test_a_numpy_operator_equals_the_same_cpp_operator_bit_for_bit():
+    """The notebook-style target of #39: every level displaced along its normals by
+    0.002 (level + 1) in numpy gives the C++ operator's result exactly
+    (examples/cpp/integration.cpp writes its input and result; scripts/cpp-example.sh runs
+    it, before these tests in make test)."""
+    from conftest import REPO
+
+    out = REPO / "target/cpp-example/out"
+    names = ["input-positions.f64", "input-triangles.u32", "result-positions.f64"]
+    missing = [n for n in names if not (out / f"normal-displacement.{n}").is_file()]
+    if missing:
+        pytest.fail(f"the C++ example's output is missing from {out} ({', '.join(missing)}): run scripts/cpp-example.sh")
+    positions = np.fromfile(out / "normal-displacement.input-positions.f64", dtype="<f8").reshape(-1, 3)
+    triangles = np.fromfile(out / "normal-displacement.input-triangles.u32", dtype="<u4").reshape(-1, 3)
+    cpp = np.fromfile(out / "normal-displacement.result-positions.f64", dtype="<f8").reshape(-1, 3)
+    h = asperity.Hierarchy(positions, triangles, target_vertices=len(positions) // 20, keep_features="none")
+
+    def displace(level):
+        level.positions += 0.002 * (level.level + 1) * level.normals
+
+    result = h.refine(displace)
+    ours = np.empty_like(result.positions)
+    ours[result.attributes["ids"]] = result.positions
+    assert np.abs(ours - positions).max() > 0.01  # the operator moved the surface
+    np.testing.assert_array_equal(ours, cpp)
