@@ -1,5 +1,5 @@
 //! Builds the C++ adapter in `cpp/` with CMake (OpenMesh, CGAL, Eigen3 from Debian) and
-//! the `cxx` bridge of `src/ffi.rs`, then links them.
+//! the `cxx` bridge of `src/ffi/mod.rs`, then links them.
 
 use std::path::Path;
 
@@ -39,7 +39,7 @@ fn require_system_packages() {
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-changed=cpp");
-    println!("cargo:rerun-if-changed=src/ffi.rs");
+    println!("cargo:rerun-if-changed=src/ffi/mod.rs");
     require_system_packages();
 
     // `make sanitize` sets ASPERITY_SANITIZE=address,undefined: the adapter and the bridge
@@ -54,7 +54,7 @@ fn main() {
         .build_target("asperity_native")
         .build();
 
-    let mut bridge = cxx_build::bridge("src/ffi.rs");
+    let mut bridge = cxx_build::bridge("src/ffi/mod.rs");
     bridge
         .file("cpp/bridge/bridge.cc")
         .include("cpp/include")

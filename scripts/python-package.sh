@@ -13,6 +13,8 @@ fi
 "$venv/bin/python" -m pip install -q --upgrade pip
 # The manylinux wheel `make wheel` ships (its native libraries bundled), not a build of its
 # own: what the tests pass on is what users install.
+# With --test, the dev profile: the tests' build shares what `cargo test` compiled.
+[ "${1:-}" = "--test" ] && export ASPERITY_WHEEL_PROFILE=${ASPERITY_WHEEL_PROFILE:-dev}
 wheel=$(./scripts/python-wheel.sh)
 "$venv/bin/python" -m pip install -q "$wheel"
 "$venv/bin/python" -m pip install -q --force-reinstall --no-deps "$wheel"

@@ -6,6 +6,8 @@
 # RPATH there and tags the wheel with the oldest manylinux policy its symbols allow. The
 # tools come from PyPI into target/wheel-tools. Needs the Debian packages of
 # scripts/install-deps.sh; prints the wheel's path last. `make wheel` runs it.
+# ASPERITY_WHEEL_PROFILE picks cargo's profile (release by default; `make test` tests a dev
+# build of the same wheel, sharing the build `cargo test` and the C++ example made).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools=target/wheel-tools
@@ -17,7 +19,7 @@ fi
 rm -rf "$out/raw" "$out/manylinux"
 mkdir -p "$out/raw" "$out/manylinux"
 # maturin's own audit is off (--compatibility linux): auditwheel repairs and tags below.
-PATH="$PWD/$tools/bin:$PATH" "$tools/bin/maturin" build --quiet --release -m python/Cargo.toml \
+PATH="$PWD/$tools/bin:$PATH" "$tools/bin/maturin" build --quiet --profile "${ASPERITY_WHEEL_PROFILE:-release}" -m python/Cargo.toml \
   --compatibility linux -o "$out/raw" >&2
 PATH="$PWD/$tools/bin:$PATH" "$tools/bin/auditwheel" repair -w "$out/manylinux" "$out/raw"/*.whl >&2
 wheel=$(ls "$out/manylinux"/*.whl)

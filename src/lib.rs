@@ -2,7 +2,8 @@
 //!
 //! Two pipelines share this library: fractal terrain generation and adaptive hierarchical
 //! detail mapping on arbitrary meshes (Dembogurski 2014). This crate root wires the
-//! modules together; see `docs/ARCHITECTURE.md` for the data flow.
+//! modules together; see `docs/ARCHITECTURE.md` for the data flow and
+//! `docs/references.md` for the full reference of every paper a doc comment cites.
 #![warn(missing_docs)]
 #![deny(unsafe_code)]
 

@@ -201,7 +201,7 @@ fn assert_added_pairs_match(mesh: &Mesh, is_added: impl Fn(usize) -> bool) {
         })
         .collect();
     expected.sort_unstable();
-    assert_eq!(ffi::added_triangle_intersections(&mesh.positions, &kept, &added).unwrap(), expected);
+    assert_eq!(asperity::hierarchy::added_triangle_intersections(&mesh.positions, &kept, &added).unwrap(), expected);
 }
 
 #[test]
@@ -240,7 +240,7 @@ fn added_triangle_intersections_agree_with_cgal_self_intersections() {
         assert_added_pairs_match(mesh, |f| f % 3 == 0);
         assert_added_pairs_match(mesh, |f| f % 2 == 1);
         assert_added_pairs_match(mesh, |_| true);
-        assert!(ffi::added_triangle_intersections(&mesh.positions, &mesh.triangles, &[]).unwrap().is_empty());
+        assert!(asperity::hierarchy::added_triangle_intersections(&mesh.positions, &mesh.triangles, &[]).unwrap().is_empty());
     }
     // More kept faces than one call takes (the kept side is split across threads).
     let mut large = icosphere(1.0, 6);
@@ -251,11 +251,11 @@ fn added_triangle_intersections_agree_with_cgal_self_intersections() {
     assert_added_pairs_match(&large, |f| f >= first_small);
     // Bad indices and coordinates are errors, not aborts.
     assert!(matches!(
-        ffi::added_triangle_intersections(&[DVec3::ZERO], &[], &[[0, 0, 7]]),
+        asperity::hierarchy::added_triangle_intersections(&[DVec3::ZERO], &[], &[[0, 0, 7]]),
         Err(Error::InvalidInput(_))
     ));
     let nan = [DVec3::ZERO, DVec3::X, DVec3::NAN];
-    assert!(matches!(ffi::added_triangle_intersections(&nan, &[[0, 1, 2]], &[]), Err(Error::InvalidInput(_))));
+    assert!(matches!(asperity::hierarchy::added_triangle_intersections(&nan, &[[0, 1, 2]], &[]), Err(Error::InvalidInput(_))));
 }
 
 #[test]
@@ -299,7 +299,7 @@ fn the_plane_side_filter_never_separates_what_cgal_finds_intersecting() {
         }
         let mesh = Mesh::new(positions.clone(), vec![s, t]);
         let cgal = !ffi::self_intersections(&mesh).unwrap().is_empty();
-        let ours = !ffi::added_triangle_intersections(&positions, &[s], &[t]).unwrap().is_empty();
+        let ours = !asperity::hierarchy::added_triangle_intersections(&positions, &[s], &[t]).unwrap().is_empty();
         assert_eq!(ours, cgal, "case {case}: {s:?} {t:?} over {positions:?}");
         let apart = asperity::mesh::certainly_apart(&positions, s, t);
         assert!(!(apart && cgal), "case {case}: the filter separated an intersecting pair");

@@ -1,5 +1,5 @@
 // Glue implementations: copy between rust:: containers and the native API.
-#include "asperity/src/ffi.rs.h"
+#include "asperity/src/ffi/mod.rs.h"
 
 namespace asperity {
 namespace ffi {

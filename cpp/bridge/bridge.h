@@ -1,4 +1,4 @@
-// Glue between the cxx-generated bridge (src/ffi.rs) and asperity's native C++ API.
+// Glue between the cxx-generated bridge (src/ffi/mod.rs) and asperity's native C++ API.
 // Converts rust::Slice / rust::Vec to the native calls; every function may throw, and
 // cxx turns the exception into a Rust `Err` (see the trycatch below).
 #pragma once

@@ -7,6 +7,7 @@ mod features;
 mod gradient;
 mod normals;
 mod orient;
+mod quadric;
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -17,6 +18,7 @@ pub use features::{
     voting_tensors, wide_voting_tensors,
 };
 pub use gradient::face_gradients;
+pub use quadric::Quadric;
 pub use normals::{FaceGeometry, NormalWeighting, face_normals, vertex_normals};
 pub use orient::orient_line_field;
 

@@ -22,7 +22,7 @@ use super::give_way::FEATURE_PREMIUM;
 use super::lines::FeatureLines;
 use super::param::ParamBuckets;
 use super::rings::{RingVec, Rings};
-use crate::ffi::Quadric;
+use crate::analysis::Quadric;
 
 /// Weights and thresholds of the cluster selection.
 #[derive(Debug, Clone, Copy)]

@@ -197,7 +197,7 @@ struct Reference {
 
 /// Pairs of `mesh`'s faces that intersect beyond a shared vertex or edge.
 fn self_intersection_count(mesh: &Mesh) -> Result<usize> {
-    Ok(ffi::added_triangle_intersections(&mesh.positions, &[], &mesh.triangles)?.len())
+    Ok(super::added_triangle_intersections(&mesh.positions, &[], &mesh.triangles)?.len())
 }
 
 impl Reference {

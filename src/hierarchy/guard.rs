@@ -1,13 +1,12 @@
 //! The intersection guard of simplification: a level's planned retriangulations must not
 //! cut the surface they join (checked with CGAL's exact predicates through
-//! [`ffi::added_triangle_intersections`]); the plans that would are left for a later level.
+//! [`super::added_triangle_intersections`]); the plans that would are left for a later level.
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::cluster::{ClusterPlan, apply_plan, plan_still_applies};
 use super::rings::Rings;
 use crate::error::Result;
-use crate::ffi;
 
 /// The intersection guard: leaves out the plans whose new triangles would intersect the
 /// level's surface as planned (CGAL's exact predicates; intersections already in the level
@@ -78,7 +77,7 @@ fn intersecting_plans(
     }
     let first_planned = if restored.is_some() { first_planned } else { kept.len() + first_planned };
     let owner = |t: u32| (t as usize).checked_sub(first_planned).and_then(|i| owners.get(i).copied());
-    let pairs = ffi::added_triangle_intersections(positions, &kept, &added)?;
+    let pairs = super::added_triangle_intersections(positions, &kept, &added)?;
     if pairs.is_empty() {
         return Ok(FxHashSet::default());
     }
@@ -135,7 +134,7 @@ fn crossings_before(
         .iter()
         .map(|&[a, b]| [region(a), region(b)].map(|r| r.into_iter().map(|t| slot(t, &mut faces)).collect()))
         .collect();
-    let crossing: FxHashSet<[u32; 2]> = ffi::added_triangle_intersections(positions, &[], &faces)?
+    let crossing: FxHashSet<[u32; 2]> = super::added_triangle_intersections(positions, &[], &faces)?
         .into_iter()
         .map(|[a, b]| [a.min(b), a.max(b)])
         .collect();

@@ -190,7 +190,7 @@ struct Planner<'a> {
     give_way: GiveWay,
     /// Why the build stopped short of its target, when it did.
     stopped_by: Option<String>,
-    quadrics: Vec<ffi::Quadric>,
+    quadrics: Vec<crate::analysis::Quadric>,
     rings: Rings,
     live: Vec<u32>,
     locked: Vec<bool>,
@@ -202,9 +202,34 @@ struct Planner<'a> {
     slivers: SliverBudget,
 }
 
+/// What the level loop carries from one level to the next.
+struct LevelLoop {
+    rules: ClusterRules,
+    /// Levels planned.
+    steps: usize,
+    /// Tries of the current level whose every plan offended the guard.
+    retries: usize,
+    /// Vertices whose plans the guard dropped on the last level (or the last tries).
+    waiting: FxHashSet<u32>,
+    /// Whether the waiting vertices were planned again once before stopping.
+    waiting_retried: bool,
+}
+
+/// Whether the level loop goes on after a level that planned nothing.
+enum Next {
+    /// Plan the level again (without the offenders, or after something gave way).
+    Retry,
+    /// Stop: the target, a bound or an invariant is reached (`stopped_by` says which).
+    Stop,
+}
+
 impl Planner<'_> {
     /// Plans level after level until a limit is reached, handing each level's plans to
-    /// `record` (which returns false when the record has stopped).
+    /// `record` (which returns false when the record has stopped). Each level: rank the
+    /// candidates and set the level's error limit ([`Planner::rank_level`]), select and
+    /// guard its clusters ([`Planner::plan_level`]), then either apply them
+    /// ([`Planner::apply_level`]) or, with none left, give something way or stop
+    /// ([`Planner::after_empty_level`]).
     fn plan_levels(
         &mut self,
         stages: &mut BuildStages,
@@ -212,171 +237,42 @@ impl Planner<'_> {
         mut record: impl FnMut(LevelPlans) -> bool,
     ) -> Result<()> {
         let options = self.options;
-        let mut rules = ClusterRules {
-            removal_weight: options.removal_weight,
-            swap_weight: options.swap_weight,
-            min_angle: self.give_way.floor().to_radians(),
-            under_floor: false,
+        let mut state = LevelLoop {
+            rules: ClusterRules {
+                removal_weight: options.removal_weight,
+                swap_weight: options.swap_weight,
+                min_angle: self.give_way.floor().to_radians(),
+                under_floor: false,
+            },
+            steps: 0,
+            retries: 0,
+            waiting: FxHashSet::default(),
+            waiting_retried: false,
         };
-        // Planning is in the unit frame (diagonal 1): fractions of the input's diagonal are
-        // distances there.
-        let tolerance = 1e-9_f64.powi(2);
-        let max_error = options.max_error.map(|f| f * f);
-        let mut steps = 0;
-        let mut retries = 0;
         let first_live = self.live.len();
         let to_remove = first_live.saturating_sub(options.target_vertices.unwrap_or(0)).max(1) as u64;
         crate::progress::report("simplify", 0, to_remove);
         if let Some(target) = options.target_vertices.filter(|_| options.max_error.is_none()) {
             self.give_way.release_to_budget(target, &self.live, &mut self.kept, &mut self.lines, &self.rings);
         }
-        // Vertices whose plans the guard dropped on the last level (or the last tries).
-        let mut waiting: FxHashSet<u32> = FxHashSet::default();
-        let mut waiting_retried = false;
-        while options.levels.is_none_or(|l| steps < l) {
+        while options.levels.is_none_or(|l| state.steps < l) {
             if options.target_vertices.is_some_and(|t| self.live.len() <= t) {
                 break;
             }
-            let geometry = LevelGeometry {
-                positions: self.positions,
-                quadrics: &self.quadrics,
-                tolerance,
-                params: &self.params,
-                lines: &self.lines,
-            };
-            rules.under_floor = self.slivers.has_room();
-            let need = options.target_vertices.map_or(usize::MAX, |t| self.live.len().saturating_sub(t));
-            // The last level's offenders wait a level: planned again at once they would
-            // likely offend again and take the place of clusters that can go.
-            let mut ranked = ranked_candidates(&self.live, &waiting, &self.rings, &self.kept, geometry, &rules, need);
-            let limit = level_error_limit(&ranked, need, tolerance).min(max_error.unwrap_or(f64::INFINITY));
-            if options.target_vertices.is_some() && options.max_error.is_none() && limit.is_finite() {
-                let cheap = self.give_way.cheap_to_release(
-                    &self.live,
-                    &waiting,
-                    &self.kept,
-                    &self.rings,
-                    geometry,
-                    &rules,
-                    limit,
-                );
-                if !cheap.is_empty() {
-                    self.give_way.release_planned(&cheap, &mut self.kept, &mut self.lines, &self.rings);
-                    // A release changes the lines of the vertex and of its ring: their
-                    // plans are made again by selection, on the lines as they now are.
-                    let touched: FxHashSet<u32> =
-                        cheap.iter().flat_map(|&(_, v)| self.rings.ring(v).iter().copied().chain([v])).collect();
-                    for candidate in &mut ranked {
-                        if touched.contains(&candidate.vertex) {
-                            candidate.plan = None;
-                        }
-                    }
-                    ranked.extend(cheap.into_iter().map(|(error, vertex)| Candidate { error, vertex, plan: None }));
-                    ranked.par_sort_unstable_by(|a, b| a.error.total_cmp(&b.error).then(a.vertex.cmp(&b.vertex)));
-                }
-            }
-            let geometry = LevelGeometry {
-                positions: self.positions,
-                quadrics: &self.quadrics,
-                tolerance,
-                params: &self.params,
-                lines: &self.lines,
-            };
+            let (mut ranked, limit) = self.rank_level(&mut state);
             lap(clock, &mut stages.ranking);
-            let level_faces = if options.prevent_intersections { self.rings.faces(&self.live) } else { Vec::new() };
-            lap(clock, &mut stages.guard);
-            self.rings.checkpoint();
-            let mut plans = select_clusters(
-                &mut ranked,
-                &mut self.rings,
-                geometry,
-                &rules,
-                &mut self.locked,
-                self.live.len(),
-                options,
-                limit,
-                &self.slivers,
-            )?;
-            for &v in &self.live {
-                self.locked[v as usize] = false;
-            }
-            lap(clock, &mut stages.planning);
-            let mut offenders = FxHashSet::default();
-            if options.prevent_intersections {
-                (plans, offenders) = guard_plans(self.model_positions, &level_faces, plans, &mut self.rings)?;
-                lap(clock, &mut stages.guard);
-            }
-            self.rings.commit();
+            let (plans, offenders) = self.plan_level(&mut ranked, &state.rules, limit, stages, clock)?;
             if plans.is_empty() {
-                // A level whose every plan offended is retried without them (and without
-                // the earlier tries' offenders), a few times.
-                if !offenders.is_empty() && retries < MAX_RETRIES {
-                    retries += 1;
-                    waiting.extend(offenders);
-                    continue;
-                }
-                // Short of the target: something gives way (`give_way`), or the build
-                // stops and says why.
-                let Some(target) = options.target_vertices.filter(|&t| self.live.len() > t) else { break };
-                if options.max_error.is_some() {
-                    self.stopped_by = Some("the error bound (max_error) is reached first".to_string());
-                    break;
-                }
-                let need = self.live.len() - target;
-                match self.give_way.next(need, &self.live, &mut self.kept, &mut self.lines, &self.rings) {
-                    Some(Rung::Floor(degrees)) => rules.min_angle = degrees.to_radians(),
-                    Some(Rung::Released(_)) => rules.min_angle = self.give_way.floor().to_radians(),
-                    // The last level's offenders sat this level out: before stopping,
-                    // they are planned again once (the level has changed around them).
-                    None if !waiting.is_empty() && !waiting_retried => {
-                        waiting_retried = true;
-                        waiting.clear();
-                        continue;
-                    }
-                    None => {
-                        let fixed = self.live.iter().filter(|&&v| self.give_way.is_fixed(v)).count();
-                        let held = match fixed {
-                            0 => String::new(),
-                            n => format!(
-                                "; {n} vertices that never give way are kept (--feature-vertices keep, texture seams, marked vertices)"
-                            ),
-                        };
-                        // The vertices left out as the last tries' offenders still have
-                        // plans: what stops the build there is the guard.
-                        self.stopped_by = Some(
-                            if offenders.is_empty() && waiting.is_empty() {
-                                "no valid cluster is left: every remaining removal would flip or fold a face, make an edge that exists (genus, manifoldness) or close a boundary loop".to_string()
-                            } else {
-                                "the intersection guard: every remaining cluster would make the surface cut itself"
-                                    .to_string()
-                            } + &held,
-                        );
-                        break;
-                    }
-                }
-                retries = 0;
-                waiting.clear();
-                continue;
-            }
-            retries = 0;
-            waiting_retried = false;
-            self.give_way.under_floor += plans.iter().filter(|p| p.under_floor).count();
-            self.slivers.apply(&plans, self.positions);
-            waiting = offenders;
-            for plan in &plans {
-                let q = self.quadrics[plan.vertex as usize];
-                for end in plan.diagonal {
-                    self.quadrics[end as usize].add_scaled(&q, 0.5);
+                match self.after_empty_level(&mut state, offenders) {
+                    Next::Retry => continue,
+                    Next::Stop => break,
                 }
             }
-            for plan in &plans {
-                if let Some((ends, bound)) = plan.along_line {
-                    self.lines.merge(plan.vertex, ends, bound);
-                }
-            }
-            let removed: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
-            self.live.retain(|v| !removed.contains(v));
-            steps += 1;
+            state.retries = 0;
+            state.waiting_retried = false;
+            state.waiting = offenders;
+            self.apply_level(&plans);
+            state.steps += 1;
             crate::progress::report("simplify", (first_live - self.live.len()) as u64, to_remove);
             lap(clock, &mut stages.planning);
             self.params.apply_removals(&plans, self.positions);
@@ -391,7 +287,180 @@ impl Planner<'_> {
         crate::progress::report("simplify", to_remove, to_remove);
         Ok(())
     }
+
+    /// Ranks the level's candidates (the last level's offenders wait a level: planned again
+    /// at once they would likely offend again and take the place of clusters that can go)
+    /// and sets its error limit; with a vertex target, kept vertices that are nearly free to
+    /// remove are released to join them.
+    fn rank_level(&mut self, state: &mut LevelLoop) -> (Vec<Candidate>, f64) {
+        let options = self.options;
+        let geometry = LevelGeometry {
+            positions: self.positions,
+            quadrics: &self.quadrics,
+            tolerance: PLAN_TOLERANCE,
+            params: &self.params,
+            lines: &self.lines,
+        };
+        state.rules.under_floor = self.slivers.has_room();
+        let need = options.target_vertices.map_or(usize::MAX, |t| self.live.len().saturating_sub(t));
+        let mut ranked =
+            ranked_candidates(&self.live, &state.waiting, &self.rings, &self.kept, geometry, &state.rules, need);
+        let max_error = options.max_error.map(|f| f * f);
+        let limit = level_error_limit(&ranked, need, PLAN_TOLERANCE).min(max_error.unwrap_or(f64::INFINITY));
+        if options.target_vertices.is_none() || options.max_error.is_some() || !limit.is_finite() {
+            return (ranked, limit);
+        }
+        let cheap = self.give_way.cheap_to_release(
+            &self.live,
+            &state.waiting,
+            &self.kept,
+            &self.rings,
+            geometry,
+            &state.rules,
+            limit,
+        );
+        if !cheap.is_empty() {
+            self.give_way.release_planned(&cheap, &mut self.kept, &mut self.lines, &self.rings);
+            // A release changes the lines of the vertex and of its ring: their plans are
+            // made again by selection, on the lines as they now are.
+            let touched: FxHashSet<u32> =
+                cheap.iter().flat_map(|&(_, v)| self.rings.ring(v).iter().copied().chain([v])).collect();
+            for candidate in &mut ranked {
+                if touched.contains(&candidate.vertex) {
+                    candidate.plan = None;
+                }
+            }
+            ranked.extend(cheap.into_iter().map(|(error, vertex)| Candidate { error, vertex, plan: None }));
+            ranked.par_sort_unstable_by(|a, b| a.error.total_cmp(&b.error).then(a.vertex.cmp(&b.vertex)));
+        }
+        (ranked, limit)
+    }
+
+    /// Selects the level's clusters under `limit` and, with the guard on, drops the plans
+    /// whose new faces would cut the surface: the plans kept and the vertices of those
+    /// dropped.
+    fn plan_level(
+        &mut self,
+        ranked: &mut [Candidate],
+        rules: &ClusterRules,
+        limit: f64,
+        stages: &mut BuildStages,
+        clock: &mut Instant,
+    ) -> Result<(Vec<ClusterPlan>, FxHashSet<u32>)> {
+        let options = self.options;
+        let geometry = LevelGeometry {
+            positions: self.positions,
+            quadrics: &self.quadrics,
+            tolerance: PLAN_TOLERANCE,
+            params: &self.params,
+            lines: &self.lines,
+        };
+        let level_faces = if options.prevent_intersections { self.rings.faces(&self.live) } else { Vec::new() };
+        lap(clock, &mut stages.guard);
+        self.rings.checkpoint();
+        let mut plans = select_clusters(
+            ranked,
+            &mut self.rings,
+            geometry,
+            rules,
+            &mut self.locked,
+            self.live.len(),
+            options,
+            limit,
+            &self.slivers,
+        )?;
+        for &v in &self.live {
+            self.locked[v as usize] = false;
+        }
+        lap(clock, &mut stages.planning);
+        let mut offenders = FxHashSet::default();
+        if options.prevent_intersections {
+            (plans, offenders) = guard_plans(self.model_positions, &level_faces, plans, &mut self.rings)?;
+            lap(clock, &mut stages.guard);
+        }
+        self.rings.commit();
+        Ok((plans, offenders))
+    }
+
+    /// A level that planned nothing: retried without its offenders (a few times), else
+    /// short of the target something gives way (`give_way`), else the build stops and
+    /// says why.
+    fn after_empty_level(&mut self, state: &mut LevelLoop, offenders: FxHashSet<u32>) -> Next {
+        let options = self.options;
+        if !offenders.is_empty() && state.retries < MAX_RETRIES {
+            state.retries += 1;
+            state.waiting.extend(offenders);
+            return Next::Retry;
+        }
+        let Some(target) = options.target_vertices.filter(|&t| self.live.len() > t) else { return Next::Stop };
+        if options.max_error.is_some() {
+            self.stopped_by = Some("the error bound (max_error) is reached first".to_string());
+            return Next::Stop;
+        }
+        let need = self.live.len() - target;
+        match self.give_way.next(need, &self.live, &mut self.kept, &mut self.lines, &self.rings) {
+            Some(Rung::Floor(degrees)) => state.rules.min_angle = degrees.to_radians(),
+            Some(Rung::Released(_)) => state.rules.min_angle = self.give_way.floor().to_radians(),
+            // The last level's offenders sat this level out: before stopping, they are
+            // planned again once (the level has changed around them).
+            None if !state.waiting.is_empty() && !state.waiting_retried => {
+                state.waiting_retried = true;
+                state.waiting.clear();
+                return Next::Retry;
+            }
+            None => {
+                self.stopped_by = Some(self.why_stopped(!offenders.is_empty() || !state.waiting.is_empty()));
+                return Next::Stop;
+            }
+        }
+        state.retries = 0;
+        state.waiting.clear();
+        Next::Retry
+    }
+
+    /// What stops the build short of its target: the guard (when the last tries' offenders
+    /// still had plans) or no valid cluster; and the vertices that never give way.
+    fn why_stopped(&self, by_guard: bool) -> String {
+        let fixed = self.live.iter().filter(|&&v| self.give_way.is_fixed(v)).count();
+        let held = match fixed {
+            0 => String::new(),
+            n => format!(
+                "; {n} vertices that never give way are kept (--feature-vertices keep, texture seams, marked vertices)"
+            ),
+        };
+        let cause = if by_guard {
+            "the intersection guard: every remaining cluster would make the surface cut itself"
+        } else {
+            "no valid cluster is left: every remaining removal would flip or fold a face, make an edge that exists (genus, manifoldness) or close a boundary loop"
+        };
+        cause.to_string() + &held
+    }
+
+    /// Carries out a level's plans on the planner's state: the sliver budget, each removed
+    /// vertex's quadric shared by its diagonal's ends, feature lines merged along their
+    /// line, the removed vertices off the live list.
+    fn apply_level(&mut self, plans: &[ClusterPlan]) {
+        self.give_way.under_floor += plans.iter().filter(|p| p.under_floor).count();
+        self.slivers.apply(plans, self.positions);
+        for plan in plans {
+            let q = self.quadrics[plan.vertex as usize];
+            for end in plan.diagonal {
+                self.quadrics[end as usize].add_scaled(&q, 0.5);
+            }
+        }
+        for plan in plans {
+            if let Some((ends, bound)) = plan.along_line {
+                self.lines.merge(plan.vertex, ends, bound);
+            }
+        }
+        let removed: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
+        self.live.retain(|v| !removed.contains(v));
+    }
 }
+
+/// Planning is in the unit frame (diagonal 1): fractions of the input's diagonal are
+/// distances there, and errors (squared distances) below this are ties.
+const PLAN_TOLERANCE: f64 = 1e-9 * 1e-9;
 
 /// The store's faces must be the rings' faces: planning edits the rings, OpenMesh carries
 /// out the same operations (checking each), so a difference is a bug.

@@ -1,0 +1,108 @@
+//! CGAL's measures behind the bridge: vertex quadrics, the Hausdorff distance,
+//! self-intersections and exact triangle-pair tests, point-to-surface distances.
+
+use glam::DVec3;
+
+use super::{flat_positions, sys};
+use crate::analysis::Quadric;
+use crate::error::{Error, Result};
+use crate::mesh::{FaceId, Mesh};
+
+/// Per-vertex Garland–Heckbert quadrics from CGAL's `GarlandHeckbert_plane_policies`
+/// (Garland & Heckbert 1997): the sum of the plane quadrics of the incident faces, plus
+/// `boundary_weight` (CGAL's discontinuity multiplier, default 100) times the quadric of
+/// the plane through each boundary edge perpendicular to its face.
+///
+/// # Errors
+/// [`Error::InvalidInput`] for an inconsistent mesh; [`Error::Native`] when CGAL refuses it
+/// (non-manifold or degenerate faces).
+pub fn vertex_quadrics(mesh: &Mesh, boundary_weight: f64) -> Result<Vec<Quadric>> {
+    mesh.check()?;
+    let flat = sys::vertex_quadrics(flat_positions(&mesh.positions), mesh.triangles.as_flattened(), boundary_weight)?;
+    Ok(bytemuck::cast_slice(&flat).to_vec())
+}
+
+/// The quadric error vᵀQv of each point under the matching quadric.
+///
+/// # Errors
+/// [`Error::InvalidInput`] when the counts differ.
+pub fn quadric_errors(quadrics: &[Quadric], points: &[DVec3]) -> Result<Vec<f64>> {
+    if quadrics.len() != points.len() {
+        return Err(Error::InvalidInput(format!("{} quadrics for {} points", quadrics.len(), points.len())));
+    }
+    Ok(sys::quadric_errors(bytemuck::cast_slice(quadrics), flat_positions(points))?)
+}
+
+/// Sampling for [`hausdorff_distance`].
+#[derive(Debug, Clone, Copy)]
+pub struct HausdorffOptions {
+    /// Sample density; 0 lets CGAL choose.
+    pub points_per_area_unit: f64,
+    /// Seed of CGAL's sampler, fixed so results are reproducible.
+    pub seed: u32,
+}
+
+impl Default for HausdorffOptions {
+    fn default() -> Self {
+        HausdorffOptions { points_per_area_unit: 0.0, seed: 0 }
+    }
+}
+
+/// Approximate symmetric Hausdorff distance between two meshes, by CGAL's
+/// `Polygon_mesh_processing::approximate_symmetric_Hausdorff_distance` (sampled).
+///
+/// # Errors
+/// [`Error::InvalidInput`] for an inconsistent mesh; [`Error::Native`] when CGAL refuses a
+/// mesh (no faces, non-manifold faces).
+pub fn hausdorff_distance(a: &Mesh, b: &Mesh, options: HausdorffOptions) -> Result<f64> {
+    a.check()?;
+    b.check()?;
+    Ok(sys::symmetric_hausdorff(
+        flat_positions(&a.positions),
+        a.triangles.as_flattened(),
+        flat_positions(&b.positions),
+        b.triangles.as_flattened(),
+        options.points_per_area_unit,
+        options.seed,
+    )?)
+}
+
+/// Pairs of intersecting faces (CGAL's `self_intersections`), each pair ordered and the
+/// list sorted. Faces sharing a vertex or an edge intersect only if they overlap beyond it.
+///
+/// # Errors
+/// [`Error::InvalidInput`] for an inconsistent mesh; [`Error::Native`] when CGAL refuses it.
+pub fn self_intersections(mesh: &Mesh) -> Result<Vec<[FaceId; 2]>> {
+    mesh.check()?;
+    let flat = sys::self_intersections(flat_positions(&mesh.positions), mesh.triangles.as_flattened())?;
+    Ok(flat.chunks_exact(2).map(|p| [FaceId(p[0]), FaceId(p[1])]).collect())
+}
+
+/// Distance from each point to the nearest point of `mesh` (CGAL AABB tree).
+///
+/// # Errors
+/// [`Error::InvalidInput`] for an inconsistent mesh; [`Error::Native`] when CGAL refuses it.
+pub fn point_distances(points: &[DVec3], mesh: &Mesh) -> Result<Vec<f64>> {
+    mesh.check()?;
+    Ok(sys::point_distances(flat_positions(points), flat_positions(&mesh.positions), mesh.triangles.as_flattened())?)
+}
+
+/// CGAL's exact intersection test of triangle pairs over `positions`: a pair names
+/// `kept[k]` by k < `kept.len()` and `added[i]` by `kept.len() + i`; one flag per pair
+/// (the narrow phase of `hierarchy::added_triangle_intersections`).
+///
+/// # Errors
+/// [`Error::Native`] if CGAL fails.
+pub fn triangle_pairs_intersect(
+    positions: &[DVec3],
+    kept: &[[u32; 3]],
+    added: &[[u32; 3]],
+    pairs: &[[u32; 2]],
+) -> Result<Vec<u8>> {
+    Ok(sys::triangle_pairs_intersect(
+        flat_positions(positions),
+        kept.as_flattened(),
+        added.as_flattened(),
+        pairs.as_flattened(),
+    )?)
+}
