@@ -327,10 +327,62 @@ enum VertexSlot {
     Ignored,
 }
 
-/// Parses a PLY file.
+/// Parses a PLY file: the header, then each element in order — vertices
+/// ([`read_vertices`]), faces ([`read_faces`]), anything else skipped ([`skip_element`]) —
+/// then the check that nothing follows, and the polygons triangulated.
 pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     let header = parse_header(bytes, path)?;
-    let mut body = match header.encoding {
+    let mut body = open_body(bytes, &header, path)?;
+    let mut vertices: Option<VertexData> = None;
+    let mut polygons = Polygons::default();
+    let mut notes = Vec::new();
+    for element in &header.elements {
+        // Binary sizes are exact: refuse counts the rest of the file cannot hold. Text is
+        // checked as it is read; either way capacity is capped by what the file could hold.
+        let remaining = body.remaining_bytes(bytes.len() - header.body);
+        let min_bytes = element.min_bytes(header.encoding);
+        if header.encoding != Encoding::Ascii {
+            check_count_fits(element.count, min_bytes, remaining, &format!("{} elements", element.name))
+                .map_err(|m| Error::parse(path, Location::Line(element.line), m))?;
+        }
+        let capacity = element.count.min(remaining / min_bytes.max(1));
+        match element.name.as_str() {
+            "vertex" => vertices = Some(read_vertices(element, &mut body, path, capacity, &mut notes)?),
+            "face" => {
+                let nv = vertices.as_ref().map(|v| v.positions.len()).ok_or_else(|| {
+                    Error::parse(path, Location::Line(element.line), "the face element comes before the vertex element")
+                })?;
+                read_faces(element, &mut body, path, nv, capacity, bytes.len(), &mut polygons, &mut notes)?;
+            }
+            other => {
+                notes.push(format!("PLY element `{other}` skipped"));
+                skip_element(element, &mut body, path)?;
+            }
+        }
+    }
+    let Some(VertexData { positions, normals, colors, scalars }) = vertices else {
+        return Err(Error::parse(path, Location::File, "the PLY file has no vertex element"));
+    };
+    if let Some(line) = body.trailing_line() {
+        let declared: Vec<String> = header.elements.iter().map(|e| format!("{} {}", e.count, e.name)).collect();
+        return Err(Error::parse(
+            path,
+            Location::Line(line),
+            format!("data after the last element (the header declares {})", declared.join(", ")),
+        ));
+    }
+    let ends = polygons.starts.iter().skip(1).copied().chain(std::iter::once(polygons.corners.len()));
+    let faces = polygons.starts.iter().zip(ends).map(|(&start, end)| &polygons.corners[start..end]);
+    let (triangles, triangulated) = triangulate_polygons(&positions, faces);
+    notes.extend(repeated_vertex_note(polygons.dropped));
+    let mut mesh = Mesh { positions, triangles, normals, colors, scalars, ..Mesh::default() };
+    uvs_from_scalars(&mut mesh);
+    Ok(ReadOutcome { mesh, triangulated_polygons: triangulated, notes })
+}
+
+/// The body after the header: text lines numbered on from the header's, or bytes.
+fn open_body<'a>(bytes: &'a [u8], header: &Header, path: &Path) -> Result<Body<'a>> {
+    Ok(match header.encoding {
         Encoding::Ascii => {
             let text = std::str::from_utf8(&bytes[header.body..]).map_err(|e| {
                 Error::parse(path, Location::Byte((header.body + e.valid_up_to()) as u64), "the ASCII body is not text")
@@ -345,180 +397,172 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
             base: header.body,
             big_endian: enc == Encoding::BigEndian,
         },
-    };
+    })
+}
 
-    let mut positions: Vec<DVec3> = Vec::new();
-    let mut normals: Option<Vec<DVec3>> = None;
-    let mut colors: Option<Vec<[u8; 3]>> = None;
-    let mut scalars: BTreeMap<String, Vec<f64>> = BTreeMap::new();
-    let mut polygons: Vec<u32> = Vec::new();
-    let mut dropped = 0;
-    let mut polygon_starts: Vec<usize> = Vec::new();
-    let mut notes = Vec::new();
-    let mut vertex_count = None;
+/// What the vertex element holds: positions, and normals, colours and other scalar
+/// properties where it declares them.
+struct VertexData {
+    positions: Vec<DVec3>,
+    normals: Option<Vec<DVec3>>,
+    colors: Option<Vec<[u8; 3]>>,
+    scalars: BTreeMap<String, Vec<f64>>,
+}
 
-    for element in &header.elements {
-        // Binary sizes are exact: refuse counts the rest of the file cannot hold. Text is
-        // checked as it is read; either way capacity is capped by what the file could hold.
-        let remaining = body.remaining_bytes(bytes.len() - header.body);
-        let min_bytes = element.min_bytes(header.encoding);
-        if header.encoding != Encoding::Ascii {
-            check_count_fits(element.count, min_bytes, remaining, &format!("{} elements", element.name))
-                .map_err(|m| Error::parse(path, Location::Line(element.line), m))?;
+/// The face element's polygons: their corners end to end, where each starts, and how many
+/// were dropped for having fewer than three distinct corners.
+#[derive(Default)]
+struct Polygons {
+    corners: Vec<u32>,
+    starts: Vec<usize>,
+    dropped: usize,
+}
+
+/// Reads the vertex element; a non-finite coordinate is an error naming the vertex.
+fn read_vertices(
+    element: &Element,
+    body: &mut Body,
+    path: &Path,
+    capacity: usize,
+    notes: &mut Vec<String>,
+) -> Result<VertexData> {
+    let slots = vertex_slots(element, path, notes)?;
+    let mut positions = Vec::with_capacity(capacity);
+    let mut normals =
+        slots.iter().any(|s| matches!(s, VertexSlot::Normal(_))).then(|| Vec::with_capacity(capacity));
+    let mut colors = slots.iter().any(|s| matches!(s, VertexSlot::Color(..))).then(|| Vec::with_capacity(capacity));
+    let scalar_names: Vec<&str> = element
+        .properties
+        .iter()
+        .zip(&slots)
+        .filter(|(_, s)| matches!(s, VertexSlot::Scalar(_)))
+        .map(|(p, _)| p.name())
+        .collect();
+    let mut scalar_values = vec![Vec::with_capacity(capacity); scalar_names.len()];
+    for i in 0..element.count {
+        let (mut position, mut normal, mut color) = (DVec3::ZERO, DVec3::ZERO, [0u8; 3]);
+        let at = |body: &Body, m: String| Error::parse(path, body.location(), format!("vertex {i}: {m}"));
+        body.begin_element().map_err(|m| at(body, m))?;
+        for (property, slot) in element.properties.iter().zip(&slots) {
+            let value = match property {
+                Property::Scalar { ty, .. } => body.read(*ty).map_err(|m| at(body, m))?,
+                Property::List { count, item, .. } => {
+                    skip_list(body, *count, *item).map_err(|m| at(body, m))?;
+                    continue;
+                }
+            };
+            match *slot {
+                VertexSlot::Position(k) => {
+                    if !value.is_finite() {
+                        return Err(at(body, format!("coordinate {value} is not finite")));
+                    }
+                    position[k] = value;
+                }
+                VertexSlot::Normal(k) => normal[k] = value,
+                VertexSlot::Color(k, ty) => {
+                    let c = if ty.is_integer() { value } else { value * 255.0 };
+                    color[k] = c.round().clamp(0.0, 255.0) as u8;
+                }
+                VertexSlot::Scalar(k) => scalar_values[k].push(value),
+                VertexSlot::Ignored => {}
+            }
         }
-        let capacity = element.count.min(remaining / min_bytes.max(1));
-        match element.name.as_str() {
-            "vertex" => {
-                let n = element.count;
-                let slots = vertex_slots(element, path, &mut notes)?;
-                positions = Vec::with_capacity(capacity);
-                if slots.iter().any(|s| matches!(s, VertexSlot::Normal(_))) {
-                    normals = Some(Vec::with_capacity(capacity));
+        body.end_element().map_err(|m| at(body, m))?;
+        positions.push(position);
+        if let Some(normals) = &mut normals {
+            normals.push(normal);
+        }
+        if let Some(colors) = &mut colors {
+            colors.push(color);
+        }
+    }
+    let scalars = scalar_names.into_iter().map(str::to_string).zip(scalar_values).collect();
+    Ok(VertexData { positions, normals, colors, scalars })
+}
+
+/// Reads the face element's `vertex_indices` lists into `polygons` (its other properties
+/// are skipped, with a note); an index outside the `nv` vertices is an error naming the
+/// face, and a polygon with repeated corners keeps its distinct ones (or is dropped).
+#[allow(clippy::too_many_arguments)]
+fn read_faces(
+    element: &Element,
+    body: &mut Body,
+    path: &Path,
+    nv: usize,
+    capacity: usize,
+    total_bytes: usize,
+    polygons: &mut Polygons,
+    notes: &mut Vec<String>,
+) -> Result<()> {
+    let index_property = element
+        .properties
+        .iter()
+        .position(|p| matches!(p, Property::List { name, .. } if name == "vertex_indices" || name == "vertex_index"))
+        .ok_or_else(|| Error::parse(path, Location::Line(element.line), "faces have no `vertex_indices` list"))?;
+    if element.properties.len() > 1 {
+        notes.push("PLY face properties other than vertex_indices ignored".to_string());
+    }
+    polygons.starts.reserve(capacity);
+    for f in 0..element.count {
+        let at = |body: &Body, m: String| Error::parse(path, body.location(), format!("face {f}: {m}"));
+        body.begin_element().map_err(|m| at(body, m))?;
+        for (k, property) in element.properties.iter().enumerate() {
+            match property {
+                Property::Scalar { ty, .. } => {
+                    body.read(*ty).map_err(|m| at(body, m))?;
                 }
-                if slots.iter().any(|s| matches!(s, VertexSlot::Color(..))) {
-                    colors = Some(Vec::with_capacity(capacity));
-                }
-                let scalar_names: Vec<&str> = element
-                    .properties
-                    .iter()
-                    .zip(&slots)
-                    .filter(|(_, s)| matches!(s, VertexSlot::Scalar(_)))
-                    .map(|(p, _)| p.name())
-                    .collect();
-                let mut scalar_values = vec![Vec::with_capacity(capacity); scalar_names.len()];
-                for i in 0..n {
-                    let (mut position, mut normal, mut color) = (DVec3::ZERO, DVec3::ZERO, [0u8; 3]);
-                    let at = |body: &Body, m: String| Error::parse(path, body.location(), format!("vertex {i}: {m}"));
-                    body.begin_element().map_err(|m| at(&body, m))?;
-                    for (property, slot) in element.properties.iter().zip(&slots) {
-                        let value = match property {
-                            Property::Scalar { ty, .. } => body.read(*ty).map_err(|m| at(&body, m))?,
-                            Property::List { count, item, .. } => {
-                                skip_list(&mut body, *count, *item).map_err(|m| at(&body, m))?;
-                                continue;
-                            }
-                        };
-                        match *slot {
-                            VertexSlot::Position(k) => {
-                                if !value.is_finite() {
-                                    return Err(at(&body, format!("coordinate {value} is not finite")));
-                                }
-                                position[k] = value;
-                            }
-                            VertexSlot::Normal(k) => normal[k] = value,
-                            VertexSlot::Color(k, ty) => {
-                                let c = if ty.is_integer() { value } else { value * 255.0 };
-                                color[k] = c.round().clamp(0.0, 255.0) as u8;
-                            }
-                            VertexSlot::Scalar(k) => scalar_values[k].push(value),
-                            VertexSlot::Ignored => {}
+                Property::List { count, item, .. } if k == index_property => {
+                    let len = body.read(*count).map_err(|m| at(body, m))?;
+                    let len = list_length(len, body, total_bytes, *item).map_err(|m| at(body, m))?;
+                    let start = polygons.corners.len();
+                    polygons.starts.push(start);
+                    for _ in 0..len {
+                        let v = body.read(*item).map_err(|m| at(body, m))?;
+                        if v < 0.0 || v.fract() != 0.0 || v > u32::MAX as f64 {
+                            return Err(at(body, format!("bad vertex index {v}")));
+                        }
+                        polygons.corners.push(v as u32);
+                    }
+                    check_polygon(&polygons.corners[start..], nv).map_err(|m| at(body, m))?;
+                    let face = &polygons.corners[start..];
+                    if face.iter().enumerate().any(|(i, a)| face[i + 1..].contains(a)) {
+                        let mut polygon = polygons.corners.split_off(start);
+                        if without_repeated_corners(&mut polygon) {
+                            polygons.corners.extend(polygon);
+                        } else {
+                            polygons.starts.pop();
+                            polygons.dropped += 1;
                         }
                     }
-                    body.end_element().map_err(|m| at(&body, m))?;
-                    positions.push(position);
-                    if let Some(normals) = &mut normals {
-                        normals.push(normal);
-                    }
-                    if let Some(colors) = &mut colors {
-                        colors.push(color);
-                    }
                 }
-                for (name, values) in scalar_names.into_iter().zip(scalar_values) {
-                    scalars.insert(name.to_string(), values);
-                }
-                vertex_count = Some(n);
-            }
-            "face" => {
-                let nv = vertex_count.ok_or_else(|| {
-                    Error::parse(path, Location::Line(element.line), "the face element comes before the vertex element")
-                })?;
-                let index_property = element
-                    .properties
-                    .iter()
-                    .position(|p| matches!(p, Property::List { name, .. } if name == "vertex_indices" || name == "vertex_index"))
-                    .ok_or_else(|| Error::parse(path, Location::Line(element.line), "faces have no `vertex_indices` list"))?;
-                if element.properties.len() > 1 {
-                    notes.push("PLY face properties other than vertex_indices ignored".to_string());
-                }
-                polygon_starts.reserve(capacity);
-                for f in 0..element.count {
-                    let at = |body: &Body, m: String| Error::parse(path, body.location(), format!("face {f}: {m}"));
-                    body.begin_element().map_err(|m| at(&body, m))?;
-                    for (k, property) in element.properties.iter().enumerate() {
-                        match property {
-                            Property::Scalar { ty, .. } => {
-                                body.read(*ty).map_err(|m| at(&body, m))?;
-                            }
-                            Property::List { count, item, .. } if k == index_property => {
-                                let len = body.read(*count).map_err(|m| at(&body, m))?;
-                                let len = list_length(len, &body, bytes.len(), *item).map_err(|m| at(&body, m))?;
-                                let start = polygons.len();
-                                polygon_starts.push(start);
-                                for _ in 0..len {
-                                    let v = body.read(*item).map_err(|m| at(&body, m))?;
-                                    if v < 0.0 || v.fract() != 0.0 || v > u32::MAX as f64 {
-                                        return Err(at(&body, format!("bad vertex index {v}")));
-                                    }
-                                    polygons.push(v as u32);
-                                }
-                                check_polygon(&polygons[start..], nv).map_err(|m| at(&body, m))?;
-                                let face = &polygons[start..];
-                                if face.iter().enumerate().any(|(i, a)| face[i + 1..].contains(a)) {
-                                    let mut polygon = polygons.split_off(start);
-                                    if without_repeated_corners(&mut polygon) {
-                                        polygons.extend(polygon);
-                                    } else {
-                                        polygon_starts.pop();
-                                        dropped += 1;
-                                    }
-                                }
-                            }
-                            Property::List { count, item, .. } => {
-                                skip_list(&mut body, *count, *item).map_err(|m| at(&body, m))?;
-                            }
-                        }
-                    }
-                    body.end_element().map_err(|m| at(&body, m))?;
-                }
-            }
-            other => {
-                notes.push(format!("PLY element `{other}` skipped"));
-                // An element without properties has nothing on any line.
-                let count = if element.properties.is_empty() { 0 } else { element.count };
-                for i in 0..count {
-                    let at = |body: &Body, m: String| Error::parse(path, body.location(), format!("{other} {i}: {m}"));
-                    body.begin_element().map_err(|m| at(&body, m))?;
-                    for property in &element.properties {
-                        let r = match property {
-                            Property::Scalar { ty, .. } => body.read(*ty).map(|_| ()),
-                            Property::List { count, item, .. } => skip_list(&mut body, *count, *item),
-                        };
-                        r.map_err(|m| at(&body, m))?;
-                    }
-                    body.end_element().map_err(|m| at(&body, m))?;
+                Property::List { count, item, .. } => {
+                    skip_list(body, *count, *item).map_err(|m| at(body, m))?;
                 }
             }
         }
+        body.end_element().map_err(|m| at(body, m))?;
     }
-    if vertex_count.is_none() {
-        return Err(Error::parse(path, Location::File, "the PLY file has no vertex element"));
-    }
-    if let Some(line) = body.trailing_line() {
-        let declared: Vec<String> = header.elements.iter().map(|e| format!("{} {}", e.count, e.name)).collect();
-        return Err(Error::parse(
-            path,
-            Location::Line(line),
-            format!("data after the last element (the header declares {})", declared.join(", ")),
-        ));
-    }
+    Ok(())
+}
 
-    let ends = polygon_starts.iter().skip(1).copied().chain(std::iter::once(polygons.len()));
-    let faces = polygon_starts.iter().zip(ends).map(|(&start, end)| &polygons[start..end]);
-    let (triangles, triangulated) = triangulate_polygons(&positions, faces);
-    notes.extend(repeated_vertex_note(dropped));
-    let mut mesh = Mesh { positions, triangles, normals, colors, scalars, ..Mesh::default() };
-    uvs_from_scalars(&mut mesh);
-    Ok(ReadOutcome { mesh, triangulated_polygons: triangulated, notes })
+/// Reads past an element asperity does not use, checking that its data is well formed.
+fn skip_element(element: &Element, body: &mut Body, path: &Path) -> Result<()> {
+    let name = &element.name;
+    // An element without properties has nothing on any line.
+    let count = if element.properties.is_empty() { 0 } else { element.count };
+    for i in 0..count {
+        let at = |body: &Body, m: String| Error::parse(path, body.location(), format!("{name} {i}: {m}"));
+        body.begin_element().map_err(|m| at(body, m))?;
+        for property in &element.properties {
+            let r = match property {
+                Property::Scalar { ty, .. } => body.read(*ty).map(|_| ()),
+                Property::List { count, item, .. } => skip_list(body, *count, *item),
+            };
+            r.map_err(|m| at(body, m))?;
+        }
+        body.end_element().map_err(|m| at(body, m))?;
+    }
+    Ok(())
 }
 
 fn vertex_slots(element: &Element, path: &Path, notes: &mut Vec<String>) -> Result<Vec<VertexSlot>> {
