@@ -30,8 +30,9 @@ test: deps
 	@$(MAKE) --no-print-directory clippy
 	@$(MAKE) --no-print-directory doc
 
-# The Python package in a virtual environment of its own (target/python-venv): `pip install
-# ./python` there, then `import asperity` from any folder with that environment's python.
+# The Python package in a virtual environment of its own (target/python-venv): the manylinux
+# wheel of `make wheel` installed there, then `import asperity` from any folder with that
+# environment's python.
 python: deps
 	./scripts/python-package.sh
 

@@ -80,12 +80,21 @@ pub fn cancellable<T>(callback: Callback, work: impl FnOnce() -> Result<T>) -> R
 }
 
 /// Asks this thread's [`cancellable`] callback, if any; unwinds to it when it says stop.
+/// The callback is out of its slot while it runs, so a call it makes (a report, or a
+/// `cancellable` call of its own) finds no callback of this one's.
 fn ask_callback(stage: &str, done: u64, total: u64) {
-    let go_on = CALLBACK.with(|c| match c.try_borrow() {
-        Ok(slot) => slot.as_ref().is_none_or(|callback| callback(stage, done, total)),
-        // A report made from inside the callback itself: nothing to ask.
-        Err(_) => true,
-    });
+    let Some(callback) = CALLBACK.with(|c| c.borrow_mut().take()) else { return };
+    /// Puts the callback back, also when it unwinds.
+    struct Restore(Option<Callback>);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            let callback = self.0.take();
+            CALLBACK.with(|c| *c.borrow_mut() = callback);
+        }
+    }
+    let restore = Restore(Some(callback));
+    let go_on = restore.0.as_ref().is_none_or(|callback| callback(stage, done, total));
+    drop(restore);
     if !go_on {
         // resume_unwind: a cancellation is not a panic, so no panic message is printed.
         std::panic::resume_unwind(Box::new(CancelRequest { stage: stage.to_string(), done, total }));

@@ -102,3 +102,42 @@ fn a_progress_callback_watches_and_cancels_a_hierarchy_build() {
     }
     assert_eq!(*calls.lock().unwrap(), 3, "the build stopped at the report that said stop");
 }
+
+/// A callback's own reports and `cancellable` calls (a progress bar that runs a quick
+/// measure, say) see no callback of the outer call's: no recursion, no double borrow.
+#[test]
+fn a_progress_callback_may_run_cancellable_work_of_its_own() {
+    use std::cell::Cell;
+    use std::rc::Rc;
+
+    use asperity::progress::{cancellable, report};
+
+    let outer_calls = Rc::new(Cell::new(0));
+    let inner_calls = Rc::new(Cell::new(0));
+    let (outer, inner) = (Rc::clone(&outer_calls), Rc::clone(&inner_calls));
+    let result = cancellable(
+        Box::new(move |_, _, _| {
+            outer.set(outer.get() + 1);
+            report("inside the callback", 1, 2); // not back to this callback
+            let inner = Rc::clone(&inner);
+            cancellable(
+                Box::new(move |_, _, _| {
+                    inner.set(inner.get() + 1);
+                    true
+                }),
+                || {
+                    report("nested", 1, 1);
+                    Ok(())
+                },
+            )
+            .is_ok()
+        }),
+        || {
+            report("outer", 1, 3);
+            report("outer", 2, 3);
+            Ok(7)
+        },
+    );
+    assert_eq!(result.unwrap(), 7);
+    assert_eq!((outer_calls.get(), inner_calls.get()), (2, 2));
+}

@@ -330,14 +330,15 @@ class Hierarchy:
 
     def refine(
         self,
-        op: Optional[Callable[[Level], Any]] = None,
         region: Any = None,
         base_level: int = 0,
+        *,
+        op: Optional[Callable[[Level], Any]] = None,
         progress: Progress = False,
     ) -> Mesh:
         """Refines the base domain back to full resolution.
 
-        With ``op``, a function called with each level as a :class:`Level` (the base
+        With ``op`` (keyword only), a function called with each level as a :class:`Level` (the base
         domain first, the input's level last): it may move ``level.positions`` in place (or
         return new positions), and the next level inserts its vertices on the moved surface
         (thesis §4.5.1, the C++ ``Hierarchy::refine(op)``). An exception it raises arrives

@@ -48,13 +48,25 @@ impl Progress {
     /// in `raised` and stops the call.
     pub fn ask(callback: &Py<PyAny>, raised: &Mutex<Option<PyErr>>, stage: &str, done: u64, total: u64) -> bool {
         Python::attach(|py| match callback.call1(py, (stage, done, total)) {
-            Ok(answer) => !answer.bind(py).is(&*pyo3::types::PyBool::new(py, false)),
+            Ok(answer) => !says_stop(answer.bind(py)),
             Err(error) => {
                 *raised.lock().unwrap_or_else(|p| p.into_inner()) = Some(error);
                 false
             }
         })
     }
+}
+
+/// Whether a callback's answer means stop: a false bool (Python's or numpy's); None and
+/// anything else mean go on.
+pub fn says_stop(answer: &Bound<'_, PyAny>) -> bool {
+    answer.extract::<bool>().is_ok_and(|go_on| !go_on)
+}
+
+thread_local! {
+    /// Set on a call's worker thread: a progress callback runs there, and an asperity call
+    /// it made would wait forever for the call it is part of.
+    static IN_WORKER: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
 impl From<bool> for Progress {
@@ -89,6 +101,11 @@ pub fn run<T: Send>(
     progress: impl Into<Progress>,
     work: impl FnOnce() -> asperity::Result<T> + Send,
 ) -> PyResult<T> {
+    if IN_WORKER.with(|w| w.get()) {
+        return Err(pyo3::exceptions::PyRuntimeError::new_err(
+            "asperity cannot be called from a progress callback (the call it watches holds the library); call it afterwards",
+        ));
+    }
     let progress = progress.into();
     let print = matches!(progress, Progress::Print);
     let callback = match progress {
@@ -133,7 +150,10 @@ pub fn run<T: Send>(
         }
     }));
     let (outcome, interrupted) = std::thread::scope(|scope| {
-        let worker = scope.spawn(move || catch_unwind(AssertUnwindSafe(work)));
+        let worker = scope.spawn(move || {
+            IN_WORKER.with(|w| w.set(true));
+            catch_unwind(AssertUnwindSafe(work))
+        });
         let mut interrupted = None;
         while !worker.is_finished() {
             py.detach(|| std::thread::sleep(Duration::from_millis(5)));

@@ -105,13 +105,19 @@ pub fn refine_with_operator(
     progress: &Progress,
 ) -> PyResult<(LevelMesh, Vec<LevelReport>)> {
     let steps = hierarchy.steps();
-    let mut refiner = Refiner::new(hierarchy).map_err(to_py)?;
+    // The Rust stages run with the GIL released (other Python threads go on); the
+    // operator runs with it.
+    let mut refiner = py.detach(|| Refiner::new(hierarchy)).map_err(to_py)?;
     refiner.set_follow_deformation(true);
     let appear = hierarchy.appearance_levels();
     let mut reports = Vec::with_capacity(steps);
     loop {
         let level = refiner.level();
-        let view = LevelView::new(level, steps - level, refiner.mesh().map_err(to_py)?).with_appearance(&appear);
+        // A `&mut` crosses to the detached closure: the refiner is Send, not Sync.
+        let (r, appear) = (&mut refiner, &appear);
+        let view = py
+            .detach(move || r.mesh().map(|mesh| LevelView::new(level, steps - level, mesh).with_appearance(appear)))
+            .map_err(to_py)?;
         let arrays = Level::of(py, view, steps + 1, caller_id)?;
         let ids = arrays.view.ids.clone();
         let handle = Bound::new(py, arrays)?;
@@ -128,10 +134,12 @@ pub fn refine_with_operator(
         let whole = level < selection.base_level;
         let wanted = selection.wanted.as_deref();
         let select = |v: u32| whole || wanted.is_none_or(|w| w[v as usize]);
-        reports.push(refiner.refine_level(&select).map_err(to_py)?);
+        let r = &mut refiner;
+        reports.push(py.detach(move || r.refine_level(&select)).map_err(to_py)?);
         level_done(py, progress, refiner.level() as u64, steps as u64)?;
     }
-    Ok((refiner.mesh().map_err(to_py)?, reports))
+    let r = &mut refiner;
+    Ok((py.detach(move || r.mesh()).map_err(to_py)?, reports))
 }
 
 /// Reports a refined level to `progress`: printed, or asked of the callback (False:
@@ -145,7 +153,7 @@ fn level_done(py: Python<'_>, progress: &Progress, done: u64, total: u64) -> PyR
         }
         Progress::Call(callback) => {
             let answer = callback.call1(py, ("refine", done, total))?;
-            if answer.bind(py).is(&*pyo3::types::PyBool::new(py, false)) {
+            if crate::interrupt::says_stop(answer.bind(py)) {
                 let error = asperity::Error::Cancelled { stage: "refine".into(), done, total };
                 return Err(crate::Cancelled::new_err(error.to_string()));
             }

@@ -372,6 +372,9 @@ impl Hierarchy {
         progress: Option<Bound<'py, PyAny>>,
     ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>, Bound<'py, PyArray1<u32>>, String)> {
         let own = self.own_region(region)?;
+        let region_vertices = own.as_ref().map(|own| (0..self.caller_vertices).filter(|&u| {
+            self.own_id(u).is_some_and(|v| own[v as usize])
+        }).count());
         let wanted = own.map(|own| {
             asperity::hierarchy::region::region_with_dependencies(&self.inner, &|v| own[v as usize])
         });
@@ -382,7 +385,8 @@ impl Hierarchy {
         let t = asperity::hierarchy::LevelReport::total(&reports);
         let report = serde_json::json!({
             "levels": reports.len(), "base_level": base_level,
-            "region_vertices": selection.wanted.as_ref().map(|w| w.iter().filter(|&&i| i).count()),
+            "region_vertices": region_vertices,
+            "with_dependencies": selection.wanted.as_ref().map(|w| w.iter().filter(|&&i| i).count()),
             "inserted": t.inserted, "relocated": t.relocated, "skipped": t.skipped, "flips": t.flips,
             "degree_misses": t.degree_misses,
         });

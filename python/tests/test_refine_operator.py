@@ -33,7 +33,7 @@ def test_the_operator_sees_every_level_as_the_hierarchy_holds_it(sphere):
         assert (np.einsum("ij,ij->i", level.normals, level.positions) > 0.9).all()
         np.testing.assert_array_equal(level.vertex_levels, h.vertex_level[ids])
 
-    refined = h.refine(look)
+    refined = h.refine(op=look)
     assert seen == list(range(h.levels))
     # An operator that moves nothing gives back the input exactly.
     assert faces_as_set(*refined) == faces_as_set(positions, triangles)
@@ -72,7 +72,7 @@ def test_the_level_analysis_is_asperity_analyze_of_the_level(sphere):
             got["analysis"] = level.analysis()
             got["mesh"] = (level.positions.copy(), level.faces.copy())
 
-    h.refine(analyse)
+    h.refine(op=analyse)
     direct = asperity.analyze(got["mesh"])
     assert set(got["analysis"]) == set(direct)
     for key, values in direct.items():
@@ -92,20 +92,20 @@ def test_an_exception_in_the_operator_arrives_unchanged(sphere):
             raise raised
 
     with pytest.raises(Stop) as caught:
-        h.refine(fail)
+        h.refine(op=fail)
     assert caught.value is raised
 
 
 def test_positions_an_operator_breaks_are_input_errors_naming_the_level(sphere):
     _, _, h = sphere
     with pytest.raises(asperity.InputError, match=r"level 0: positions has shape \(3, 3\)"):
-        h.refine(lambda level: np.zeros((3, 3)))
+        h.refine(op=lambda level: np.zeros((3, 3)))
 
     def poison(level):
         level.positions[5, 1] = np.nan
 
     with pytest.raises(asperity.InputError, match="level 0: position 5 is not finite"):
-        h.refine(poison)
+        h.refine(op=poison)
     with pytest.raises(asperity.InputError, match="op must be a function"):
         h.refine(op=3)
 
@@ -114,12 +114,14 @@ def test_an_operator_over_a_region_refines_the_region_and_what_it_needs(sphere):
     positions, _, h = sphere
     region = positions[:, 2] > 0.3
     visited = []
-    refined = h.refine(lambda level: visited.append(len(level)), region=region)
+    refined = h.refine(region, op=lambda level: visited.append(len(level)))
     ids = refined.attributes["ids"]
     assert region[ids].sum() == region.sum()  # every region vertex is in
     assert len(ids) < len(positions) and (~region[ids]).sum() < (~region).sum()
     assert visited == sorted(visited) and len(visited) == h.levels
-    coarse_rest = h.refine(lambda level: None, region=region, base_level=h.levels // 2)
+    report = h.refine_report
+    assert report["region_vertices"] == region.sum() <= report["with_dependencies"], report
+    coarse_rest = h.refine(region=region, base_level=h.levels // 2, op=lambda level: None)
     assert len(refined.positions) < len(coarse_rest.positions) < len(positions)
 
 
@@ -147,7 +149,11 @@ def test_options_are_typed_keywords(sphere):
     with pytest.raises(asperity.InputError, match="keep-features"):
         asperity.Hierarchy(positions, triangles, keep_features="corner")
     unguarded = asperity.Hierarchy(positions, triangles, target_vertices=100, intersection_guard=False)
+    guarded = asperity.Hierarchy(positions, triangles, target_vertices=100)
     assert unguarded.report["output_vertices"] <= 100
+    # Off, the guard's stage only collects nothing (microseconds); on, it tests every level
+    # (milliseconds): three orders of magnitude apart, far beyond any machine's noise.
+    assert unguarded.report["stage_seconds"]["guard"] * 20 < guarded.report["stage_seconds"]["guard"]
 
 
 def test_results_come_back_as_trimesh_objects(sphere):
@@ -188,10 +194,10 @@ def test_a_progress_function_watches_and_cancels_builds_and_refinements(sphere):
         asperity.Hierarchy(positions, triangles, target_vertices="5%", progress=raise_it)
 
     levels = []
-    h.refine(lambda level: None, progress=lambda stage, done, total: levels.append((stage, done, total)))
+    h.refine(op=lambda level: None, progress=lambda stage, done, total: levels.append((stage, done, total)))
     assert levels == [("refine", k, h.levels - 1) for k in range(1, h.levels)]
     with pytest.raises(asperity.Cancelled):
-        h.refine(lambda level: None, progress=lambda *report: False)
+        h.refine(op=lambda level: None, progress=lambda *report: False)
     seen = []
     h.refine(progress=lambda stage, done, total: seen.append(stage))
     assert "refine" in seen
@@ -199,6 +205,26 @@ def test_a_progress_function_watches_and_cancels_builds_and_refinements(sphere):
         h.refine(progress=lambda *report: False)
     with pytest.raises(TypeError, match="progress must be"):
         asperity.Hierarchy(positions, triangles, progress="yes")
+    # numpy's False stops too; None goes on.
+    with pytest.raises(asperity.Cancelled):
+        asperity.Hierarchy(positions, triangles, progress=lambda stage, done, total: np.int64(done) < 0)
+    asperity.Hierarchy(positions, triangles, progress=lambda *report: None)
+
+
+def test_asperity_called_from_a_progress_callback_is_refused_not_a_hang(sphere):
+    positions, triangles, h = sphere
+    nested = []
+
+    def call_back_in(stage, done, total):
+        nested.append(asperity.hausdorff((positions, triangles), (positions, triangles)))
+
+    with pytest.raises(RuntimeError, match="cannot be called from a progress callback"):
+        asperity.Hierarchy(positions, triangles, progress=call_back_in)
+    assert nested == []
+    # From an operator (between levels, on the calling thread) any call is fine.
+    distances = []
+    h.refine(op=lambda level: distances.append(asperity.hausdorff((level.positions, level.faces), (level.positions, level.faces))))
+    assert len(distances) == h.levels and max(distances) < 1e-9
 
 
 def test_threads_build_and_refine_side_by_side(sphere):
@@ -208,7 +234,7 @@ def test_threads_build_and_refine_side_by_side(sphere):
     import threading
 
     positions, triangles, h = sphere
-    alone = h.refine(lambda level: level.positions.__imul__(1.01)).positions
+    alone = h.refine(op=lambda level: level.positions.__imul__(1.01)).positions
     built, refined, failures = [], [], []
 
     def build():
@@ -219,7 +245,7 @@ def test_threads_build_and_refine_side_by_side(sphere):
 
     def refine():
         try:
-            refined.append(h.refine(lambda level: level.positions.__imul__(1.01)).positions)
+            refined.append(h.refine(op=lambda level: level.positions.__imul__(1.01)).positions)
         except Exception as e:  # noqa: BLE001
             failures.append(e)
 
@@ -255,7 +281,7 @@ def test_a_numpy_operator_equals_the_same_cpp_operator_bit_for_bit():
     def displace(level):
         level.positions += 0.002 * (level.level + 1) * level.normals
 
-    result = h.refine(displace)
+    result = h.refine(op=displace)
     ours = np.empty_like(result.positions)
     ours[result.attributes["ids"]] = result.positions
     assert np.abs(ours - positions).max() > 0.01  # the operator moved the surface

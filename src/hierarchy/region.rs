@@ -82,7 +82,8 @@ pub fn refine_region(hierarchy: &Hierarchy, base_level: usize, inside: &dyn Fn(u
 
 /// The vertices a region refinement inserts above its base level: those `inside` accepts
 /// (input ids) and, recursively, the removal rings they need (as [`refine_region`] starts
-/// from). A level-by-level refinement that selects these gives the same region.
+/// from). A level-by-level refinement that selects these makes [`refine_region`]'s first
+/// round; it does not grow the region where the result cuts itself, as later rounds do.
 pub fn region_with_dependencies(hierarchy: &Hierarchy, inside: &dyn Fn(u32) -> bool) -> Vec<bool> {
     with_dependencies(inside, hierarchy.positions.len(), &removal_rings(hierarchy))
 }

@@ -1,5 +1,5 @@
 //! The report of a hierarchy build, as every front end gives it: the command line's
-//! `simplify --json`, Python's `Hierarchy.report` and C++'s `Hierarchy::report()` read the
+//! `simplify --json`, Python's `Hierarchy.report` and C++'s `Hierarchy::report_json()` read the
 //! same fields from here (meshoptimizer's one-line result reports, with the measures a
 //! user checks a simplification by).
 
