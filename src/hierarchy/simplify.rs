@@ -294,13 +294,7 @@ impl Planner<'_> {
     /// remove are released to join them.
     fn rank_level(&mut self, state: &mut LevelLoop) -> (Vec<Candidate>, f64) {
         let options = self.options;
-        let geometry = LevelGeometry {
-            positions: self.positions,
-            quadrics: &self.quadrics,
-            tolerance: PLAN_TOLERANCE,
-            params: &self.params,
-            lines: &self.lines,
-        };
+        let geometry = level_geometry(self.positions, &self.quadrics, &self.params, &self.lines);
         state.rules.under_floor = self.slivers.has_room();
         let need = options.target_vertices.map_or(usize::MAX, |t| self.live.len().saturating_sub(t));
         let mut ranked =
@@ -348,13 +342,7 @@ impl Planner<'_> {
         clock: &mut Instant,
     ) -> Result<(Vec<ClusterPlan>, FxHashSet<u32>)> {
         let options = self.options;
-        let geometry = LevelGeometry {
-            positions: self.positions,
-            quadrics: &self.quadrics,
-            tolerance: PLAN_TOLERANCE,
-            params: &self.params,
-            lines: &self.lines,
-        };
+        let geometry = level_geometry(self.positions, &self.quadrics, &self.params, &self.lines);
         let level_faces = if options.prevent_intersections { self.rings.faces(&self.live) } else { Vec::new() };
         lap(clock, &mut stages.guard);
         self.rings.checkpoint();
@@ -456,6 +444,17 @@ impl Planner<'_> {
         let removed: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
         self.live.retain(|v| !removed.contains(v));
     }
+}
+
+/// The level's geometry as cluster planning reads it (from the planner's fields, borrowed
+/// apart so that the planner's other fields stay free).
+fn level_geometry<'g>(
+    positions: &'g [DVec3],
+    quadrics: &'g [crate::analysis::Quadric],
+    params: &'g ParamBuckets,
+    lines: &'g FeatureLines,
+) -> LevelGeometry<'g> {
+    LevelGeometry { positions, quadrics, tolerance: PLAN_TOLERANCE, params, lines }
 }
 
 /// Planning is in the unit frame (diagonal 1): fractions of the input's diagonal are
