@@ -2,7 +2,7 @@
 # `make fuzz`: runs every cargo-fuzz target for FUZZ_SECONDS seconds (default 60), seeded
 # with the hostile corpus, the recipes and earlier finds. Needs the nightly toolchain
 # (not needed by `make test`); installs cargo-fuzz when missing. A crash is copied to
-# tests/data/fuzz/<target>/, where tests/fuzz_regressions.rs replays it from then on, and
+# tests/data/fuzz/<target>/, where tests/io/fuzz_regressions.rs replays it from then on, and
 # the script exits 1.
 #   FUZZ_SECONDS=600 FUZZ_TARGETS="pipeline" make fuzz
 set -eu

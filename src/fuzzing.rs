@@ -1,5 +1,5 @@
 //! The bodies of the fuzz targets (`fuzz/`, run by `make fuzz`), here so that the
-//! regression test (`tests/fuzz_regressions.rs`) replays every saved input through exactly
+//! regression test (`tests/io/fuzz_regressions.rs`) replays every saved input through exactly
 //! the same code. Each function panics only when an invariant breaks; bad input must come
 //! back as an error, never as a panic.
 

@@ -220,7 +220,7 @@ fn gltf_text_written_reads_back_like_glb() {
     let (a, b) = (asperity::io::read(&text).unwrap().mesh, asperity::io::read(&binary).unwrap().mesh);
     assert_eq!(a.positions, b.positions);
     assert_eq!(a.triangles, mesh.triangles);
-    crate::glb::khronos_validate(&[text]);
+    crate::io::glb::khronos_validate(&[text]);
 }
 
 #[test]

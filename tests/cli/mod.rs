@@ -1,0 +1,7 @@
+//! The command line: usage errors, every flag's effect, the README's examples, and
+//! interruption (signals and progress callbacks).
+
+mod flags;
+mod interrupt;
+mod readme;
+mod usage;

@@ -1,0 +1,4 @@
+//! Terrain: generation, smoothing, erosion and formats; tiles, streaming and scale.
+
+mod generation;
+mod scale;
