@@ -328,7 +328,7 @@ enum VertexSlot {
 }
 
 /// Parses a PLY file: the header, then each element in order — vertices
-/// ([`read_vertices`]), faces ([`read_faces`]), anything else skipped ([`skip_element`]) —
+/// (`read_vertices`), faces (`read_faces`), anything else skipped (`skip_element`) —
 /// then the check that nothing follows, and the polygons triangulated.
 pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     let header = parse_header(bytes, path)?;
