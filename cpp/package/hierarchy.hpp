@@ -234,7 +234,8 @@ class Hierarchy {
   static rust::Box<ffi::BuiltHierarchy> build(const Mesh& mesh, const HierarchyOptions& o) {
     std::vector<double> p;
     std::vector<std::uint32_t> t;
-    to_arrays(mesh, p, t);
+    std::vector<typename Mesh::FaceHandle> faces;  // each triangle's face (a polygon's several)
+    to_arrays(mesh, p, t, &faces);
     ffi::HierarchyOptions f = ffi::default_hierarchy_options();
     f.has_target_vertices = o.target_vertices.has_value();
     f.target_vertices = o.target_vertices.value_or(0);
@@ -250,12 +251,7 @@ class Hierarchy {
     f.swap_weight = o.swap_weight;
     f.fix_threshold_degrees = o.fix_threshold_degrees;
     f.intersection_guard = o.intersection_guard;
-    std::vector<double> uvs;
-    if (mesh.has_halfedge_texcoords2D() || mesh.has_vertex_texcoords2D()) {
-      std::vector<typename Mesh::FaceHandle> faces;  // each triangle's face (a polygon's several)
-      impl::triangles_of(mesh, p, t, &faces);
-      uvs = corner_uvs(mesh, t, faces);
-    }
+    const std::vector<double> uvs = corner_uvs(mesh, t, faces);
     const ffi::ProgressCallback progress(o.progress);
     return impl::call(progress, [&] {
       return ffi::build_hierarchy(impl::slice(p), impl::slice(t), impl::slice(uvs), f, progress);

@@ -89,9 +89,11 @@ void triangles_of(const Mesh& mesh, const std::vector<double>& positions, std::v
 }  // namespace impl
 
 /// The mesh's positions and triangles as flat arrays (OpenMesh vertex indices); polygon
-/// faces (a PolyMesh) are triangulated (impl::triangles_of).
+/// faces (a PolyMesh) are triangulated (impl::triangles_of), and `faces`, when given,
+/// receives the face each triangle comes from.
 template <class Mesh>
-void to_arrays(const Mesh& mesh, std::vector<double>& positions, std::vector<std::uint32_t>& triangles) {
+void to_arrays(const Mesh& mesh, std::vector<double>& positions, std::vector<std::uint32_t>& triangles,
+               std::vector<typename Mesh::FaceHandle>* faces = nullptr) {
   // Deleted elements keep their slots until garbage collection, so vertex indices would not
   // be the arrays' (#36: "face refers to vertex 6474 but there are 6474 vertices").
   std::size_t deleted = 0;
@@ -111,7 +113,7 @@ void to_arrays(const Mesh& mesh, std::vector<double>& positions, std::vector<std
     const auto p = mesh.point(v);
     positions.insert(positions.end(), {double(p[0]), double(p[1]), double(p[2])});
   }
-  impl::triangles_of(mesh, positions, triangles);
+  impl::triangles_of(mesh, positions, triangles, faces);
 }
 
 /// Replaces the mesh's contents with the arrays.

@@ -57,6 +57,12 @@ impl Progress {
     }
 }
 
+/// The progress line `progress=True` prints on stderr: `stage: NN%`, redrawn in place,
+/// ended when the stage is done.
+pub fn print_progress(stage: &str, percent: u64, done: bool) {
+    eprint!("\r{stage}: {percent:3}%{}", if done { "\n" } else { "" });
+}
+
 /// Whether a callback's answer means stop: a false bool (Python's or numpy's); None and
 /// anything else mean go on.
 pub fn says_stop(answer: &Bound<'_, PyAny>) -> bool {
@@ -144,7 +150,7 @@ pub fn run<T: Send>(
             let percent = (done * 100).checked_div(total).unwrap_or(100);
             let mut last = last.lock().unwrap_or_else(|p| p.into_inner());
             if last.0 != stage || last.1 != percent {
-                eprint!("\r{stage}: {percent:3}%{}", if done >= total { "\n" } else { "" });
+                print_progress(stage, percent, done >= total);
                 *last = (stage.to_string(), percent);
             }
         }

@@ -148,7 +148,7 @@ fn level_done(py: Python<'_>, progress: &Progress, done: u64, total: u64) -> PyR
     match progress {
         Progress::Off => Ok(()),
         Progress::Print => {
-            eprint!("\rrefine: {:3}%{}", done * 100 / total.max(1), if done >= total { "\n" } else { "" });
+            crate::interrupt::print_progress("refine", done * 100 / total.max(1), done >= total);
             Ok(())
         }
         Progress::Call(callback) => {

@@ -286,3 +286,14 @@ def test_a_numpy_operator_equals_the_same_cpp_operator_bit_for_bit():
     ours[result.attributes["ids"]] = result.positions
     assert np.abs(ours - positions).max() > 0.01  # the operator moved the surface
     np.testing.assert_array_equal(ours, cpp)
+
+
+def test_progress_true_prints_the_refinement_and_false_prints_nothing(sphere, capfd):
+    _, _, h = sphere
+    h.refine(op=lambda level: None)
+    h.refine()
+    assert capfd.readouterr().err == ""
+    h.refine(op=lambda level: None, progress=True)
+    assert "refine: 100%" in capfd.readouterr().err
+    h.refine(progress=True)
+    assert "refine: 100%" in capfd.readouterr().err
