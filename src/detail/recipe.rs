@@ -75,41 +75,8 @@ impl ColorSection {
     }
 }
 
-/// The `[hierarchy]` table.
-#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct HierarchySection {
-    /// "377" (or 377) or "1%".
-    #[serde(default, deserialize_with = "count_or_text")]
-    pub target_vertices: Option<String>,
-    /// Number of levels.
-    pub levels: Option<usize>,
-    /// Maximum error, fraction of the bounding-box diagonal.
-    pub max_error: Option<f64>,
-    /// "none", "strong" or "all".
-    pub keep_features: Option<String>,
-}
-
-/// A vertex count written as a number (`377`) or as text (`"377"`, `"1%"`).
-fn count_or_text<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Option<String>, D::Error> {
-    struct CountOrText;
-    impl serde::de::Visitor<'_> for CountOrText {
-        type Value = String;
-        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-            f.write_str("a vertex count (377) or text (\"377\", \"1%\")")
-        }
-        fn visit_u64<E: serde::de::Error>(self, n: u64) -> std::result::Result<String, E> {
-            Ok(n.to_string())
-        }
-        fn visit_i64<E: serde::de::Error>(self, n: i64) -> std::result::Result<String, E> {
-            Ok(n.to_string())
-        }
-        fn visit_str<E: serde::de::Error>(self, text: &str) -> std::result::Result<String, E> {
-            Ok(text.to_string())
-        }
-    }
-    d.deserialize_any(CountOrText).map(Some)
-}
+/// The `[hierarchy]` table: the hierarchy's own ([`crate::hierarchy::HierarchySection`]).
+pub use crate::hierarchy::HierarchySection;
 
 /// Which operator a step runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]

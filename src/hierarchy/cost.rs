@@ -125,12 +125,20 @@ pub fn point_triangle_distance_squared(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -
     if denom.abs() <= f64::MIN_POSITIVE || !denom.is_finite() {
         // A degenerate triangle: the nearest of its edges.
         return [(a, b), (b, c), (c, a)]
-            .map(|(s, e)| super::cluster::point_segment_distance_squared(p, s, e))
+            .map(|(s, e)| point_segment_distance_squared(p, s, e))
             .into_iter()
             .fold(f64::INFINITY, f64::min);
     }
     let (v, w) = (vb / denom, vc / denom);
     (a + ab * v + ac * w - p).length_squared()
+}
+
+/// Squared distance from `p` to the segment a–b.
+pub fn point_segment_distance_squared(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    let t = if len2 > 0.0 { ((p - a).dot(ab) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    (a + ab * t - p).length_squared()
 }
 
 #[cfg(test)]

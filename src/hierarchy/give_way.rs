@@ -35,7 +35,7 @@ use serde::Serialize;
 
 use rayon::prelude::*;
 
-use super::cluster::{ClusterRules, LevelGeometry, plan_cluster_with};
+use super::cluster::{ClusterRules, FEATURE_PREMIUM, LevelGeometry, plan_cluster_with};
 use super::lines::FeatureLines;
 use super::rings::Rings;
 
@@ -45,10 +45,6 @@ pub(super) const FLOORS_BEFORE_RELEASE: [f64; 4] = [5.0, 2.0, 1.0, 0.5];
 /// The angle floors (degrees) tried once every releasable vertex is released.
 const FLOORS_AFTER_RELEASE: [f64; 2] = [0.25, 0.0];
 
-/// How much cheaper than the level's error limit (a squared distance) a feature vertex's
-/// removal must be before the level releases it: 4, so a feature gives way where removing
-/// it moves the surface at most half as far as the level allows elsewhere.
-pub(super) const FEATURE_PREMIUM: f64 = 4.0;
 
 /// How the build met its vertex target, and what gave way to meet it.
 #[derive(Debug, Clone, PartialEq, Serialize)]

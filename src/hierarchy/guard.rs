@@ -4,7 +4,7 @@
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
-use super::cluster::{ClusterPlan, apply_plan, plan_still_applies};
+use super::plan::{ClusterPlan, apply_plan, plan_still_applies};
 use super::rings::Rings;
 use crate::error::Result;
 

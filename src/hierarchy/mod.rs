@@ -18,6 +18,7 @@ mod guard;
 mod intersections;
 mod lines;
 mod param;
+mod plan;
 mod record;
 mod refine;
 pub mod region;
@@ -25,13 +26,15 @@ mod report;
 mod rings;
 mod simplify;
 mod sliver_budget;
+mod store;
 mod target;
 mod wedges;
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-pub use cluster::{ClusterPlan, ClusterRules, nearest_edge, widest_link_edge};
+pub use cluster::{ClusterRules, nearest_edge, widest_link_edge};
+pub use plan::ClusterPlan;
 pub use conformal::{Flattening, barycentric, clamp_barycentric, interpolate, locate};
 pub use give_way::{TargetReport, topological_floor};
 pub use intersections::added_triangle_intersections;
@@ -40,7 +43,7 @@ pub use report::BuildReport;
 pub use refine::{LevelMesh, LevelReport, Refiner, connectivity_match};
 pub use rings::{RingVec, Rings};
 pub use simplify::{build, build_with_openmesh_replay};
-pub use target::{SectionSettings, VertexTarget};
+pub use target::{HierarchySection, SectionSettings, VertexTarget};
 pub use wedges::Wedges;
 
 pub use crate::mesh::used_vertices;

@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 use serde::Serialize;
 
-use super::cluster::ClusterPlan;
+use super::plan::ClusterPlan;
 use super::conformal::locate;
 use super::cost::point_triangle_distance_squared;
 use super::face_key;

@@ -9,9 +9,9 @@ use std::time::Instant;
 
 use glam::DVec3;
 
-use super::cluster::ClusterPlan;
+use super::plan::ClusterPlan;
 use super::param::ParamPoint;
-use super::simplify::expect_done;
+use super::store::expect_done;
 use super::{LevelMesh, Removal};
 use crate::error::Result;
 use crate::ffi::{CollapseOptions, HalfEdgeMesh};

@@ -17,10 +17,11 @@ use std::collections::HashSet;
 use glam::DVec3;
 use serde::Serialize;
 
-use super::cluster::{point_segment_distance_squared, widest_link_edge};
+use super::cluster::widest_link_edge;
+use super::cost::point_segment_distance_squared;
 use super::conformal::interpolate;
 use super::rings::Rings;
-use super::simplify::{expect_done, exported_triangles};
+use super::store::{expect_done, exported_triangles};
 use super::{Hierarchy, Removal, face_key, used_vertices};
 use crate::error::{Error, Result};
 use crate::ffi::HalfEdgeMesh;

@@ -11,7 +11,9 @@ use rayon::prelude::*;
 use rustc_hash::{FxHashMap, FxHashSet};
 use smallvec::SmallVec;
 
-use super::cluster::{ClusterPlan, ClusterRules, LevelGeometry, apply_plan, plan_cluster, plan_still_applies};
+use super::cluster::{ClusterRules, LevelGeometry, plan_cluster};
+use super::plan::{ClusterPlan, apply_plan, plan_still_applies};
+use super::store::exported_triangles;
 use super::give_way::{GiveWay, Rung, topological_floor};
 use super::guard::guard_plans;
 use super::lines::FeatureLines;
@@ -25,7 +27,7 @@ use crate::analysis::{
     FaceGeometry, FeatureClass, FeatureOptions, classify_at_two_scales, voting_tensors, wide_voting_tensors,
 };
 use crate::error::{Error, Result};
-use crate::ffi::{self, HalfEdgeMesh, OpStatus};
+use crate::ffi::{self, HalfEdgeMesh};
 use crate::mesh::{Adjacency, FaceId, Mesh, UnitFrame, ValidationReport, is_degenerate_face};
 use glam::DVec3;
 
@@ -767,27 +769,4 @@ fn select_clusters(
         plans.push(plan);
     }
     Ok(plans)
-}
-
-/// Planning checks every condition OpenMesh checks, so a refusal is a bug.
-pub(super) fn expect_done(what: &str, pairs: &[[u32; 2]], status: &[OpStatus]) -> Result<()> {
-    match status.iter().position(|&s| s != OpStatus::Done) {
-        None => Ok(()),
-        Some(i) => Err(Error::Internal(format!(
-            "OpenMesh refused the planned {what} {}–{} ({:?})",
-            pairs[i][0], pairs[i][1], status[i]
-        ))),
-    }
-}
-
-/// The store's live faces in store vertex indices.
-pub(super) fn exported_triangles(store: &HalfEdgeMesh) -> Result<Vec<[u32; 3]>> {
-    let exported = store.export()?;
-    let mut store_index = vec![0u32; exported.mesh.vertex_count()];
-    for (i, &e) in exported.vertex_remap.iter().enumerate() {
-        if e != ffi::INVALID_INDEX {
-            store_index[e as usize] = i as u32;
-        }
-    }
-    Ok(exported.mesh.triangles.iter().map(|t| t.map(|v| store_index[v as usize])).collect())
 }

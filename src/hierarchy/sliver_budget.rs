@@ -10,7 +10,7 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::cluster::ClusterPlan;
+use super::plan::ClusterPlan;
 use super::cost::min_angle_sine;
 
 /// The smallest angle of a triangle that is not a sliver, degrees (`compare`'s 5°).
