@@ -112,7 +112,7 @@ fn report_shared_meshes_at_one_percent() {
         let row = |m: &str| rows.iter().find(|r| r.method == m).expect("row");
         let (ours, om, cgal, mo) = (row("asperity"), row("openmesh"), row("cgal"), row("meshoptimizer"));
         println!(
-            "1 % {:<26} {:>5} vertices: hausdorff {:.3} % (asperity/meshoptimizer {:.2}x, asperity/cgal {:.2}x), slivers {:.1} % (openmesh {:.1} %), min angle {:.2}°",
+            "1 % {:<26} {:>5} vertices: hausdorff {:.3} % (asperity/meshoptimizer {:.2}x, asperity/cgal {:.2}x), slivers {:.1} % (openmesh {:.1} %), min angle {:.2}°; time asperity/meshoptimizer {:.1}x{}",
             path.file_name().expect("name").to_string_lossy(),
             ours.vertices,
             ours.hausdorff * 100.0,
@@ -120,7 +120,11 @@ fn report_shared_meshes_at_one_percent() {
             ours.hausdorff / cgal.hausdorff.max(f64::MIN_POSITIVE),
             ours.sliver_share * 100.0,
             om.sliver_share * 100.0,
-            ours.min_angle_deg
+            ours.min_angle_deg,
+            ours.seconds / mo.seconds.max(f64::MIN_POSITIVE),
+            // #35's budget for fandisk-size meshes (up to 20 k triangles; below a thousand the
+            // build takes about a millisecond and meshoptimizer microseconds).
+            if (1_000..=20_000).contains(&mesh.face_count()) { " (target <= 6x)" } else { "" }
         );
     }
 }
@@ -147,6 +151,7 @@ fn report_speed_targets(mesh: &Mesh, options: &SimplifyOptions, rows: &[asperity
         let start = Instant::now();
         let h = pool.install(|| build(mesh, options)).expect("hierarchy");
         println!("stages on {threads} thread(s), build {:.2} s: {}", start.elapsed().as_secs_f64(), h.stages);
+        println!("  shares of the planning thread on {threads} thread(s): {}", stage_shares(&h.stages));
     }
     let start = Instant::now();
     let replayed = asperity::hierarchy::build_with_openmesh_replay(mesh, options).expect("replayed hierarchy");
@@ -156,4 +161,19 @@ fn report_speed_targets(mesh: &Mesh, options: &SimplifyOptions, rows: &[asperity
         100.0 * replayed.stages.store / start.elapsed().as_secs_f64(),
         start.elapsed().as_secs_f64()
     );
+}
+
+/// Each stage of the planning thread as a share of their sum (the recorder's run beside it).
+fn stage_shares(s: &asperity::hierarchy::BuildStages) -> String {
+    let stages = [
+        ("prepare", s.prepare),
+        ("ranking", s.ranking),
+        ("planning", s.planning),
+        ("guard", s.guard),
+        ("parametrization", s.parametrization),
+        ("handoff", s.handoff),
+        ("export", s.export),
+    ];
+    let total: f64 = stages.iter().map(|(_, t)| t).sum();
+    stages.iter().map(|(name, t)| format!("{name} {:.0} %", 100.0 * t / total)).collect::<Vec<_>>().join(", ")
 }

@@ -4,7 +4,7 @@
 use std::fmt;
 use std::path::PathBuf;
 
-use crate::mesh::FaceId;
+use crate::ids::FaceId;
 
 /// Result alias used across asperity.
 pub type Result<T, E = Error> = std::result::Result<T, E>;

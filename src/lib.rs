@@ -16,6 +16,7 @@ pub mod ffi;
 #[doc(hidden)]
 pub mod fuzzing;
 pub mod hierarchy;
+mod ids;
 pub mod io;
 pub mod memory;
 pub mod mesh;

@@ -4,7 +4,6 @@
 
 mod adjacency;
 mod box_grid;
-mod ids;
 mod loop_subdivision;
 mod plane_side;
 pub mod primitives;
@@ -25,7 +24,7 @@ use glam::DVec3;
 
 pub use adjacency::Adjacency;
 pub use box_grid::{Aabb, BoxGrid};
-pub use ids::{FaceId, VertexId};
+pub use crate::ids::{FaceId, VertexId};
 pub use loop_subdivision::loop_subdivide;
 pub use plane_side::{certain_orientation, certainly_apart};
 pub use repair::{

@@ -1,4 +1,5 @@
-//! Typed element ids.
+//! Typed element ids: a leaf module, since errors and meshes both name elements by them
+//! (`crate::mesh` re-exports them).
 
 use std::fmt;
 
