@@ -16,12 +16,6 @@ pub struct Flattening {
 }
 
 impl Flattening {
-    /// Flattens the closed ring `ring` around `centre`. `None` for a degenerate ring (a
-    /// zero-length spoke or no angle).
-    pub fn of_closed_ring(centre: DVec3, ring: &[DVec3]) -> Option<Self> {
-        Self::of_star(centre, ring, false)
-    }
-
     /// Flattens the ring of the vertex at `centre`: closed around it, or for a vertex on a
     /// `boundary` open, onto the upper half-disk (a = π/θ_n, so the first ring vertex lands
     /// on the positive real axis, the last on the negative one, and the vertex — the
@@ -119,7 +113,7 @@ mod tests {
                 DVec3::new(2.0 * t.cos(), 2.0 * t.sin(), 0.0)
             })
             .collect();
-        let f = Flattening::of_closed_ring(DVec3::ZERO, &ring).unwrap();
+        let f = Flattening::of_star(DVec3::ZERO, &ring, false).unwrap();
         for (k, p) in f.points.iter().enumerate() {
             let t = k as f64 * std::f64::consts::TAU / 6.0;
             assert!((p.x - t.cos()).abs() < 1e-12 && (p.y - t.sin()).abs() < 1e-12, "{k}: {p}");
@@ -135,7 +129,7 @@ mod tests {
             DVec3::new(-1.0, 0.0, -1.0),
             DVec3::new(0.0, -1.0, -1.0),
         ];
-        let f = Flattening::of_closed_ring(DVec3::ZERO, &ring).unwrap();
+        let f = Flattening::of_star(DVec3::ZERO, &ring, false).unwrap();
         for k in 0..4 {
             let a = f.points[k];
             let b = f.points[(k + 1) % 4];

@@ -33,9 +33,6 @@ mod wedges;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-pub use cluster::{ClusterRules, nearest_edge, widest_link_edge};
-pub use plan::ClusterPlan;
-pub use conformal::{Flattening, barycentric, clamp_barycentric, interpolate, locate};
 pub use give_way::{TargetReport, topological_floor};
 pub use intersections::added_triangle_intersections;
 pub use param::ParamPoint;
