@@ -109,9 +109,11 @@ double hausdorff(const MeshA& reference, const MeshB& other) {
 }
 
 /// Applies a detail recipe (TOML text; see docs/recipes.md) to `mesh` in place; a recipe
-/// with a `[color]` table also requests and sets the mesh's vertex colours.
+/// with a `[color]` table also requests and sets the mesh's vertex colours. As on the
+/// command line and in Python, self-intersections the detail makes are resolved unless
+/// `no_self_intersections` is false (`--allow-self-intersections`).
 template <class Mesh>
-Report detail(Mesh& mesh, const std::string& recipe_toml, bool no_self_intersections = false) {
+Report detail(Mesh& mesh, const std::string& recipe_toml, bool no_self_intersections = true) {
   return impl::run_in_place(mesh, [&](auto positions, auto triangles) {
     return ffi::detail(positions, triangles, recipe_toml, no_self_intersections);
   });

@@ -9,7 +9,10 @@
 //  4. analyze on a const mesh; asperity:* properties persistent through OpenMesh's .om;
 //  5. threads: builds side by side, and refinements of one shared hierarchy;
 //  6. a normal displacement at every level, written for the Python package's test to
-//     compare with its own numpy operator bit for bit (OUT_DIR/normal-displacement.*).
+//     compare with its own numpy operator bit for bit (OUT_DIR/normal-displacement.*);
+//  7. a recipe setting every key of its [hierarchy] table, written with its input and
+//     result for the Python package's test to run through Python and the command line and
+//     compare bit for bit (OUT_DIR/recipe-every-key.*).
 // Exit code 0 when everything behaved. Built with CMake (find_package) and with
 // pkg-config against the shared library (scripts/cpp-example.sh).
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -18,6 +21,7 @@
 
 #include <asperity/pipeline.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -222,10 +226,8 @@ static void write_raw(const std::string& path, const std::vector<T>& values) {
   expect(bool(file), "write " + path);
 }
 
-/// 6. Every level displaced along its normals by 0.002 (level + 1), the same operator as
-/// python/tests/test_refine_operator.py's; the input and the result as raw little-endian
-/// arrays (float64 positions in input order, uint32 triangles).
-static void normal_displacement_for_python(const Mesh& single, const std::string& out) {
+/// `single` with double-precision points (the same vertices and faces, in order).
+static MeshD with_double_points(const Mesh& single) {
   MeshD input;
   for (auto v : single.vertices()) input.add_vertex(MeshD::Point(single.point(v)[0], single.point(v)[1], single.point(v)[2]));
   for (auto f : single.faces()) {
@@ -233,6 +235,14 @@ static void normal_displacement_for_python(const Mesh& single, const std::string
     for (auto v : single.fv_range(f)) c.push_back(input.vertex_handle(std::uint32_t(v.idx())));
     input.add_face(c);
   }
+  return input;
+}
+
+/// 6. Every level displaced along its normals by 0.002 (level + 1), the same operator as
+/// python/tests/test_refine_operator.py's; the input and the result as raw little-endian
+/// arrays (float64 positions in input order, uint32 triangles).
+static void normal_displacement_for_python(const Mesh& single, const std::string& out) {
+  const MeshD input = with_double_points(single);
   asperity::HierarchyOptions options;
   options.target_vertices = input.n_vertices() / 20;
   options.keep_features = "none";
@@ -256,6 +266,47 @@ static void normal_displacement_for_python(const Mesh& single, const std::string
   std::cout << "normal displacement: " << h.level_count() << " levels, written for Python's comparison\n";
 }
 
+/// 7. A recipe whose [hierarchy] table sets every key to a value other than its default
+/// (#38: the library's one reading of the table, which the command line, Python and C++
+/// all call), run by asperity::detail on the sphere with its bottom cut flat (a crease, so
+/// that keep_features matters); its input, text and result as raw arrays for
+/// python/tests/test_asperity.py.
+static void recipe_for_python(const Mesh& single, const std::string& out) {
+  const std::string recipe = R"(# Every key of [hierarchy] set (examples/cpp/integration.cpp).
+seed = 5
+
+[hierarchy]
+target_vertices = "8%"
+levels = 12
+max_error = 0.03
+keep_features = "none"
+
+[[step]]
+op = "noise"
+level = -2
+
+[step.noise]
+kind = "perlin"
+amplitude = 0.01
+frequency = 6.0
+)";
+  MeshD mesh = with_double_points(single);
+  for (auto v : mesh.vertices()) mesh.point(v)[2] = std::max(mesh.point(v)[2], -0.6);
+  std::vector<double> in_positions, out_positions;
+  std::vector<std::uint32_t> in_triangles, out_triangles;
+  asperity::to_arrays(mesh, in_positions, in_triangles);
+  const asperity::Report report = asperity::detail(mesh, recipe);
+  asperity::to_arrays(mesh, out_positions, out_triangles);
+  expect(out_positions != in_positions, "the recipe moved nothing");
+  write_raw(out + "/recipe-every-key.input-positions.f64", in_positions);
+  write_raw(out + "/recipe-every-key.input-triangles.u32", in_triangles);
+  write_raw(out + "/recipe-every-key.result-positions.f64", out_positions);
+  write_raw(out + "/recipe-every-key.result-triangles.u32", out_triangles);
+  std::ofstream(out + "/recipe-every-key.toml") << recipe;
+  std::cout << "recipe with every [hierarchy] key: " << report.levels << " levels, " << mesh.n_vertices()
+            << " vertices, written for Python's comparison\n";
+}
+
 int main(int argc, char** argv) {
   const std::string out = argc > 1 ? argv[1] : ".";
   try {
@@ -266,6 +317,7 @@ int main(int argc, char** argv) {
     const_analysis_and_persistent_properties(input, out);
     threads(input);
     normal_displacement_for_python(input, out);
+    recipe_for_python(input, out);
   } catch (const Failed& e) {
     std::cerr << "failed: " << e.what() << "\n";
     return 1;

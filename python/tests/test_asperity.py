@@ -291,6 +291,38 @@ def read_png_rgba(path: Path) -> np.ndarray:
     return out.reshape(height, width, 4)
 
 
+def test_a_recipe_with_every_hierarchy_key_gives_cpp_python_and_the_command_line_alike(cli, tmp_path):
+    """#38: one reading of a recipe's [hierarchy] table. examples/cpp/integration.cpp runs a
+    recipe setting all four keys through asperity::detail and writes its input, text and
+    result (scripts/cpp-example.sh runs it before these tests in make test); Python and the
+    command line, with their defaults, give the same mesh bit for bit."""
+    out = REPO / "target/cpp-example/out"
+    names = ["input-positions.f64", "input-triangles.u32", "result-positions.f64", "result-triangles.u32", "toml"]
+    missing = [n for n in names if not (out / f"recipe-every-key.{n}").is_file()]
+    if missing:
+        pytest.fail(f"the C++ example's output is missing from {out} ({', '.join(missing)}): run scripts/cpp-example.sh")
+    positions = np.fromfile(out / "recipe-every-key.input-positions.f64", dtype="<f8").reshape(-1, 3)
+    triangles = np.fromfile(out / "recipe-every-key.input-triangles.u32", dtype="<u4").reshape(-1, 3)
+    cpp = faces_as_set(
+        np.fromfile(out / "recipe-every-key.result-positions.f64", dtype="<f8").reshape(-1, 3),
+        np.fromfile(out / "recipe-every-key.result-triangles.u32", dtype="<u4").reshape(-1, 3),
+    )
+    recipe = (out / "recipe-every-key.toml").read_text()
+    mesh = asperity.Mesh(positions, triangles)
+    ours, _ = asperity.detail(mesh, recipe)
+    assert faces_as_set(ours.positions, ours.triangles) == cpp
+    # Every key is read: each set alone to a tighter value changes the mesh.
+    for key, tighter in [("target_vertices", '"50%"'), ("levels", "5"), ("max_error", "0.001"), ("keep_features", '"strong"')]:
+        lines = [f"{key} = {tighter}" if line.startswith(f"{key} = ") else line for line in recipe.splitlines()]
+        assert lines != recipe.splitlines(), key
+        other, _ = asperity.detail(mesh, "\n".join(lines))
+        assert faces_as_set(other.positions, other.triangles) != cpp, key
+    asperity.write(tmp_path / "in.ply", positions, triangles)
+    run_cli(cli, "detail", "in.ply", "--recipe", str(out / "recipe-every-key.toml"), "-o", "d.ply", cwd=tmp_path)
+    command_line = asperity.read(tmp_path / "d.ply")
+    assert faces_as_set(command_line.positions, command_line.triangles) == cpp
+
+
 def test_results_are_the_command_lines_bit_for_bit(meshes, cli, tmp_path):
     femur = meshes / "femur.off"
     mesh = asperity.read(femur)
