@@ -129,7 +129,7 @@ pub struct HierarchySection {
     pub levels: Option<usize>,
     /// Maximum error, fraction of the bounding-box diagonal.
     pub max_error: Option<f64>,
-    /// "none", "strong" or "all".
+    /// "none", "corners", "strong" or "all".
     pub keep_features: Option<String>,
 }
 
