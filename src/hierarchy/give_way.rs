@@ -45,7 +45,6 @@ pub(super) const FLOORS_BEFORE_RELEASE: [f64; 4] = [5.0, 2.0, 1.0, 0.5];
 /// The angle floors (degrees) tried once every releasable vertex is released.
 const FLOORS_AFTER_RELEASE: [f64; 2] = [0.25, 0.0];
 
-
 /// How the build met its vertex target, and what gave way to meet it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TargetReport {

@@ -8,10 +8,10 @@ use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 use serde::Serialize;
 
-use super::plan::ClusterPlan;
 use super::conformal::locate;
 use super::cost::point_triangle_distance_squared;
 use super::face_key;
+use super::plan::ClusterPlan;
 
 /// A point on a level of the hierarchy: a face (counter-clockwise vertex ids) and
 /// barycentric coordinates (non-negative, summing to one).
@@ -63,9 +63,10 @@ impl ParamBuckets {
         self.next[vertex as usize] = bucket.head;
         bucket.head = vertex;
         if let Some(slot) = (0..WORST).min_by(|&a, &b| bucket.worst[a].0.total_cmp(&bucket.worst[b].0))
-            && distance > bucket.worst[slot].0 {
-                bucket.worst[slot] = (distance, vertex);
-            }
+            && distance > bucket.worst[slot].0
+        {
+            bucket.worst[slot] = (distance, vertex);
+        }
         self.points[vertex as usize] = Some(point);
     }
 

@@ -9,8 +9,8 @@ use std::time::Instant;
 
 use glam::DVec3;
 
-use super::plan::ClusterPlan;
 use super::param::ParamPoint;
+use super::plan::ClusterPlan;
 use super::store::expect_done;
 use super::{LevelMesh, Removal};
 use crate::error::Result;

@@ -18,8 +18,8 @@ use glam::DVec3;
 use serde::Serialize;
 
 use super::cluster::widest_link_edge;
-use super::cost::point_segment_distance_squared;
 use super::conformal::interpolate;
+use super::cost::point_segment_distance_squared;
 use super::rings::Rings;
 use super::store::{expect_done, exported_triangles};
 use super::{Hierarchy, Removal, face_key, used_vertices};

@@ -12,15 +12,15 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use smallvec::SmallVec;
 
 use super::cluster::{ClusterRules, LevelGeometry, plan_cluster};
-use super::plan::{ClusterPlan, apply_plan, plan_still_applies};
-use super::store::exported_triangles;
 use super::give_way::{GiveWay, Rung, topological_floor};
 use super::guard::guard_plans;
 use super::lines::FeatureLines;
 use super::param::ParamBuckets;
+use super::plan::{ClusterPlan, apply_plan, plan_still_applies};
 use super::record::{Recorded, Recorder};
 use super::rings::Rings;
 use super::sliver_budget::SliverBudget;
+use super::store::exported_triangles;
 use super::wedges::Wedges;
 use super::{BuildStages, FeatureVertices, Hierarchy, KeepFeatures, SimplifyOptions, used_vertices};
 use crate::analysis::{

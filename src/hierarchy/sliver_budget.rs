@@ -10,8 +10,8 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::plan::ClusterPlan;
 use super::cost::min_angle_sine;
+use super::plan::ClusterPlan;
 
 /// The smallest angle of a triangle that is not a sliver, degrees (`compare`'s 5°).
 const SLIVER_DEGREES: f64 = 5.0;
