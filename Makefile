@@ -64,10 +64,12 @@ install-cpp: deps
 	cmake --build target/cpp-release
 	cmake --install target/cpp-release
 
-# Lints are part of the tests where clippy is installed.
+# Lints are part of the tests where clippy is installed; the library is also linted without
+# its `cli` feature (what a library user gets with default-features = false: no clap).
 clippy: deps
 	@if $(CARGO) clippy --version >/dev/null 2>&1; then \
-	  $(CARGO) clippy --workspace --all-targets -- -D warnings; \
+	  $(CARGO) clippy --workspace --all-targets -- -D warnings && \
+	  $(CARGO) clippy -p asperity --lib --no-default-features -- -D warnings; \
 	else echo "clippy not installed: lints skipped"; fi
 
 # Each cargo-fuzz target for FUZZ_SECONDS (default 60) on nightly; crashes are saved under

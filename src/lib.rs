@@ -8,6 +8,7 @@
 #![deny(unsafe_code)]
 
 pub mod analysis;
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod detail;
 pub mod error;

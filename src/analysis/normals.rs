@@ -8,7 +8,8 @@ use serde::{Deserialize, Serialize};
 use crate::mesh::{Adjacency, Mesh};
 
 /// Weights α(T) of eq. 3.2.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum NormalWeighting {
     /// α = 1.

@@ -9,7 +9,8 @@ use smallvec::SmallVec;
 use super::Perlin;
 
 /// Which fractal sum.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum FractalKind {
     /// Σ gⁱ n(λⁱ p) (eq. 3.15).

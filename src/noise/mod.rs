@@ -29,7 +29,8 @@ pub use single::SinglePerlin;
 use crate::error::Result;
 
 /// Every kind of noise the command line and recipes can ask for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum NoiseKind {
     /// Perlin improved noise, one octave.
@@ -70,7 +71,8 @@ impl NoiseKind {
 }
 
 /// The arithmetic of Perlin noise and its fBm (#42).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Precision {
     /// Double precision: the default, and the only one of the other kinds.

@@ -10,7 +10,8 @@ use super::gabor::{Frame, Gabor, GaborParams};
 use crate::error::Result;
 
 /// The periodic profile a phase goes through (Tricard et al. §4.2).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Profile {
     /// sin φ.

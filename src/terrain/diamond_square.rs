@@ -23,7 +23,8 @@ pub enum Rule {
 }
 
 /// The lattice the grid indices stand for (seed 001's grid types).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Lattice {
     /// Squares: diamond-square (square centres, then diamonds).

@@ -32,7 +32,8 @@ use crate::error::{Error, Result};
 use crate::mesh::{Mesh, Rgb};
 
 /// Terrain generators.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Method {
     /// Midpoint displacement / diamond-square (Fournier, Fussell & Carpenter; seed 001).
@@ -44,7 +45,8 @@ pub enum Method {
 }
 
 /// Grid types (seed 001).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Grid {
     /// Square cells, two triangles each.

@@ -15,7 +15,8 @@ use super::stream::StreamFormat;
 use crate::error::{Error, Result};
 
 /// A game engine whose import rules the output follows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Preset {
     /// Unity: RAW16 little-endian, 2ⁿ + 1 points a side from 33 to 4097.

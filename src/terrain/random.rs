@@ -9,7 +9,8 @@ use crate::noise::hash::{Stream, derive_seed, mix64};
 
 /// The distribution of the random displacements (seed 001), before scaling by the level's σ;
 /// each is standardised, then given the requested mean and variance.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Distribution {
     /// Normal (Gaussian), the default.

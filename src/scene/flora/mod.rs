@@ -25,7 +25,8 @@ pub const MAX_NODES: usize = 200_000;
 pub const MAX_LEAVES: usize = 4_000_000;
 
 /// A named preset: the seed's cottonwood, palm and flower.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum FloraPreset {
     /// A broadleaf tree: a trunk with boughs and twigs.
