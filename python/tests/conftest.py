@@ -90,3 +90,22 @@ def faces_as_set(positions, triangles):
         k = corners.index(min(corners))
         out.add(tuple(corners[k:] + corners[:k]))
     return out
+
+
+def cpp_example_output(prefix, names):
+    """The files examples/cpp/integration.cpp wrote as ``prefix.name`` under
+    target/cpp-example/out (scripts/cpp-example.sh runs it before these tests in make test),
+    by name. A missing file fails, naming where it belongs."""
+    out = REPO / "target/cpp-example/out"
+    paths = {n: out / f"{prefix}.{n}" for n in names}
+    missing = [n for n, path in paths.items() if not path.is_file()]
+    if missing:
+        pytest.fail(f"the C++ example's output is missing from {out} ({', '.join(missing)}): run scripts/cpp-example.sh")
+    return paths
+
+
+def raw_rows(path):
+    """A raw little-endian array of rows of three the C++ example wrote: float64 for
+    ``.f64``, uint32 for ``.u32``."""
+    dtype = {".f64": "<f8", ".u32": "<u4"}[path.suffix]
+    return np.fromfile(path, dtype=dtype).reshape(-1, 3)

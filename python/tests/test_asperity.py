@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import asperity
-from conftest import REPO, faces_as_set, icosphere, run_cli
+from conftest import REPO, cpp_example_output, faces_as_set, icosphere, raw_rows, run_cli
 
 
 def test_a_numpy_mesh_round_trips_through_every_format(tmp_path):
@@ -296,18 +296,13 @@ def test_a_recipe_with_every_hierarchy_key_gives_cpp_python_and_the_command_line
     recipe setting all four keys through asperity::detail and writes its input, text and
     result (scripts/cpp-example.sh runs it before these tests in make test); Python and the
     command line, with their defaults, give the same mesh bit for bit."""
-    out = REPO / "target/cpp-example/out"
-    names = ["input-positions.f64", "input-triangles.u32", "result-positions.f64", "result-triangles.u32", "toml"]
-    missing = [n for n in names if not (out / f"recipe-every-key.{n}").is_file()]
-    if missing:
-        pytest.fail(f"the C++ example's output is missing from {out} ({', '.join(missing)}): run scripts/cpp-example.sh")
-    positions = np.fromfile(out / "recipe-every-key.input-positions.f64", dtype="<f8").reshape(-1, 3)
-    triangles = np.fromfile(out / "recipe-every-key.input-triangles.u32", dtype="<u4").reshape(-1, 3)
-    cpp = faces_as_set(
-        np.fromfile(out / "recipe-every-key.result-positions.f64", dtype="<f8").reshape(-1, 3),
-        np.fromfile(out / "recipe-every-key.result-triangles.u32", dtype="<u4").reshape(-1, 3),
+    files = cpp_example_output(
+        "recipe-every-key",
+        ["input-positions.f64", "input-triangles.u32", "result-positions.f64", "result-triangles.u32", "toml"],
     )
-    recipe = (out / "recipe-every-key.toml").read_text()
+    positions, triangles = raw_rows(files["input-positions.f64"]), raw_rows(files["input-triangles.u32"])
+    cpp = faces_as_set(raw_rows(files["result-positions.f64"]), raw_rows(files["result-triangles.u32"]))
+    recipe = files["toml"].read_text()
     mesh = asperity.Mesh(positions, triangles)
     ours, _ = asperity.detail(mesh, recipe)
     assert faces_as_set(ours.positions, ours.triangles) == cpp
@@ -318,7 +313,7 @@ def test_a_recipe_with_every_hierarchy_key_gives_cpp_python_and_the_command_line
         other, _ = asperity.detail(mesh, "\n".join(lines))
         assert faces_as_set(other.positions, other.triangles) != cpp, key
     asperity.write(tmp_path / "in.ply", positions, triangles)
-    run_cli(cli, "detail", "in.ply", "--recipe", str(out / "recipe-every-key.toml"), "-o", "d.ply", cwd=tmp_path)
+    run_cli(cli, "detail", "in.ply", "--recipe", str(files["toml"]), "-o", "d.ply", cwd=tmp_path)
     command_line = asperity.read(tmp_path / "d.ply")
     assert faces_as_set(command_line.positions, command_line.triangles) == cpp
 

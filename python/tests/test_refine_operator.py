@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import asperity
-from conftest import faces_as_set, icosphere, run_cli
+from conftest import cpp_example_output, faces_as_set, icosphere, raw_rows, run_cli
 
 
 @pytest.fixture(scope="module")
@@ -266,16 +266,9 @@ def test_a_numpy_operator_equals_the_same_cpp_operator_bit_for_bit():
     0.002 (level + 1) in numpy gives the C++ operator's result exactly
     (examples/cpp/integration.cpp writes its input and result; scripts/cpp-example.sh runs
     it, before these tests in make test)."""
-    from conftest import REPO
-
-    out = REPO / "target/cpp-example/out"
-    names = ["input-positions.f64", "input-triangles.u32", "result-positions.f64"]
-    missing = [n for n in names if not (out / f"normal-displacement.{n}").is_file()]
-    if missing:
-        pytest.fail(f"the C++ example's output is missing from {out} ({', '.join(missing)}): run scripts/cpp-example.sh")
-    positions = np.fromfile(out / "normal-displacement.input-positions.f64", dtype="<f8").reshape(-1, 3)
-    triangles = np.fromfile(out / "normal-displacement.input-triangles.u32", dtype="<u4").reshape(-1, 3)
-    cpp = np.fromfile(out / "normal-displacement.result-positions.f64", dtype="<f8").reshape(-1, 3)
+    files = cpp_example_output("normal-displacement", ["input-positions.f64", "input-triangles.u32", "result-positions.f64"])
+    positions, triangles = raw_rows(files["input-positions.f64"]), raw_rows(files["input-triangles.u32"])
+    cpp = raw_rows(files["result-positions.f64"])
     h = asperity.Hierarchy(positions, triangles, target_vertices=len(positions) // 20, keep_features="none")
 
     def displace(level):
