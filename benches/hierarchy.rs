@@ -165,15 +165,7 @@ fn report_speed_targets(mesh: &Mesh, options: &SimplifyOptions, rows: &[asperity
 
 /// Each stage of the planning thread as a share of their sum (the recorder's run beside it).
 fn stage_shares(s: &asperity::hierarchy::BuildStages) -> String {
-    let stages = [
-        ("prepare", s.prepare),
-        ("ranking", s.ranking),
-        ("planning", s.planning),
-        ("guard", s.guard),
-        ("parametrization", s.parametrization),
-        ("handoff", s.handoff),
-        ("export", s.export),
-    ];
+    let stages = s.planning_thread();
     let total: f64 = stages.iter().map(|(_, t)| t).sum();
     stages.iter().map(|(name, t)| format!("{name} {:.0} %", 100.0 * t / total)).collect::<Vec<_>>().join(", ")
 }

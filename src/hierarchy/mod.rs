@@ -264,20 +264,29 @@ pub struct BuildStages {
     pub handoff: f64,
 }
 
+impl BuildStages {
+    /// The planning thread's stages by name, in the order the build runs them.
+    pub fn planning_thread(&self) -> [(&'static str, f64); 6] {
+        [
+            ("prepare", self.prepare),
+            ("ranking", self.ranking),
+            ("planning", self.planning),
+            ("guard", self.guard),
+            ("parametrization", self.parametrization),
+            ("handoff", self.handoff),
+        ]
+    }
+}
+
 impl std::fmt::Display for BuildStages {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        for (i, (name, seconds)) in self.planning_thread().into_iter().enumerate() {
+            write!(f, "{}{name} {seconds:.2} s", if i > 0 { ", " } else { "" })?;
+        }
         write!(
             f,
-            "prepare {:.2} s, ranking {:.2} s, planning {:.2} s, guard {:.2} s, parametrization {:.2} s, handoff {:.2} s; recorder thread: store {:.2} s, records {:.2} s, export {:.2} s",
-            self.prepare,
-            self.ranking,
-            self.planning,
-            self.guard,
-            self.parametrization,
-            self.handoff,
-            self.store,
-            self.records,
-            self.export
+            "; recorder thread: store {:.2} s, records {:.2} s, export {:.2} s",
+            self.store, self.records, self.export
         )
     }
 }

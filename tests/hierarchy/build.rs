@@ -404,3 +404,23 @@ fn corners_only_features_keep_the_corners_and_let_the_edges_go() {
     assert_eq!(only_corners.feature_vertices, 8, "only the corners are feature vertices");
     assert!(build_with(KeepFeatures::Strong).feature_vertices > 8, "strong keeps edge vertices too");
 }
+
+#[test]
+fn build_stages_print_the_planning_thread_then_the_recorder_thread() {
+    let stages = asperity::hierarchy::BuildStages {
+        prepare: 1.0,
+        ranking: 2.0,
+        planning: 3.0,
+        guard: 4.0,
+        parametrization: 5.0,
+        handoff: 6.0,
+        store: 7.0,
+        records: 8.0,
+        export: 9.0,
+    };
+    assert_eq!(
+        stages.to_string(),
+        "prepare 1.00 s, ranking 2.00 s, planning 3.00 s, guard 4.00 s, parametrization 5.00 s, handoff 6.00 s; recorder thread: store 7.00 s, records 8.00 s, export 9.00 s"
+    );
+    assert_eq!(stages.planning_thread().iter().map(|(_, t)| t).sum::<f64>(), 21.0);
+}
