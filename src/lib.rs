@@ -24,6 +24,7 @@ pub mod mesh;
 pub mod noise;
 pub mod progress;
 pub mod render;
+pub mod request;
 pub mod scene;
 pub mod terrain;
 

@@ -1,10 +1,13 @@
 //! Fields over points and meshes for C++: terrain meshes, noise at given points, surface
-//! analysis. Terrain and noise take `asperity terrain`'s and `asperity noise`'s flags (the
-//! C++ options structs are turned into them), so every parameter means what the command
-//! line's flag means, with the same checks and messages.
+//! analysis. Noise takes the library's request (`NoiseRequest`, read from the C++ options
+//! struct's fields); terrain still takes `asperity terrain`'s flags (the C++ options struct
+//! turned into them, #38), so every parameter means what the command line's flag means,
+//! with the same checks and messages.
 
 use asperity::analysis::{AnalysisOptions, analyze as analyze_mesh};
 use asperity::cli::{self, parse_flags};
+use asperity::noise::NoiseRequest;
+use asperity::request::{Spelling, from_fields};
 use asperity::{Error, Result};
 use glam::DVec3;
 
@@ -40,8 +43,7 @@ pub fn terrain_mesh(flags: &Vec<String>) -> Result<TerrainMesh, String> {
     })
 }
 
-#[allow(clippy::ptr_arg)]
-pub fn noise(points: &[f64], dimension: usize, flags: &Vec<String>) -> Result<Vec<f64>, String> {
+pub fn noise(points: &[f64], dimension: usize, fields: &str) -> Result<Vec<f64>, String> {
     guarded(|| {
         if !(dimension == 2 || dimension == 3) || !points.len().is_multiple_of(dimension) {
             return Err(Error::InvalidInput(format!(
@@ -52,13 +54,12 @@ pub fn noise(points: &[f64], dimension: usize, flags: &Vec<String>) -> Result<Ve
         if let Some(k) = points.iter().position(|c| !c.is_finite()) {
             return Err(Error::InvalidInput(format!("point {}: a coordinate is not finite", k / dimension)));
         }
-        let args: cli::noise::NoiseArgs =
-            parse_flags("noise", &["-o", "<points>.f32"], flags.clone(), &["--size", "--scale", "--range"], member)?;
+        let request: NoiseRequest = from_fields(fields, Spelling::Member)?;
         let points: Vec<DVec3> = match dimension {
             2 => points.chunks_exact(2).map(|p| DVec3::new(p[0], p[1], 0.0)).collect(),
             _ => points.chunks_exact(3).map(|p| DVec3::new(p[0], p[1], p[2])).collect(),
         };
-        args.values_at(&points, dimension == 2)
+        request.values_at(&points, dimension == 2, Spelling::Member)
     })
 }
 

@@ -171,7 +171,8 @@ mod bridge {
         /// A terrain mesh from `asperity terrain`'s flags (the C++ options struct's fields).
         fn terrain_mesh(flags: &Vec<String>) -> Result<TerrainMesh>;
         /// `asperity noise`'s field at points (`dimension` 2: the image plane; 3: space).
-        fn noise(points: &[f64], dimension: usize, flags: &Vec<String>) -> Result<Vec<f64>>;
+        /// `fields`: the JSON object of the noise request's fields.
+        fn noise(points: &[f64], dimension: usize, fields: &str) -> Result<Vec<f64>>;
         /// Normals, curvatures and feature classes of a mesh (`asperity analyze`).
         fn analyze(positions: &[f64], triangles: &[u32]) -> Result<Analysis>;
         /// `asperity info`'s validation report, as JSON.

@@ -15,8 +15,8 @@
 
 namespace asperity {
 
-/// `asperity noise`'s parameters (see `asperity noise --help`); unset options take the
-/// command line's defaults, and an option of another kind is refused.
+/// The library's noise request (`asperity noise`'s parameters, see `asperity noise --help`);
+/// unset options take their kind's defaults, and an option of another kind is refused.
 struct NoiseOptions {
   /// perlin, fbm, turbulence, marble, multifractal, wood, gabor or phasor.
   std::string kind = "perlin";
@@ -41,13 +41,14 @@ struct NoiseOptions {
 
 namespace impl {
 
-inline Flags noise_flags(const NoiseOptions& o) {
-  Flags f;
+/// The options as the library's noise request (`asperity::noise::NoiseRequest`).
+inline std::string noise_fields(const NoiseOptions& o) {
+  Fields f;
   f.add("kind", o.kind).add("octaves", o.octaves).add("lacunarity", o.lacunarity).add("gain", o.gain);
   f.add("offset", o.offset).add("k", o.k).add("a", o.a).add("f0", o.f0).add("omega", o.omega);
-  f.add("impulses", o.impulses).add_switch("isotropic", o.isotropic).add("profile", o.profile).add("seed", o.seed);
+  f.add("impulses", o.impulses).add("isotropic", o.isotropic).add("profile", o.profile).add("seed", o.seed);
   f.add("precision", o.precision);
-  return f;
+  return f.json();
 }
 
 template <std::size_t D>
@@ -55,8 +56,8 @@ std::vector<double> sample(const std::vector<std::array<double, D>>& points, con
   std::vector<double> flat;
   flat.reserve(D * points.size());
   for (const auto& p : points) flat.insert(flat.end(), p.begin(), p.end());
-  const auto flags = noise_flags(options);
-  const auto values = call([&] { return ffi::noise(slice(flat), D, flags.get()); });
+  const auto fields = noise_fields(options);
+  const auto values = call([&] { return ffi::noise(slice(flat), D, fields); });
   return std::vector<double>(values.begin(), values.end());
 }
 

@@ -261,6 +261,8 @@ static void analysis_and_noise(Mesh input) {
     expect(false, "an option of another noise kind is refused");
   } catch (const asperity::InputError& e) {
     std::cout << "noise option refused: " << e.what() << "\n";
+    expect(std::string(e.what()).find("option .octaves applies only to") != std::string::npos,
+           "the refusal names the option as C++ spells it");
   }
 }
 

@@ -156,6 +156,22 @@ def _flags(options: Mapping[str, Any]) -> List[str]:
     return flags
 
 
+def _fields(options: Mapping[str, Any]) -> str:
+    """Keyword options as the JSON object of a library request's fields (numpy scalars
+    and arrays as plain values); the library refuses an unknown or mistyped one by name."""
+
+    def plain(value: Any) -> Any:
+        if isinstance(value, np.ndarray):
+            return value.tolist()
+        if isinstance(value, np.generic):
+            return value.item()
+        if isinstance(value, (list, tuple)):
+            return [plain(v) for v in value]
+        return value
+
+    return json.dumps({key: plain(value) for key, value in options.items()})
+
+
 def read(path: Union[str, "os.PathLike[str]"]) -> Mesh:
     """Reads a mesh file (OBJ, PLY, OFF, STL, GLB): positions, triangles (polygons
     triangulated), and the attributes the file holds."""
@@ -499,7 +515,7 @@ def noise(kind: str, points: Any, **params: Any) -> np.ndarray:
     pts = np.ascontiguousarray(points, dtype=np.float64)
     if pts.ndim != 2:
         raise InputError(f"points must be an (n, 2) or (n, 3) array, not {pts.shape}")
-    return _native.noise(pts, _flags({"kind": kind, **params}))
+    return _native.noise(pts, _fields({"kind": kind, **params}))
 
 
 def render(mesh: MeshLike, **options: Any) -> np.ndarray:

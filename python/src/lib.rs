@@ -20,6 +20,8 @@ use pyo3::types::PyDict;
 use arrays::{mesh_of, points_of, positions_array, triangles_array, vectors_array};
 use asperity::cli;
 use asperity::mesh::Mesh;
+use asperity::noise::NoiseRequest;
+use asperity::request::{Spelling, from_fields};
 use flags::parse;
 use interrupt::{Progress, run};
 
@@ -554,16 +556,13 @@ fn terrain_mesh<'py>(
 }
 
 /// `asperity noise`'s field at given points: 2D points (n, 2) sample the plane as the
-/// images do; 3D points (n, 3) sample space with the global frame.
+/// images do; 3D points (n, 3) sample space with the global frame. `fields` is the JSON
+/// object of the request's fields (the keyword arguments), read strictly.
 #[pyfunction]
-fn noise<'py>(
-    py: Python<'py>,
-    points: PyReadonlyArray2<'py, f64>,
-    flags: Vec<String>,
-) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let args: cli::noise::NoiseArgs = parse("noise", &["-o", "<array>.f32"], flags, &["--size", "--scale", "--range"])?;
+fn noise<'py>(py: Python<'py>, points: PyReadonlyArray2<'py, f64>, fields: &str) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let request: NoiseRequest = from_fields(fields, Spelling::Keyword).map_err(to_py)?;
     let (dimension, points) = points_of(&points)?;
-    let values = run(py, false, move || args.values_at(&points, dimension == 2))?;
+    let values = run(py, false, move || request.values_at(&points, dimension == 2, Spelling::Keyword))?;
     Ok(PyArray1::from_vec(py, values))
 }
 

@@ -87,8 +87,12 @@ def test_errors_are_typed_with_the_command_lines_messages(tmp_path):
         asperity.terrain(method="dual")
     with pytest.raises(asperity.InputError, match="applies to the command line"):
         asperity.terrain(size=33, preview="x.png")
-    with pytest.raises(asperity.InputError, match="--octaves applies only to"):
+    with pytest.raises(asperity.InputError, match="octaves= applies only to .*, not to kind=perlin"):
         asperity.noise("perlin", np.zeros((2, 2)), octaves=3)
+    with pytest.raises(asperity.InputError, match="octave= is not an option here; the options are a=, f0=, gain="):
+        asperity.noise("fbm", np.zeros((2, 2)), octave=3)
+    with pytest.raises(asperity.InputError, match="octaves=: invalid type"):
+        asperity.noise("fbm", np.zeros((2, 2)), octaves="six")
     with pytest.raises(asperity.InputError, match="recipe"):
         asperity.detail((positions, triangles), "[[step]]\nop = 'nonsense'\n")
 
@@ -227,7 +231,7 @@ def test_terrain_noise_render_clouds_compare_repair():
     single = asperity.noise("fbm", points, seed=2, precision="f32")
     assert np.array_equal(single, single.astype(np.float32).astype(np.float64))
     assert not np.array_equal(single, asperity.noise("fbm", points, seed=2))
-    with pytest.raises(asperity.InputError, match="precision applies only"):
+    with pytest.raises(asperity.InputError, match="precision= applies only to kind=perlin and fbm, not to kind=gabor"):
         asperity.noise("gabor", points, precision="f32")
     twice = asperity.noise("gabor", points[:, :2], seed=2, k=2.0)
     np.testing.assert_allclose(twice, 2 * asperity.noise("gabor", points[:, :2], seed=2, k=1.0))

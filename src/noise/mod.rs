@@ -12,6 +12,7 @@ mod perlin_avx2;
 #[cfg(target_arch = "x86_64")]
 mod perlin_avx512;
 mod phasor;
+mod request;
 mod single;
 #[cfg(target_arch = "x86_64")]
 mod single_x86;
@@ -24,6 +25,7 @@ pub use fractal::{Basis, Fractal, FractalKind, ScaledPerlin, WOOD_RING_FALL, woo
 pub use gabor::{Frame, Gabor, GaborParams, MAX_IMPULSES_PER_KERNEL};
 pub use perlin::{PERLIN_PEAK, Perlin, plane_point};
 pub use phasor::{Phasor, Profile};
+pub use request::NoiseRequest;
 pub use single::SinglePerlin;
 
 use crate::error::Result;

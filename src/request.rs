@@ -1,0 +1,83 @@
+//! What the library's validated requests share (#38): how a front end spells a field in
+//! the messages `check()` gives, and reading a request from named fields with strict keys
+//! (Python's keyword arguments and C++'s option structs arrive so, with no argv between).
+
+use serde::de::DeserializeOwned;
+
+use crate::error::{Error, Result};
+
+/// How a front end names a request's field in its messages: the command line's flag
+/// (`--tile-size`), Python's keyword argument (`tile_size=`) or C++'s option member
+/// (`option .tile_size`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Spelling {
+    /// `--name`.
+    Flag,
+    /// `name=`.
+    Keyword,
+    /// `option .name`.
+    Member,
+}
+
+impl Spelling {
+    /// `field` (a struct field's name, with underscores) as this front end writes it.
+    pub fn of(self, field: &str) -> String {
+        match self {
+            Spelling::Flag => format!("--{}", field.replace('_', "-")),
+            Spelling::Keyword => format!("{field}="),
+            Spelling::Member => format!("option .{field}"),
+        }
+    }
+
+    /// `field` set to `value`, as this front end writes it: `--kind perlin`, `kind=perlin`,
+    /// `option .kind = perlin`.
+    pub fn with(self, field: &str, value: impl std::fmt::Display) -> String {
+        match self {
+            Spelling::Flag => format!("{} {value}", self.of(field)),
+            Spelling::Keyword => format!("{field}={value}"),
+            Spelling::Member => format!("{} = {value}", self.of(field)),
+        }
+    }
+}
+
+/// A request read from a JSON object of its fields (absent ones take their defaults; a
+/// `null` is absent). An unknown field or a value of the wrong type is an
+/// [`Error::InvalidInput`] naming the field as `spelling` writes it, and the fields there are.
+///
+/// # Errors
+/// Not a JSON object, an unknown field, or a field whose value does not fit it.
+pub fn from_fields<R: DeserializeOwned + serde::Serialize + Default>(json: &str, spelling: Spelling) -> Result<R> {
+    let fields: serde_json::Map<String, serde_json::Value> = serde_json::from_str(json)
+        .map_err(|e| Error::InvalidInput(format!("the options are not a JSON object of fields: {e}")))?;
+    let known = match serde_json::to_value(R::default()) {
+        Ok(serde_json::Value::Object(known)) => known,
+        _ => return Err(Error::Internal("a request does not serialise to an object".into())),
+    };
+    let mut given = serde_json::Map::new();
+    for (name, value) in fields {
+        if !known.contains_key(&name) {
+            let mut names: Vec<String> = known.keys().map(|k| spelling.of(k)).collect();
+            names.sort();
+            return Err(Error::InvalidInput(format!(
+                "{} is not an option here; the options are {}",
+                spelling.of(&name),
+                names.join(", ")
+            )));
+        }
+        if !value.is_null() {
+            // Each field alone first, so that a value of the wrong type names its field.
+            let alone = serde_json::Value::Object([(name.clone(), value.clone())].into_iter().collect());
+            serde_json::from_value::<R>(alone)
+                .map_err(|e| Error::InvalidInput(format!("{}: {}", spelling.of(&name), plain(&e))))?;
+            given.insert(name, value);
+        }
+    }
+    serde_json::from_value(serde_json::Value::Object(given))
+        .map_err(|e| Error::InvalidInput(format!("the options do not fit together: {}", plain(&e))))
+}
+
+/// serde's message without its position in the (internal) JSON text.
+fn plain(e: &serde_json::Error) -> String {
+    let text = e.to_string();
+    text.split(" at line ").next().unwrap_or(&text).to_string()
+}
