@@ -167,6 +167,9 @@ def _fields(options: Mapping[str, Any]) -> str:
             return value.item()
         if isinstance(value, (list, tuple)):
             return [plain(v) for v in value]
+        if isinstance(value, float) and not np.isfinite(value):
+            # JSON has no NaN or infinity: a string, which the library names as the wrong type.
+            return str(value)
         return value
 
     return json.dumps({key: plain(value) for key, value in options.items()})
