@@ -161,10 +161,8 @@ def _fields(options: Mapping[str, Any]) -> str:
     and arrays as plain values); the library refuses an unknown or mistyped one by name."""
 
     def plain(value: Any) -> Any:
-        if isinstance(value, np.ndarray):
-            return value.tolist()
-        if isinstance(value, np.generic):
-            return value.item()
+        if isinstance(value, (np.ndarray, np.generic)):
+            return plain(value.tolist())
         if isinstance(value, (list, tuple)):
             return [plain(v) for v in value]
         if isinstance(value, float) and not np.isfinite(value):

@@ -95,6 +95,8 @@ def test_errors_are_typed_with_the_command_lines_messages(tmp_path):
         asperity.noise("fbm", np.zeros((2, 2)), octaves="six")
     with pytest.raises(asperity.InputError, match="k=: invalid type: string \"nan\""):
         asperity.noise("gabor", np.zeros((2, 2)), k=float("nan"))
+    with pytest.raises(asperity.InputError, match="k=: invalid type: string \"inf\""):
+        asperity.noise("gabor", np.zeros((2, 2)), k=np.float64("inf"))
     with pytest.raises(asperity.InputError, match="recipe"):
         asperity.detail((positions, triangles), "[[step]]\nop = 'nonsense'\n")
 

@@ -31,11 +31,12 @@ pub use single::SinglePerlin;
 use crate::error::Result;
 
 /// Every kind of noise the command line and recipes can ask for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum NoiseKind {
     /// Perlin improved noise, one octave.
+    #[default]
     Perlin,
     /// Fractional Brownian motion (eq. 3.15).
     Fbm,

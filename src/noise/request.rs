@@ -12,7 +12,7 @@ use crate::request::Spelling;
 
 /// A noise field's parameters; an unset one takes its kind's default. A parameter of
 /// another kind is refused by [`NoiseRequest::check`] (it would have no effect).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 #[cfg_attr(feature = "cli", derive(clap::Args))]
 pub struct NoiseRequest {
@@ -64,27 +64,6 @@ pub struct NoiseRequest {
     pub precision: Option<Precision>,
 }
 
-impl Default for NoiseRequest {
-    fn default() -> Self {
-        NoiseRequest {
-            kind: NoiseKind::Perlin,
-            octaves: None,
-            lacunarity: None,
-            gain: None,
-            offset: None,
-            k: None,
-            a: None,
-            f0: None,
-            omega: None,
-            impulses: None,
-            isotropic: false,
-            profile: None,
-            seed: 0,
-            precision: None,
-        }
-    }
-}
-
 /// Which kinds each parameter applies to, as a message names them.
 const FRACTAL_KINDS: &str = "the fractal kinds (fbm, turbulence, marble, multifractal, wood)";
 
@@ -106,19 +85,21 @@ impl NoiseRequest {
         let phasor = self.kind == NoiseKind::Phasor;
         let multifractal = self.kind == NoiseKind::Multifractal;
         let kind = |value: &str| spelling.with("kind", value);
-        let rules: [(&str, bool, bool, String); 12] = [
-            ("octaves", self.octaves.is_some(), fractal, FRACTAL_KINDS.into()),
-            ("lacunarity", self.lacunarity.is_some(), fractal, FRACTAL_KINDS.into()),
-            ("gain", self.gain.is_some(), fractal, FRACTAL_KINDS.into()),
-            ("offset", self.offset.is_some(), multifractal, kind("multifractal")),
-            ("k", self.k.is_some(), spectral, kind("gabor and phasor")),
-            ("a", self.a.is_some(), spectral, kind("gabor and phasor")),
-            ("f0", self.f0.is_some(), spectral, kind("gabor and phasor")),
-            ("omega", self.omega.is_some(), spectral, kind("gabor and phasor")),
-            ("impulses", self.impulses.is_some(), spectral, kind("gabor and phasor")),
-            ("isotropic", self.isotropic, spectral, kind("gabor and phasor")),
-            ("profile", self.profile.is_some(), phasor, kind("phasor")),
-            ("precision", self.precision.is_some(), perlin, kind("perlin and fbm")),
+        let [spectral_kinds, phasor_kind, multifractal_kind, perlin_kinds] =
+            ["gabor and phasor", "phasor", "multifractal", "perlin and fbm"].map(kind);
+        let rules: [(&str, bool, bool, &str); 12] = [
+            ("octaves", self.octaves.is_some(), fractal, FRACTAL_KINDS),
+            ("lacunarity", self.lacunarity.is_some(), fractal, FRACTAL_KINDS),
+            ("gain", self.gain.is_some(), fractal, FRACTAL_KINDS),
+            ("offset", self.offset.is_some(), multifractal, &multifractal_kind),
+            ("k", self.k.is_some(), spectral, &spectral_kinds),
+            ("a", self.a.is_some(), spectral, &spectral_kinds),
+            ("f0", self.f0.is_some(), spectral, &spectral_kinds),
+            ("omega", self.omega.is_some(), spectral, &spectral_kinds),
+            ("impulses", self.impulses.is_some(), spectral, &spectral_kinds),
+            ("isotropic", self.isotropic, spectral, &spectral_kinds),
+            ("profile", self.profile.is_some(), phasor, &phasor_kind),
+            ("precision", self.precision.is_some(), perlin, &perlin_kinds),
         ];
         if let Some((field, _, _, kinds)) = rules.iter().find(|&&(_, given, applies, _)| given && !applies) {
             return Err(Error::InvalidInput(format!(
