@@ -7,8 +7,8 @@ use serde::de::DeserializeOwned;
 use crate::error::{Error, Result};
 
 /// How a front end names a request's field in its messages: the command line's flag
-/// (`--tile-size`), Python's keyword argument (`tile_size=`) or C++'s option member
-/// (`option .tile_size`).
+/// (`--tile-size`), Python's keyword argument (`tile_size=`), C++'s option member
+/// (`option .tile_size`) or a recipe's table key (`[hierarchy] tile_size`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Spelling {
     /// `--name`.
@@ -17,6 +17,8 @@ pub enum Spelling {
     Keyword,
     /// `option .name`.
     Member,
+    /// `[table] name`: a key of a recipe's table.
+    Table(&'static str),
 }
 
 impl Spelling {
@@ -26,16 +28,17 @@ impl Spelling {
             Spelling::Flag => format!("--{}", field.replace('_', "-")),
             Spelling::Keyword => format!("{field}="),
             Spelling::Member => format!("option .{field}"),
+            Spelling::Table(table) => format!("[{table}] {field}"),
         }
     }
 
     /// `field` set to `value`, as this front end writes it: `--kind perlin`, `kind=perlin`,
-    /// `option .kind = perlin`.
+    /// `option .kind = perlin`, `[table] kind = perlin`.
     pub fn with(self, field: &str, value: impl std::fmt::Display) -> String {
         match self {
             Spelling::Flag => format!("{} {value}", self.of(field)),
             Spelling::Keyword => format!("{field}={value}"),
-            Spelling::Member => format!("{} = {value}", self.of(field)),
+            Spelling::Member | Spelling::Table(_) => format!("{} = {value}", self.of(field)),
         }
     }
 }

@@ -4,7 +4,7 @@
 //! turned into them, #38), so every parameter means what the command line's flag means,
 //! with the same checks and messages.
 
-use asperity::analysis::{AnalysisOptions, analyze as analyze_mesh};
+use asperity::analysis::AnalysisRequest;
 use asperity::cli::{self, parse_flags};
 use asperity::noise::NoiseRequest;
 use asperity::request::{Spelling, from_fields};
@@ -63,6 +63,9 @@ pub fn noise(points: &[f64], dimension: usize, fields: &str) -> Result<Vec<f64>,
     })
 }
 
-pub fn analyze(positions: &[f64], triangles: &[u32]) -> Result<Analysis, String> {
-    guarded(|| Ok(analysis_arrays(&analyze_mesh(&mesh_of(positions, triangles)?, &AnalysisOptions::default())?)))
+pub fn analyze(positions: &[f64], triangles: &[u32], fields: &str) -> Result<Analysis, String> {
+    guarded(|| {
+        let request: AnalysisRequest = from_fields(fields, Spelling::Member)?;
+        Ok(analysis_arrays(&request.analyze(&mesh_of(positions, triangles)?, Spelling::Member)?))
+    })
 }

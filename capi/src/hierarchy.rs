@@ -7,13 +7,14 @@ use asperity::detail::LevelView;
 use crate::bridge::ProgressCallback;
 use crate::progress::watched;
 use asperity::hierarchy::region::refine_region;
-use asperity::hierarchy::{FeatureVertices, Hierarchy, Refiner, SimplifyOptions, build};
+use asperity::hierarchy::{FeatureVertices, Hierarchy, HierarchyRequest, Refiner, SimplifyOptions, build};
+use asperity::request::Spelling;
 use asperity::{Error, Mesh, Result};
 
 use crate::arrays::{analysis_arrays, corner_uvs_of, flat, level_arrays, mask_of, mesh_of, vectors_of};
 use crate::bridge::{Analysis, HierarchyOptions, LevelArrays, Parametrization, RegionOutcome, Report, ViewArrays};
 use crate::guarded;
-use crate::pipeline::keep_features_of;
+use crate::pipeline::{named, target_of};
 
 /// A hierarchy with every level recorded, and its input.
 pub struct BuiltHierarchy {
@@ -40,28 +41,27 @@ pub fn default_hierarchy_options() -> HierarchyOptions {
     }
 }
 
-/// The library's options from the C++ struct.
-fn simplify_options(o: &HierarchyOptions) -> Result<SimplifyOptions> {
-    let keep_features = keep_features_of(&o.keep_features)?;
-    let feature_vertices = match o.feature_vertices.as_str() {
-        "along-lines" => FeatureVertices::AlongLines,
-        "keep" => FeatureVertices::Keep,
-        other => {
-            return Err(Error::InvalidInput(format!("feature_vertices `{other}`: use along-lines or keep")));
-        }
-    };
-    let options = SimplifyOptions {
-        target_vertices: o.has_target_vertices.then_some(o.target_vertices),
+/// The library's options from the C++ struct: its settings as the hierarchy's request
+/// (checked and named as `option .name`), then what only C++ gives (kept vertices,
+/// Algorithm 3's threshold).
+fn simplify_options(o: &HierarchyOptions, vertices: usize) -> Result<SimplifyOptions> {
+    let request = HierarchyRequest {
+        target_vertices: o.has_target_vertices.then(|| target_of(o.target_vertices)).transpose()?,
         levels: o.has_levels.then_some(o.levels),
         max_error: o.has_max_error.then_some(o.max_error),
-        keep_features,
-        feature_vertices,
+        keep_features: Some(named("keep_features", &o.keep_features)?),
+        // The member always holds a name: its default counts as unset, so that it is not
+        // refused beside keep_features = "none" (where it has nothing to apply to).
+        feature_vertices: Some(named::<FeatureVertices>("feature_vertices", &o.feature_vertices)?)
+            .filter(|f| *f != FeatureVertices::default()),
+        removal_weight: Some(o.removal_weight),
+        swap_weight: Some(o.swap_weight),
+        intersection_guard: Some(o.intersection_guard),
+    };
+    let options = SimplifyOptions {
         keep_vertices: o.keep_vertices.clone(),
-        removal_weight: o.removal_weight,
-        swap_weight: o.swap_weight,
         fix_threshold_degrees: o.fix_threshold_degrees,
-        record_levels: true,
-        prevent_intersections: o.intersection_guard,
+        ..request.options(vertices, true, Spelling::Member)?
     };
     options.check()?;
     Ok(options)
@@ -77,7 +77,7 @@ pub fn build_hierarchy(
     guarded(|| {
         let mut input = mesh_of(positions, triangles)?;
         input.uvs = corner_uvs_of(corner_uvs, input.face_count())?;
-        let options = simplify_options(options)?;
+        let options = simplify_options(options, input.vertex_count())?;
         let inner = watched(progress, || build(&input, &options))?;
         Ok(Box::new(BuiltHierarchy { input, inner }))
     })
@@ -116,7 +116,8 @@ impl BuiltHierarchy {
                 barycentric: Vec::with_capacity(3 * points.len()),
             };
             for point in points {
-                let (face, bary, level) = point.map_or((-1, [f64::NAN; 3], 0), |p| (p.face as i64, p.barycentric, p.level));
+                let (face, bary, level) =
+                    point.map_or((-1, [f64::NAN; 3], 0), |p| (p.face as i64, p.barycentric, p.level));
                 out.level.push(level);
                 out.base_face.push(face);
                 out.barycentric.extend(bary);
@@ -216,7 +217,11 @@ impl Refinement<'_> {
     pub fn view(&mut self) -> Result<ViewArrays, String> {
         guarded(|| {
             let view = self.current_view()?;
-            let level = LevelArrays { mesh: crate::arrays::arrays_of(&view.mesh), ids: view.ids.clone(), corner_uvs: Vec::new() };
+            let level = LevelArrays {
+                mesh: crate::arrays::arrays_of(&view.mesh),
+                ids: view.ids.clone(),
+                corner_uvs: Vec::new(),
+            };
             Ok(ViewArrays { level, normals: flat(&view.normals), vertex_levels: view.appear.clone() })
         })
     }

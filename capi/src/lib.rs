@@ -174,7 +174,8 @@ mod bridge {
         /// `fields`: the JSON object of the noise request's fields.
         fn noise(points: &[f64], dimension: usize, fields: &str) -> Result<Vec<f64>>;
         /// Normals, curvatures and feature classes of a mesh (`asperity analyze`).
-        fn analyze(positions: &[f64], triangles: &[u32]) -> Result<Analysis>;
+        /// `fields`: the JSON object of the analysis request's fields.
+        fn analyze(positions: &[f64], triangles: &[u32], fields: &str) -> Result<Analysis>;
         /// `asperity info`'s validation report, as JSON.
         fn validate(positions: &[f64], triangles: &[u32]) -> Result<String>;
         /// The two-sided Hausdorff distance between two meshes, a share of the first's

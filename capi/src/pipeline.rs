@@ -1,7 +1,8 @@
 //! The one-call pipeline: simplify to the base domain, detail with a recipe.
 
 use asperity::detail::{DetailOptions, Recipe};
-use asperity::hierarchy::{KeepFeatures, SimplifyOptions, build};
+use asperity::hierarchy::{HierarchyRequest, VertexTarget, build};
+use asperity::request::Spelling;
 use asperity::{Error, Mesh};
 
 use crate::arrays::{arrays_of, mesh_of};
@@ -12,15 +13,17 @@ pub fn version() -> String {
     env!("CARGO_PKG_VERSION").to_string()
 }
 
-/// A `keep_features` name.
-pub fn keep_features_of(name: &str) -> asperity::Result<KeepFeatures> {
-    match name {
-        "none" => Ok(KeepFeatures::None),
-        "corners" => Ok(KeepFeatures::Corners),
-        "strong" => Ok(KeepFeatures::Strong),
-        "all" => Ok(KeepFeatures::All),
-        other => Err(Error::InvalidInput(format!("keep_features `{other}`: use none, corners, strong or all"))),
-    }
+/// A named setting of an option struct (`keep_features = "strong"`) read as the library's
+/// request reads it, a wrong name refused as `option .field`.
+pub fn named<T: serde::de::DeserializeOwned>(field: &str, text: &str) -> asperity::Result<T> {
+    serde_json::from_value(serde_json::Value::String(text.to_string()))
+        .map_err(|e| Error::InvalidInput(format!("{}: {e}", Spelling::Member.with(field, format!("\"{text}\"")))))
+}
+
+/// A vertex count of an option struct, checked as the library's request checks it.
+pub fn target_of(count: usize) -> asperity::Result<VertexTarget> {
+    VertexTarget::parse(&count.to_string())
+        .map_err(|e| Error::InvalidInput(format!("{}: {e}", Spelling::Member.of("target_vertices"))))
 }
 
 fn outcome(mesh: &Mesh, report: Report) -> Outcome {
@@ -37,8 +40,12 @@ pub fn simplify(
     guarded(|| {
         let start = std::time::Instant::now();
         let mesh = mesh_of(positions, triangles)?;
-        let keep_features = keep_features_of(keep_features)?;
-        let options = SimplifyOptions { target_vertices: Some(target_vertices), keep_features, ..Default::default() };
+        let request = HierarchyRequest {
+            target_vertices: Some(target_of(target_vertices)?),
+            keep_features: Some(named("keep_features", keep_features)?),
+            ..HierarchyRequest::default()
+        };
+        let options = request.options(mesh.vertex_count(), false, Spelling::Member)?;
         let hierarchy = build(&mesh, &options)?;
         let base = hierarchy.base_mesh().mesh;
         let report = Report {
@@ -66,9 +73,14 @@ pub fn detail(
                 None => format!("recipe: {message}"),
             })
         })?;
-        // The recipe's whole [hierarchy] table, read as the command line reads it (#36: only
-        // target_vertices was read here).
-        let simplify = recipe.hierarchy.apply(SimplifyOptions::default(), mesh.vertex_count())?;
+        // The recipe's whole [hierarchy] table, through the one function every front end
+        // applies it with (#36: only target_vertices was read here).
+        let simplify = HierarchyRequest::default().options_over(
+            &recipe.hierarchy,
+            mesh.vertex_count(),
+            false,
+            Spelling::Member,
+        )?;
         let options = DetailOptions { simplify, no_self_intersections, ..Default::default() };
         let result = asperity::detail::apply(&mesh, &recipe, &options)?;
         let report = Report {

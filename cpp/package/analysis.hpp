@@ -3,8 +3,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <string>
 #include <vector>
 
+#include "asperity/flags.hpp"
 #include "asperity/mesh_arrays.hpp"
 
 namespace asperity {
@@ -23,7 +26,27 @@ struct Analysis {
   std::vector<FeatureClass> feature_class;
 };
 
+/// The analysis settings (`asperity analyze`'s flags; the library's AnalysisRequest); an
+/// unset one takes the library's default.
+struct AnalysisOptions {
+  /// Vertex normal weights (eq. 3.2): "angle" (the default), "area" or "uniform".
+  std::optional<std::string> normals;
+  /// Algorithm 1's thresholds on the voting tensor's normalised eigenvalues, 0 to 1: a
+  /// corner when λ3 exceeds `corner` (0.1), a face vertex when λ2 is below `face` (0.02),
+  /// a strong edge when λ2 exceeds `strong` (0.1).
+  std::optional<double> corner;
+  std::optional<double> face;
+  std::optional<double> strong;
+};
+
 namespace impl {
+
+/// The options as the library's analysis request.
+inline std::string analysis_fields(const AnalysisOptions& o) {
+  Fields f;
+  f.add("normals", o.normals).add("corner", o.corner).add("face", o.face).add("strong", o.strong);
+  return f.json();
+}
 
 inline Analysis analysis_of(const ffi::Analysis& a) {
   Analysis out;
@@ -41,11 +64,12 @@ inline Analysis analysis_of(const ffi::Analysis& a) {
 /// Analyses `mesh` (asperity analyze) without changing it: normals, curvatures and feature
 /// classes per vertex.
 template <class Mesh>
-Analysis analyze(const Mesh& mesh) {
+Analysis analyze(const Mesh& mesh, const AnalysisOptions& options = AnalysisOptions()) {
   std::vector<double> p;
   std::vector<std::uint32_t> t;
   to_arrays(mesh, p, t);
-  return impl::analysis_of(impl::call([&] { return ffi::analyze(impl::slice(p), impl::slice(t)); }));
+  const auto fields = impl::analysis_fields(options);
+  return impl::analysis_of(impl::call([&] { return ffi::analyze(impl::slice(p), impl::slice(t), fields); }));
 }
 
 /// Analyses `mesh` and adds the results to it as persistent vertex properties (OpenMesh's
@@ -54,8 +78,8 @@ Analysis analyze(const Mesh& mesh) {
 /// values); the mesh's vertex normals are set too when it has them. Returns the same
 /// values. (A const mesh gets the values only: the overload above.)
 template <class Mesh>
-Analysis analyze(Mesh& mesh) {
-  Analysis a = analyze(static_cast<const Mesh&>(mesh));
+Analysis analyze(Mesh& mesh, const AnalysisOptions& options = AnalysisOptions()) {
+  Analysis a = analyze(static_cast<const Mesh&>(mesh), options);
   auto mean = impl::vertex_property<double>(mesh, "asperity:mean_curvature");
   auto gauss = impl::vertex_property<double>(mesh, "asperity:gaussian_curvature");
   auto k1 = impl::vertex_property<double>(mesh, "asperity:k1");

@@ -279,7 +279,11 @@ seed = 5
 target_vertices = "8%"
 levels = 12
 max_error = 0.03
-keep_features = "none"
+keep_features = "all"
+feature_vertices = "keep"
+removal_weight = 0.6
+swap_weight = 0.4
+intersection_guard = false
 
 [[step]]
 op = "noise"

@@ -241,6 +241,11 @@ static void analysis_and_noise(Mesh input) {
             << a.feature_class.size() << " vertices of class face\n";
   expect(std::abs(h[h.size() / 2] - 1.0) < 0.1, "a unit sphere's mean curvature is 1");
   expect(std::abs(input.normal(input.vertex_handle(0)).norm() - 1.0) < 1e-6, "vertex normals set");
+  // The options reach the library's analysis request: uniform weights give other normals.
+  asperity::AnalysisOptions uniform;
+  uniform.normals = "uniform";
+  const auto b = asperity::analyze(static_cast<const Mesh&>(input), uniform);
+  expect(b.normals != a.normals, "AnalysisOptions.normals is applied");
 
   std::vector<asperity::Vec3> points;
   for (auto v : input.vertices()) points.push_back({input.point(v)[0], input.point(v)[1], input.point(v)[2]});
@@ -404,6 +409,11 @@ static void bad_input(const Mesh& input) {
     asperity::TerrainOptions o;
     o.size = 100;
     asperity::terrain<Mesh>(o);
+  });
+  refused("analysis option", [&] {
+    asperity::AnalysisOptions o;
+    o.corner = 2.0;
+    asperity::analyze(static_cast<const Mesh&>(input), o);
   });
   refused("hierarchy option", [&] {
     asperity::HierarchyOptions o;

@@ -225,22 +225,24 @@ def repair(mesh: MeshLike) -> Tuple[Mesh, Dict[str, Any]]:
     return Mesh(positions, triangles), json.loads(report)
 
 
-def analyze(mesh: MeshLike, **options: Any) -> Dict[str, np.ndarray]:
+def analyze(mesh: MeshLike, *, repair: bool = False, **options: Any) -> Dict[str, np.ndarray]:
     """``asperity analyze``: vertex ``normals`` (n, 3), ``mean_curvature``,
     ``gaussian_curvature``, ``k1``, ``k2`` (n,), ``feature_class`` (n,) uint8 codes into
     :data:`FEATURE_CLASSES`, and ``diffusion`` directions (n, 3).
 
     Options: ``normals`` ("angle", "area", "uniform"), ``corner``, ``face``, ``strong``
-    (the voting-tensor thresholds), ``repair``."""
-    return _native.analyze(*_arrays(mesh), _flags(options))
+    (the voting-tensor thresholds, 0 to 1), ``repair``; an unknown one is an
+    :class:`InputError` naming it."""
+    return _native.analyze(*_arrays(mesh), _fields(options), repair)
 
 
 class Hierarchy:
     """The feature-sensitive 4-k hierarchy of a mesh (``asperity simplify``), every level
     kept: ``levels`` levels, level 0 the base domain and level ``levels - 1`` the input.
 
-    Options are ``simplify``'s, as typed keyword arguments (a misspelt one is a
-    ``TypeError``; a bad value an :class:`InputError` with the command line's message):
+    Options are ``simplify``'s (the library's hierarchy request, as a recipe's
+    ``[hierarchy]`` table also gives it), as typed keyword arguments (a misspelt one is a
+    ``TypeError``; a bad value an :class:`InputError` naming the keyword):
 
     - ``target_vertices``: stop at this many vertices (``377``) or this share of the
       input's (``"1%"``); ``levels``: stop after this many levels; ``max_error``: never
@@ -274,18 +276,19 @@ class Hierarchy:
         progress: Progress = False,
     ) -> None:
         p, t = _arrays(positions, triangles)
-        options = {
-            "target_vertices": target_vertices,
-            "levels": levels,
-            "max_error": max_error,
-            "keep_features": keep_features,
-            "feature_vertices": feature_vertices,
-            "removal_weight": removal_weight,
-            "swap_weight": swap_weight,
-            "no_intersection_guard": not intersection_guard,
-            "repair": repair,
-        }
-        self._native = _native.Hierarchy(p, t, _flags(options), progress)
+        fields = _fields(
+            {
+                "target_vertices": target_vertices,
+                "levels": levels,
+                "max_error": max_error,
+                "keep_features": keep_features,
+                "feature_vertices": feature_vertices,
+                "removal_weight": removal_weight,
+                "swap_weight": swap_weight,
+                "intersection_guard": intersection_guard,
+            }
+        )
+        self._native = _native.Hierarchy(p, t, fields, repair, progress)
         self._parametrization: Optional[Tuple[np.ndarray, np.ndarray]] = None
         self._report: Optional[Dict[str, Any]] = None
 
@@ -439,17 +442,26 @@ def detail(
     mesh: MeshLike,
     recipe: Union[str, Mapping[str, Any], None] = None,
     *,
+    allow_self_intersections: bool = False,
+    repair: bool = False,
     progress: Progress = False,
-    **options: Any,
+    **hierarchy: Any,
 ) -> Tuple[Mesh, Dict[str, Any]]:
     """``asperity detail``: builds the hierarchy, applies the recipe's steps at their
     levels and refines back to full resolution. ``recipe`` is a recipe's TOML text or the
     same as a dict (``{"seed": 3, "step": [{"op": "noise", ...}]}``); without one this is
-    the round trip. Options are ``detail``'s (``allow_self_intersections``, the
-    hierarchy's). Returns the mesh (with ``attributes["colors"]`` when the recipe has a
-    ``[color]`` table) and the report."""
+    the round trip. ``allow_self_intersections`` keeps the recipe's displacements where
+    the result cuts itself (by default they are damped); ``repair`` repairs the mesh
+    first. The other keywords are :class:`Hierarchy`'s (``target_vertices``, ``levels``,
+    ``max_error``, ``keep_features``, ``feature_vertices``, ``removal_weight``,
+    ``swap_weight``, ``intersection_guard``): each replaces the recipe's ``[hierarchy]``
+    key of its name; an unknown one is an :class:`InputError` naming it. Returns the mesh
+    (with ``attributes["colors"]`` when the recipe has a ``[color]`` table) and the
+    report."""
     text, is_json = _recipe_text(recipe)
-    positions, triangles, colors, report = _native.detail(*_arrays(mesh), text, is_json, _flags(options), progress)
+    positions, triangles, colors, report = _native.detail(
+        *_arrays(mesh), text, is_json, _fields(hierarchy), allow_self_intersections, repair, progress
+    )
     attributes = {} if colors is None else {"colors": colors}
     return Mesh(positions, triangles, attributes), json.loads(report)
 
@@ -526,5 +538,7 @@ def render(mesh: MeshLike, **options: Any) -> np.ndarray:
 
 
 def clouds(**options: Any) -> Tuple[np.ndarray, float]:
-    """``asperity clouds``: a (size, size, 3) uint8 RGB sky and its cloud cover (0–1)."""
-    return _native.clouds(_flags(options))
+    """``asperity clouds``: a (size, size, 3) uint8 RGB sky and its cloud cover (0–1).
+    Options: ``size`` (pixels per side, 2^n + 1), ``hurst``, ``seed``, ``threshold`` (0–1),
+    ``sky`` and ``cloud`` (R, G, B); an unknown one is an :class:`InputError` naming it."""
+    return _native.clouds(_fields(options))

@@ -181,9 +181,9 @@ impl Level {
 /// The level's positions after the operator: (n, 3) float64, finite.
 fn positions_back(py: Python<'_>, level: &Level, l: usize) -> PyResult<Vec<glam::DVec3>> {
     let py_positions = level.positions.bind(py);
-    let array: PyReadonlyArray2<'_, f64> = py_positions.extract().map_err(|_| {
-        InputError::new_err(format!("level {l}: positions must stay an (n, 3) float64 array"))
-    })?;
+    let array: PyReadonlyArray2<'_, f64> = py_positions
+        .extract()
+        .map_err(|_| InputError::new_err(format!("level {l}: positions must stay an (n, 3) float64 array")))?;
     let n = level.view.ids.len();
     let rows = array.as_array();
     let shape = rows.shape();

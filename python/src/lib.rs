@@ -1,9 +1,11 @@
 //! `asperity._asperity`: the native layer of the Python package. Every function takes
-//! numpy arrays and the command line's own flags (the Python wrapper turns keyword
-//! arguments into them), parses them with the command line's own argument definitions and
-//! calls the same library functions the command line calls, so results are identical bit
-//! for bit and errors carry the same one-line messages. No logic of its own: see
-//! `python/asperity/__init__.py` for the public API and its documentation.
+//! numpy arrays and its options: as the JSON object of a library request's fields (noise,
+//! the hierarchy and detail: read strictly by `asperity::request::from_fields`, #38) or,
+//! where no request exists yet, as the command line's own flags parsed by its own argument
+//! definitions. Either way it calls the same library functions the command line calls, so
+//! results are identical bit for bit and errors carry the same one-line messages, each
+//! option spelt as its keyword. No logic of its own: see `python/asperity/__init__.py` for
+//! the public API and its documentation.
 
 mod arrays;
 mod flags;
@@ -19,6 +21,8 @@ use pyo3::types::PyDict;
 
 use arrays::{mesh_of, points_of, positions_array, triangles_array, vectors_array};
 use asperity::cli;
+use asperity::detail::DetailOptions;
+use asperity::hierarchy::HierarchyRequest;
 use asperity::mesh::Mesh;
 use asperity::noise::NoiseRequest;
 use asperity::request::{Spelling, from_fields};
@@ -165,12 +169,12 @@ fn analyze<'py>(
     py: Python<'py>,
     positions: PyReadonlyArray2<'py, f64>,
     triangles: PyReadonlyArray2<'py, u32>,
-    flags: Vec<String>,
+    fields: &str,
+    repair: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let args: cli::analyze::AnalyzeArgs = parse("analyze", &["<array>", "-o", "<array>.ply"], flags, &[])?;
+    let request: asperity::analysis::AnalysisRequest = from_fields(fields, Spelling::Keyword).map_err(to_py)?;
     let mesh = mesh_of(&positions, &triangles)?;
-    let analysis =
-        run(py, false, move || asperity::analysis::analyze(&repaired(mesh, args.repair())?, &args.options()))?;
+    let analysis = run(py, false, move || request.analyze(&repaired(mesh, repair)?, Spelling::Keyword))?;
     level::analysis_dict(py, &analysis)
 }
 
@@ -220,17 +224,18 @@ impl Hierarchy {
 
 #[pymethods]
 impl Hierarchy {
+    /// `fields` is the JSON object of the hierarchy request's fields (the keyword
+    /// arguments), read strictly.
     #[new]
     fn new(
         positions: PyReadonlyArray2<'_, f64>,
         triangles: PyReadonlyArray2<'_, u32>,
-        flags: Vec<String>,
+        fields: &str,
+        repair: bool,
         progress: Bound<'_, PyAny>,
     ) -> PyResult<Self> {
         let py = positions.py();
-        let repair = flags.iter().any(|f| f == "--repair");
-        let flags: Vec<String> = flags.into_iter().filter(|f| f != "--repair").collect();
-        let args: cli::simplify::HierarchyArgs = parse("simplify", &[], flags, &[])?;
+        let request: HierarchyRequest = from_fields(fields, Spelling::Keyword).map_err(to_py)?;
         let mesh = mesh_of(&positions, &triangles)?;
         let caller_vertices = mesh.vertex_count();
         let (inner, origins) = run(py, Progress::of(&progress)?, move || {
@@ -240,7 +245,7 @@ impl Hierarchy {
             } else {
                 (mesh, None)
             };
-            let options = args.options(mesh.vertex_count(), true)?;
+            let options = request.options(mesh.vertex_count(), true, Spelling::Keyword)?;
             let inner = asperity::hierarchy::build(&mesh, &options)?;
             Ok((inner, origins))
         })?;
@@ -374,12 +379,11 @@ impl Hierarchy {
         progress: Option<Bound<'py, PyAny>>,
     ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>, Bound<'py, PyArray1<u32>>, String)> {
         let own = self.own_region(region)?;
-        let region_vertices = own.as_ref().map(|own| (0..self.caller_vertices).filter(|&u| {
-            self.own_id(u).is_some_and(|v| own[v as usize])
-        }).count());
-        let wanted = own.map(|own| {
-            asperity::hierarchy::region::region_with_dependencies(&self.inner, &|v| own[v as usize])
-        });
+        let region_vertices = own
+            .as_ref()
+            .map(|own| (0..self.caller_vertices).filter(|&u| self.own_id(u).is_some_and(|v| own[v as usize])).count());
+        let wanted =
+            own.map(|own| asperity::hierarchy::region::region_with_dependencies(&self.inner, &|v| own[v as usize]));
         let selection = level::Selection { base_level, wanted };
         let progress = progress.map_or(Ok(Progress::Off), |p| Progress::of(&p))?;
         let (refined, reports) =
@@ -434,10 +438,12 @@ fn detail<'py>(
     triangles: PyReadonlyArray2<'py, u32>,
     recipe: &str,
     recipe_is_json: bool,
-    flags: Vec<String>,
+    fields: &str,
+    allow_self_intersections: bool,
+    repair: bool,
     progress: Bound<'py, PyAny>,
 ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>, Option<Bound<'py, PyArray2<u8>>>, String)> {
-    let args: cli::detail::DetailArgs = parse("detail", &["<array>", "-o", "<array>.ply"], flags, &["--recipe"])?;
+    let request: HierarchyRequest = from_fields(fields, Spelling::Keyword).map_err(to_py)?;
     // A recipe given as a dict arrives as JSON and is read as the TOML it stands for.
     let text = if recipe_is_json {
         let value: serde_json::Value =
@@ -454,8 +460,14 @@ fn detail<'py>(
     })?;
     let mesh = mesh_of(&positions, &triangles)?;
     let (mesh, report) = run(py, Progress::of(&progress)?, move || {
-        let mesh = repaired(mesh, args.repair())?;
-        let (hierarchy, outcome) = args.apply(&mesh, &recipe)?;
+        let mesh = repaired(mesh, repair)?;
+        // The recipe's [hierarchy] table under the keyword arguments, as the command line's
+        // `detail` applies it under its flags.
+        let simplify = request.options_over(&recipe.hierarchy, mesh.vertex_count(), false, Spelling::Keyword)?;
+        let hierarchy = asperity::hierarchy::build(&mesh, &simplify)?;
+        let options =
+            DetailOptions { simplify, no_self_intersections: !allow_self_intersections, ..Default::default() };
+        let outcome = asperity::detail::apply_to(&hierarchy, &mesh, &recipe, &options)?;
         let report = serde_json::json!({
             "input_vertices": mesh.vertex_count(),
             "base_vertices": outcome.base_vertices,
@@ -503,7 +515,11 @@ fn compare(
 
 /// `asperity terrain`'s heights as a rows × columns array.
 #[pyfunction]
-fn terrain<'py>(py: Python<'py>, flags: Vec<String>, progress: Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+fn terrain<'py>(
+    py: Python<'py>,
+    flags: Vec<String>,
+    progress: Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let args: cli::terrain::TerrainArgs =
         parse("terrain", &["-o", "<array>.f32"], flags, &["--range", "--peak-height", "--colors", "--layers"])?;
     let field = run(py, Progress::of(&progress)?, move || cli::terrain::heights_of(&args))?;
@@ -559,7 +575,11 @@ fn terrain_mesh<'py>(
 /// images do; 3D points (n, 3) sample space with the global frame. `fields` is the JSON
 /// object of the request's fields (the keyword arguments), read strictly.
 #[pyfunction]
-fn noise<'py>(py: Python<'py>, points: PyReadonlyArray2<'py, f64>, fields: &str) -> PyResult<Bound<'py, PyArray1<f64>>> {
+fn noise<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'py, f64>,
+    fields: &str,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let request: NoiseRequest = from_fields(fields, Spelling::Keyword).map_err(to_py)?;
     let (dimension, points) = points_of(&points)?;
     let values = run(py, false, move || request.values_at(&points, dimension == 2, Spelling::Keyword))?;
@@ -584,11 +604,10 @@ fn render<'py>(
 
 /// `asperity clouds`' picture as an RGB array, and the sky's cloud cover.
 #[pyfunction]
-fn clouds<'py>(py: Python<'py>, flags: Vec<String>) -> PyResult<(Bound<'py, PyArray3<u8>>, f64)> {
-    let args: cli::clouds::CloudArgs = parse("clouds", &["-o", "<array>.png"], flags, &[])?;
-    let params = args.params();
-    let side = params.plasma.size as usize;
-    let (rgb, cover) = run(py, false, move || asperity::terrain::clouds(&params))?;
+fn clouds<'py>(py: Python<'py>, fields: &str) -> PyResult<(Bound<'py, PyArray3<u8>>, f64)> {
+    let request: asperity::terrain::CloudRequest = from_fields(fields, Spelling::Keyword).map_err(to_py)?;
+    let side = request.size as usize;
+    let (rgb, cover) = run(py, false, move || request.picture(Spelling::Keyword))?;
     let array = numpy::ndarray::Array3::from_shape_vec((side, side, 3), rgb)
         .map_err(|e| InternalError::new_err(e.to_string()))?;
     Ok((numpy::PyArray3::from_owned_array(py, array), cover))

@@ -83,6 +83,19 @@ def test_errors_are_typed_with_the_command_lines_messages(tmp_path):
         asperity.terrain(size=33, bogus=1)
     with pytest.raises(asperity.InputError, match="is not a vertex count or a percentage"):
         asperity.Hierarchy(positions, triangles, target_vertices="many")
+    # The hierarchy's and the clouds' requests name each keyword as Python spells it (#38).
+    with pytest.raises(asperity.InputError, match="swap_weight=-1: must be a non-negative weight"):
+        asperity.Hierarchy(positions, triangles, swap_weight=-1.0)
+    with pytest.raises(asperity.InputError, match="feature_vertices= applies only with keep_features= corners"):
+        asperity.Hierarchy(positions, triangles, keep_features="none", feature_vertices="keep")
+    with pytest.raises(asperity.InputError, match="target_vertex= is not an option here; the options are"):
+        asperity.detail((positions, triangles), target_vertex=5)
+    with pytest.raises(asperity.InputError, match="threshold=2: must lie in"):
+        asperity.clouds(size=33, threshold=2.0)
+    with pytest.raises(asperity.InputError, match="colour= is not an option here"):
+        asperity.clouds(size=33, colour=[1, 2, 3])
+    with pytest.raises(asperity.InputError, match="corner=1.5: must lie in"):
+        asperity.analyze((positions, triangles), corner=1.5)
     with pytest.raises(asperity.InputError, match="--method dual makes a 3D surface"):
         asperity.terrain(method="dual")
     with pytest.raises(asperity.InputError, match="applies to the command line"):
@@ -300,10 +313,11 @@ def read_png_rgba(path: Path) -> np.ndarray:
 
 
 def test_a_recipe_with_every_hierarchy_key_gives_cpp_python_and_the_command_line_alike(cli, tmp_path):
-    """#38: one reading of a recipe's [hierarchy] table. examples/cpp/integration.cpp runs a
-    recipe setting all four keys through asperity::detail and writes its input, text and
-    result (scripts/cpp-example.sh runs it before these tests in make test); Python and the
-    command line, with their defaults, give the same mesh bit for bit."""
+    """#38: one reading of a recipe's [hierarchy] table (HierarchyRequest::options_over).
+    examples/cpp/integration.cpp runs a recipe setting every key through asperity::detail
+    and writes its input, text and result (scripts/cpp-example.sh runs it before these tests
+    in make test); Python and the command line, with their defaults, give the same mesh bit
+    for bit."""
     files = cpp_example_output(
         "recipe-every-key",
         ["input-positions.f64", "input-triangles.u32", "result-positions.f64", "result-triangles.u32", "toml"],
@@ -315,11 +329,33 @@ def test_a_recipe_with_every_hierarchy_key_gives_cpp_python_and_the_command_line
     ours, _ = asperity.detail(mesh, recipe)
     assert faces_as_set(ours.positions, ours.triangles) == cpp
     # Every key is read: each set alone to a tighter value changes the mesh.
-    for key, tighter in [("target_vertices", '"50%"'), ("levels", "5"), ("max_error", "0.001"), ("keep_features", '"strong"')]:
-        lines = [f"{key} = {tighter}" if line.startswith(f"{key} = ") else line for line in recipe.splitlines()]
+    def with_key(key, value):
+        lines = [f"{key} = {value}" if line.startswith(f"{key} = ") else line for line in recipe.splitlines()]
         assert lines != recipe.splitlines(), key
-        other, _ = asperity.detail(mesh, "\n".join(lines))
+        return "\n".join(lines)
+
+    others = [
+        ("target_vertices", '"50%"'),
+        ("levels", "5"),
+        ("max_error", "0.001"),
+        ("keep_features", '"corners"'),
+        ("feature_vertices", '"along-lines"'),
+        ("removal_weight", "0.1"),
+        ("swap_weight", "3.0"),
+    ]
+    for key, other_value in others:
+        other, _ = asperity.detail(mesh, with_key(key, other_value))
         assert faces_as_set(other.positions, other.triangles) != cpp, key
+    # The guard leaves out nothing on this convex mesh: the key is read (a wrong type is
+    # refused, named), and its effect is the library's test of options_over.
+    with pytest.raises(asperity.InputError, match="intersection_guard"):
+        asperity.detail(mesh, with_key("intersection_guard", '"no"'))
+    # The keywords replace the table's keys: the recipe's own values given again change
+    # nothing, another value does.
+    same, _ = asperity.detail(mesh, recipe, keep_features="all", swap_weight=0.4, intersection_guard=False)
+    assert faces_as_set(same.positions, same.triangles) == cpp
+    moved, _ = asperity.detail(mesh, recipe, swap_weight=3.0)
+    assert faces_as_set(moved.positions, moved.triangles) != cpp
     asperity.write(tmp_path / "in.ply", positions, triangles)
     run_cli(cli, "detail", "in.ply", "--recipe", str(files["toml"]), "-o", "d.ply", cwd=tmp_path)
     command_line = asperity.read(tmp_path / "d.ply")

@@ -146,7 +146,7 @@ def test_options_are_typed_keywords(sphere):
     positions, triangles, _ = sphere
     with pytest.raises(TypeError, match="target_vertice"):
         asperity.Hierarchy(positions, triangles, target_vertice=10)
-    with pytest.raises(asperity.InputError, match="keep-features"):
+    with pytest.raises(asperity.InputError, match="keep_features=: unknown variant `corner`"):
         asperity.Hierarchy(positions, triangles, keep_features="corner")
     unguarded = asperity.Hierarchy(positions, triangles, target_vertices=100, intersection_guard=False)
     guarded = asperity.Hierarchy(positions, triangles, target_vertices=100)

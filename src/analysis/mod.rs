@@ -8,6 +8,7 @@ mod gradient;
 mod normals;
 mod orient;
 mod quadric;
+mod request;
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -19,6 +20,7 @@ pub use features::{
 };
 pub use gradient::face_gradients;
 pub use quadric::Quadric;
+pub use request::AnalysisRequest;
 pub use normals::{FaceGeometry, NormalWeighting, face_normals, vertex_normals};
 pub use orient::orient_line_field;
 

@@ -6,9 +6,10 @@ use std::time::Instant;
 use clap::Args;
 use serde_json::json;
 
-use crate::analysis::{AnalysisOptions, FeatureOptions, NormalWeighting, analyze};
+use crate::analysis::AnalysisRequest;
 use crate::error::Result;
 use crate::io::{self, WriteOptions};
+use crate::request::Spelling;
 
 /// The subcommand's flags (`AnalyzeArgs`).
 #[derive(Debug, Args)]
@@ -18,18 +19,8 @@ pub struct AnalyzeArgs {
     /// Output mesh (PLY keeps every property; other formats keep what they can).
     #[arg(short, long)]
     output: PathBuf,
-    /// Vertex normal weights.
-    #[arg(long, value_enum, default_value_t = NormalWeighting::Angle)]
-    normals: NormalWeighting,
-    /// Corner when the normalised λ3 exceeds this.
-    #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
-    corner: f64,
-    /// Face vertex when λ2 is below this.
-    #[arg(long, default_value_t = 0.02, allow_negative_numbers = true)]
-    face: f64,
-    /// Strong edge when λ2 exceeds this.
-    #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
-    strong: f64,
+    #[command(flatten)]
+    analysis: AnalysisRequest,
     /// Write text PLY.
     #[arg(long)]
     ascii: bool,
@@ -48,26 +39,6 @@ fn stats(values: &[f64]) -> serde_json::Value {
     json!({ "min": min, "max": max, "mean": mean })
 }
 
-impl AnalyzeArgs {
-    /// The library options the flags give.
-    pub fn options(&self) -> AnalysisOptions {
-        AnalysisOptions {
-            normal_weighting: self.normals,
-            features: FeatureOptions {
-                corner_min_l3: self.corner,
-                face_max_l2: self.face,
-                strong_min_l2: self.strong,
-                ..FeatureOptions::default()
-            },
-        }
-    }
-
-    /// Whether `--repair` was given.
-    pub fn repair(&self) -> bool {
-        self.repair.repair
-    }
-}
-
 /// Runs the subcommand.
 pub fn run(args: AnalyzeArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
@@ -75,8 +46,7 @@ pub fn run(args: AnalyzeArgs, ctx: super::Context) -> Result<()> {
     super::guard_overwrite(&args.input, &args.output, args.force)?;
     let input = super::input::read_input(&args.input, args.repair, ctx)?;
     let mut mesh = input.read.mesh.clone();
-    let options = args.options();
-    let analysis = analyze(&mesh, &options)?;
+    let analysis = args.analysis.analyze(&mesh, Spelling::Flag)?;
     analysis.attach_to(&mut mesh);
     io::write(&mesh, &args.output, WriteOptions { ascii: args.ascii })?;
     let [face, weak, strong, corner] = analysis.class_counts();

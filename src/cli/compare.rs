@@ -7,8 +7,9 @@ use std::path::PathBuf;
 use clap::Args;
 
 use crate::error::Result;
-use crate::hierarchy::SimplifyOptions;
 use crate::hierarchy::compare::{CompareReport, CompareRow, METHODS, compare_report};
+use crate::hierarchy::{FeatureVertices, HierarchyRequest, KeepFeatures, SimplifyOptions, VertexTarget};
+use crate::request::Spelling;
 
 /// The subcommand's flags (`CompareArgs`).
 #[derive(Debug, Args)]
@@ -16,18 +17,18 @@ pub struct CompareArgs {
     /// Input mesh.
     input: PathBuf,
     /// Vertex budget: a count ("377") or a share of the input's vertices ("1%").
-    #[arg(long, default_value = "1%")]
-    target_vertices: String,
+    #[arg(long, default_value = "1%", value_parser = VertexTarget::parse)]
+    target_vertices: VertexTarget,
     /// Methods to run, comma-separated (asperity, openmesh, cgal, meshoptimizer).
     #[arg(long, value_delimiter = ',', default_values_t = METHODS.map(String::from))]
     methods: Vec<String>,
     /// Feature vertices our simplification keeps (they can stop it above the budget).
-    #[arg(long, value_enum, default_value_t = super::simplify::KeepArg::Strong)]
-    keep_features: super::simplify::KeepArg,
+    #[arg(long, value_enum, default_value_t = KeepFeatures::Strong)]
+    keep_features: KeepFeatures,
     /// Our feature vertices on lines: simplified along them or kept [default: along-lines].
     /// Needs --keep-features corners, strong or all.
     #[arg(long, value_enum)]
-    feature_vertices: Option<super::simplify::FeatureVerticesArg>,
+    feature_vertices: Option<FeatureVertices>,
     #[command(flatten)]
     repair: super::input::RepairArg,
 }
@@ -38,15 +39,18 @@ impl CompareArgs {
     /// # Errors
     /// Invalid flags; the methods' errors.
     pub fn compare(&self, mesh: &crate::mesh::Mesh) -> Result<CompareReport> {
-        let target = super::simplify::resolve_target(&self.target_vertices, mesh.vertex_count())?;
         let methods: Vec<&str> = self.methods.iter().map(String::as_str).collect();
-        let keep_features = self.keep_features.into();
-        let ours = SimplifyOptions {
-            keep_features,
-            feature_vertices: super::simplify::resolve_feature_vertices(self.feature_vertices, keep_features)?,
-            ..SimplifyOptions::default()
+        // Our side's settings through the hierarchy's request (its checks and messages);
+        // the budget is every method's.
+        let request = HierarchyRequest {
+            target_vertices: Some(self.target_vertices),
+            keep_features: Some(self.keep_features),
+            feature_vertices: self.feature_vertices,
+            ..HierarchyRequest::default()
         };
-        compare_report(mesh, target, &methods, &ours)
+        let ours = request.options(mesh.vertex_count(), false, Spelling::Flag)?;
+        let target = ours.target_vertices.unwrap_or(mesh.vertex_count());
+        compare_report(mesh, target, &methods, &SimplifyOptions { target_vertices: None, ..ours })
     }
 
     /// Whether `--repair` was given.

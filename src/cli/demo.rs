@@ -16,12 +16,13 @@ use crate::analysis::{AnalysisOptions, analyze};
 use crate::detail::{self, DetailOptions, Recipe};
 use crate::error::{Error, Result};
 use crate::ffi::{self, HalfEdgeMesh, HausdorffOptions};
-use crate::hierarchy::{Refiner, SimplifyOptions, build, connectivity_match};
+use crate::hierarchy::{HierarchyRequest, Refiner, SimplifyOptions, build, connectivity_match};
 use crate::io::image::{value_range, write_png16};
 use crate::io::{self, WriteOptions};
 use crate::mesh::{Mesh, primitives};
 use crate::noise::{Fractal, NoiseField, NoiseKind, NoiseSpec};
 use crate::render::{ColorSource, Mode, Picture, RenderOptions, UpAxis, render};
+use crate::request::Spelling;
 
 #[derive(Debug, Args)]
 pub struct DemoArgs {
@@ -469,13 +470,13 @@ impl Demo {
                 },
             };
             let start = Instant::now();
-            let target = recipe
-                .hierarchy
-                .target_vertices
-                .as_deref()
-                .map(|t| super::resolve_target(t, mesh.vertex_count()))
-                .transpose()?;
-            let simplify = SimplifyOptions { target_vertices: target, ..SimplifyOptions::default() };
+            // The recipe's whole [hierarchy] table, as `asperity detail` reads it.
+            let simplify = HierarchyRequest::default().options_over(
+                &recipe.hierarchy,
+                mesh.vertex_count(),
+                false,
+                Spelling::Flag,
+            )?;
             let options = DetailOptions { simplify, no_self_intersections: true, ..DetailOptions::default() };
             let outcome = self.ctx.spin("detail", name, || detail::apply(&mesh, &recipe, &options))?;
             self.mesh(&outcome.result.mesh, &format!("detail-{name}.ply"))?;

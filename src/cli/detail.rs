@@ -8,12 +8,12 @@ use std::time::Instant;
 use clap::Args;
 use serde_json::json;
 
-use super::simplify::HierarchyArgs;
 use crate::detail::{DetailOptions, Recipe, apply_to};
 use crate::error::{Error, Result};
-use crate::hierarchy::{build, connectivity_match};
+use crate::hierarchy::{HierarchyRequest, build, connectivity_match};
 use crate::io::{self, WriteOptions};
 use crate::mesh::{Mesh, primitives};
+use crate::request::Spelling;
 
 /// The subcommand's flags (`DetailArgs`).
 #[derive(Debug, Args)]
@@ -31,37 +31,12 @@ pub struct DetailArgs {
     #[arg(long)]
     allow_self_intersections: bool,
     #[command(flatten)]
-    hierarchy: HierarchyArgs,
+    hierarchy: HierarchyRequest,
     /// Allow the output to overwrite the input.
     #[arg(long)]
     force: bool,
     #[command(flatten)]
     repair: super::input::RepairArg,
-}
-
-impl DetailArgs {
-    /// Builds the hierarchy of `mesh` with the flags' options (what they leave unset taken
-    /// from the recipe's `[hierarchy]`) and applies `recipe` level by level.
-    ///
-    /// # Errors
-    /// Invalid flags; the hierarchy's and the recipe's errors.
-    pub fn apply(
-        &self,
-        mesh: &Mesh,
-        recipe: &Recipe,
-    ) -> Result<(crate::hierarchy::Hierarchy, crate::detail::DetailOutcome)> {
-        let simplify = self.hierarchy.options_over(mesh.vertex_count(), false, &recipe.hierarchy)?;
-        let hierarchy = build(mesh, &simplify)?;
-        let options =
-            DetailOptions { simplify, no_self_intersections: !self.allow_self_intersections, ..Default::default() };
-        let outcome = apply_to(&hierarchy, mesh, recipe, &options)?;
-        Ok((hierarchy, outcome))
-    }
-
-    /// Whether `--repair` was given.
-    pub fn repair(&self) -> bool {
-        self.repair.repair
-    }
 }
 
 /// Runs the subcommand.
@@ -74,7 +49,7 @@ pub fn run(args: DetailArgs, ctx: super::Context) -> Result<()> {
         None => Recipe::default(),
     };
     let (mesh, repair) = mesh_or_builtin(&args.input, args.repair, ctx)?;
-    let simplify = args.hierarchy.options_over(mesh.vertex_count(), false, &recipe.hierarchy)?;
+    let simplify = args.hierarchy.options_over(&recipe.hierarchy, mesh.vertex_count(), false, Spelling::Flag)?;
     let hierarchy = ctx
         .spin("simplify", "building the 4-k hierarchy", || build(&mesh, &simplify))
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;

@@ -11,7 +11,7 @@ pub mod detail;
 mod info;
 pub mod input;
 pub mod noise;
-mod parse;
+pub(crate) mod parse;
 pub mod refine;
 pub mod render;
 mod report;
@@ -25,7 +25,6 @@ use clap::{Parser, Subcommand};
 
 pub use embedded::parse_flags;
 pub use report::Context;
-pub use simplify::resolve_target;
 
 use crate::error::{Error, Result};
 

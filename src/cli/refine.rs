@@ -7,12 +7,12 @@ use std::time::Instant;
 use clap::Args;
 use serde_json::json;
 
-use super::simplify::HierarchyArgs;
-use crate::detail::{HierarchySection, Selection, input_selection};
+use crate::detail::{Selection, input_selection};
 use crate::error::{Error, Result};
-use crate::hierarchy::build;
 use crate::hierarchy::region::refine_region;
+use crate::hierarchy::{HierarchyRequest, build};
 use crate::io::{self, WriteOptions};
+use crate::request::Spelling;
 
 /// The subcommand's flags.
 #[derive(Debug, Args)]
@@ -34,7 +34,7 @@ pub struct RefineArgs {
     #[arg(long, default_value_t = 0)]
     seed: u64,
     #[command(flatten)]
-    hierarchy: HierarchyArgs,
+    hierarchy: HierarchyRequest,
     /// Allow the output to overwrite the input.
     #[arg(long)]
     force: bool,
@@ -44,8 +44,12 @@ pub struct RefineArgs {
 
 /// Parses `--region`: a TOML inline table's contents.
 fn parse_region(text: &str) -> Result<Selection> {
-    toml::from_str::<Selection>(text)
-        .map_err(|e| Error::InvalidInput(format!("--region: {} (expected e.g. 'box = {{ min = [0, 0, 0.5], max = [1, 1, 1] }}')", e.message().trim())))
+    toml::from_str::<Selection>(text).map_err(|e| {
+        Error::InvalidInput(format!(
+            "--region: {} (expected e.g. 'box = {{ min = [0, 0, 0.5], max = [1, 1, 1] }}')",
+            e.message().trim()
+        ))
+    })
 }
 
 /// Runs the subcommand.
@@ -56,7 +60,7 @@ pub fn run(args: RefineArgs, ctx: super::Context) -> Result<()> {
     let selection = parse_region(&args.region)?;
     let (mesh, repair) = super::detail::mesh_or_builtin(&args.input, args.repair, ctx)?;
     let inside = input_selection(&mesh, &selection, args.seed).map_err(|e| e.about_file(&args.input))?;
-    let options = args.hierarchy.options_over(mesh.vertex_count(), false, &HierarchySection::default())?;
+    let options = args.hierarchy.options(mesh.vertex_count(), false, Spelling::Flag)?;
     let hierarchy = ctx
         .spin("simplify", "building the 4-k hierarchy", || build(&mesh, &options))
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;

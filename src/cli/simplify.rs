@@ -7,162 +7,12 @@ use std::time::Instant;
 use clap::Args;
 use serde_json::json;
 
-use crate::detail::HierarchySection;
-use crate::error::{Error, Result};
-use crate::hierarchy::{BuildReport, FeatureVertices, Hierarchy, KeepFeatures, LevelMesh, SimplifyOptions, VertexTarget, build};
+use crate::error::Result;
+use crate::hierarchy::{BuildReport, Hierarchy, HierarchyRequest, LevelMesh, build};
 use crate::io::glb::{GlbPart, write_glb_parts};
 use crate::io::{self, WriteOptions};
 use crate::mesh::Mesh;
-
-/// How far to simplify, and what to keep: shared by `simplify` and `detail`.
-#[derive(Debug, Args)]
-pub struct HierarchyArgs {
-    /// Stop at this many vertices ("377") or this share of the input's ("1%").
-    #[arg(long, value_parser = VertexTarget::parse)]
-    target_vertices: Option<VertexTarget>,
-    /// Stop after this many levels.
-    #[arg(long)]
-    levels: Option<usize>,
-    /// Never remove a vertex whose error exceeds this fraction of the bounding-box diagonal.
-    #[arg(long, allow_negative_numbers = true)]
-    max_error: Option<f64>,
-    /// Feature vertices kept in the base domain (thesis §4.4.1.1) [default: strong].
-    #[arg(long, value_enum)]
-    keep_features: Option<KeepArg>,
-    /// Feature vertices on a feature line: simplified along their line, so it stays a line
-    /// of every level (along-lines), or never removed (keep: the thesis' literal rule)
-    /// [default: along-lines]. Needs --keep-features corners, strong or all.
-    #[arg(long, value_enum)]
-    feature_vertices: Option<FeatureVerticesArg>,
-    /// Weight of the removal error in E(v) (eq. 4.1).
-    #[arg(long, default_value_t = 0.75, allow_negative_numbers = true)]
-    removal_weight: f64,
-    /// Weight of the swap error in E(v) (eq. 4.1).
-    #[arg(long, default_value_t = 0.25, allow_negative_numbers = true)]
-    swap_weight: f64,
-    /// Skip the test of each level's new faces for self-intersections (CGAL): a quarter
-    /// less build time on large meshes, but a level may then cut through a thin part.
-    #[arg(long)]
-    no_intersection_guard: bool,
-}
-
-/// `--keep-features`: which feature classes are kept.
-#[derive(Debug, Clone, Copy, clap::ValueEnum)]
-pub enum KeepArg {
-    /// No vertex is a feature: any may be removed.
-    None,
-    /// Corners only (thesis Fig. 5.15): edges are removed like the rest.
-    Corners,
-    /// Corners and strong-edge vertices are features.
-    Strong,
-    /// Corners, strong and weak edge vertices are features.
-    All,
-}
-
-impl From<KeepArg> for KeepFeatures {
-    fn from(k: KeepArg) -> Self {
-        match k {
-            KeepArg::None => KeepFeatures::None,
-            KeepArg::Corners => KeepFeatures::Corners,
-            KeepArg::Strong => KeepFeatures::Strong,
-            KeepArg::All => KeepFeatures::All,
-        }
-    }
-}
-
-/// `--feature-vertices`: what becomes of vertices on feature lines.
-#[derive(Debug, Clone, Copy, clap::ValueEnum)]
-pub enum FeatureVerticesArg {
-    /// Simplified along their line, which stays a line of every level.
-    AlongLines,
-    /// Never removed (the thesis' literal rule).
-    Keep,
-}
-
-impl From<FeatureVerticesArg> for FeatureVertices {
-    fn from(f: FeatureVerticesArg) -> Self {
-        match f {
-            FeatureVerticesArg::AlongLines => FeatureVertices::AlongLines,
-            FeatureVerticesArg::Keep => FeatureVertices::Keep,
-        }
-    }
-}
-
-/// `--feature-vertices` resolved against `--keep-features`: refused where no vertex is a
-/// feature.
-pub fn resolve_feature_vertices(arg: Option<FeatureVerticesArg>, keep: KeepFeatures) -> Result<FeatureVertices> {
-    match (arg, keep) {
-        (Some(_), KeepFeatures::None) => Err(Error::InvalidInput(
-            "--feature-vertices applies only with --keep-features corners, strong or all (with none, no vertex is a feature)"
-                .into(),
-        )),
-        (arg, _) => Ok(arg.map_or(FeatureVertices::AlongLines, Into::into)),
-    }
-}
-
-/// A `--target-vertices` value resolved against an input of `vertices` vertices.
-pub fn resolve_target(text: &str, vertices: usize) -> Result<usize> {
-    let target = VertexTarget::parse(text).map_err(|e| Error::InvalidInput(format!("--target-vertices: {e}")))?;
-    target.resolve(vertices, "--target-vertices")
-}
-
-impl HierarchyArgs {
-    /// The library options for a mesh of `vertices` vertices.
-    pub fn options(&self, vertices: usize, record_levels: bool) -> Result<SimplifyOptions> {
-        self.options_over(vertices, record_levels, &HierarchySection::default())
-    }
-
-    /// The library options, taking what the flags leave unset from a recipe's
-    /// `[hierarchy]` table.
-    pub fn options_over(
-        &self,
-        vertices: usize,
-        record_levels: bool,
-        section: &HierarchySection,
-    ) -> Result<SimplifyOptions> {
-        // The recipe's table through the library's one reading of it; a flag replaces its
-        // key, which is then not read at all.
-        let table = HierarchySection {
-            target_vertices: section.target_vertices.clone().filter(|_| self.target_vertices.is_none()),
-            levels: section.levels.filter(|_| self.levels.is_none()),
-            max_error: section.max_error.filter(|_| self.max_error.is_none()),
-            keep_features: section.keep_features.clone().filter(|_| self.keep_features.is_none()),
-        }
-        .settings(vertices)?;
-        let keep = match (self.keep_features, table.keep_features) {
-            (Some(k), _) => k.into(),
-            (None, Some(k)) => k,
-            (None, None) => KeepArg::Strong.into(),
-        };
-        let target_vertices = match self.target_vertices {
-            Some(t) => Some(t.resolve(vertices, "--target-vertices")?),
-            None => table.target_vertices,
-        };
-        let levels = self.levels.or(table.levels);
-        if let Some(e) = self.max_error.filter(|e| !(*e >= 0.0 && e.is_finite())) {
-            return Err(Error::InvalidInput(format!("--max-error {e} must be a non-negative fraction")));
-        }
-        let max_error = self.max_error.or(table.max_error);
-        for (name, w) in [("--removal-weight", self.removal_weight), ("--swap-weight", self.swap_weight)] {
-            if !(w >= 0.0 && w.is_finite()) {
-                return Err(Error::InvalidInput(format!("{name} {w} must be non-negative")));
-            }
-        }
-        let feature_vertices = resolve_feature_vertices(self.feature_vertices, keep)?;
-        Ok(SimplifyOptions {
-            target_vertices,
-            levels,
-            max_error,
-            keep_features: keep,
-            feature_vertices,
-            removal_weight: self.removal_weight,
-            swap_weight: self.swap_weight,
-            record_levels,
-            prevent_intersections: !self.no_intersection_guard,
-            ..SimplifyOptions::default()
-        })
-    }
-}
+use crate::request::Spelling;
 
 /// The subcommand's flags (`SimplifyArgs`).
 #[derive(Debug, Args)]
@@ -173,7 +23,7 @@ pub struct SimplifyArgs {
     #[arg(short, long)]
     output: PathBuf,
     #[command(flatten)]
-    hierarchy: HierarchyArgs,
+    hierarchy: HierarchyRequest,
     /// Write every level as DIR/level_NN.ply (00 = base domain).
     #[arg(long)]
     levels_out: Option<PathBuf>,
@@ -213,7 +63,7 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
     let input = super::input::read_input(&args.input, args.repair, ctx)?;
     let mesh = &input.read.mesh;
     let record = args.levels_out.is_some() || args.lod_out.is_some();
-    let options = args.hierarchy.options(mesh.vertex_count(), record)?;
+    let options = args.hierarchy.options(mesh.vertex_count(), record, Spelling::Flag)?;
     let hierarchy = ctx
         .spin("simplify", "building the 4-k hierarchy", || build(mesh, &options))
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;

@@ -8,6 +8,7 @@ use serde::Deserialize;
 
 use crate::analysis::FeatureClass;
 use crate::error::Result;
+use crate::hierarchy::HierarchyRequest;
 use crate::noise::NoiseKind;
 
 /// A parsed recipe.
@@ -17,10 +18,12 @@ pub struct Recipe {
     /// Seed of every step that does not name its own.
     #[serde(default)]
     pub seed: u64,
-    /// How to build the hierarchy: `asperity detail` reads it (its flags override it);
-    /// library callers pass [`super::DetailOptions::simplify`] instead.
+    /// How to build the hierarchy (the `[hierarchy]` table, any field of the hierarchy's
+    /// request): every front end applies it with [`HierarchyRequest::options_over`], its own
+    /// settings first; library callers of [`super::apply`] pass
+    /// [`super::DetailOptions::simplify`] made so.
     #[serde(default)]
-    pub hierarchy: HierarchySection,
+    pub hierarchy: HierarchyRequest,
     /// The steps, applied in order within each level, coarse levels first.
     #[serde(default, rename = "step")]
     pub steps: Vec<Step>,
@@ -74,9 +77,6 @@ impl ColorSection {
             .collect()
     }
 }
-
-/// The `[hierarchy]` table: the hierarchy's own ([`crate::hierarchy::HierarchySection`]).
-pub use crate::hierarchy::HierarchySection;
 
 /// Which operator a step runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]

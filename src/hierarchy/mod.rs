@@ -23,6 +23,7 @@ mod record;
 mod refine;
 pub mod region;
 mod report;
+mod request;
 mod rings;
 mod simplify;
 mod sliver_budget;
@@ -40,7 +41,8 @@ pub use report::BuildReport;
 pub use refine::{LevelMesh, LevelReport, Refiner, connectivity_match};
 pub use rings::{RingVec, Rings};
 pub use simplify::{build, build_with_openmesh_replay};
-pub use target::{HierarchySection, SectionSettings, VertexTarget};
+pub use request::HierarchyRequest;
+pub use target::VertexTarget;
 pub use wedges::Wedges;
 
 pub use crate::mesh::used_vertices;
@@ -55,8 +57,9 @@ pub fn face_key(t: [u32; 3]) -> [u32; 3] {
 /// Which feature classes (§4.4.1.1, Algorithm 1) simplification never removes.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum KeepFeatures {
-    /// Every interior vertex may be removed.
+    /// No vertex is a feature: every interior vertex may be removed.
     None,
     /// Corners only (thesis Fig. 5.15: features by corners alone; edges are removed like
     /// the rest of the surface).
@@ -71,6 +74,7 @@ pub enum KeepFeatures {
 /// What becomes of the feature vertices [`KeepFeatures`] chooses.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum FeatureVertices {
     /// Vertices on a feature line (exactly two feature edges) may be removed along it, so
     /// the line stays a line of every level; corners, junctions and ends are kept.

@@ -89,14 +89,26 @@ pub fn shorten(token: &str) -> String {
 }
 
 /// A TOML document checked by `check`; errors carry the 1-based line when known (recipes,
-/// flora rules).
+/// flora rules), and a value's error names its key (`intersection_guard: invalid type`).
 pub fn parse_toml<T: serde::de::DeserializeOwned>(
     text: &str,
     check: impl FnOnce(&T) -> std::result::Result<(), String>,
 ) -> std::result::Result<T, (Option<usize>, String)> {
     let value: T = toml::from_str(text).map_err(|e| {
-        let line = e.span().map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
-        (line, e.message().to_string())
+        let Some(span) = e.span() else { return (None, e.message().to_string()) };
+        let at = span.start.min(text.len());
+        let line_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+        let line = text[..at].matches('\n').count() + 1;
+        // The error is in a value: its key is the last one the line names before it (inline
+        // tables included: `noise = { kind = "perln" }` names `kind`).
+        let key = text[line_start..at]
+            .rsplit_once('=')
+            .map(|(before, _)| before.rsplit(['{', ',']).next().unwrap_or(before).trim())
+            .filter(|key| !key.is_empty());
+        match key {
+            Some(key) => (Some(line), format!("{key}: {}", e.message())),
+            None => (Some(line), e.message().to_string()),
+        }
     })?;
     check(&value).map_err(|msg| (None, msg))?;
     Ok(value)
@@ -119,4 +131,33 @@ pub fn read_toml_file<T>(
         at: line.map_or(Location::File, Location::Line),
         msg,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_toml;
+
+    #[derive(Debug, serde::Deserialize)]
+    #[serde(deny_unknown_fields)]
+    #[allow(dead_code)]
+    struct Doc {
+        flag: Option<bool>,
+        table: Option<std::collections::BTreeMap<String, u8>>,
+    }
+
+    fn error(text: &str) -> (Option<usize>, String) {
+        parse_toml::<Doc>(text, |_| Ok(())).unwrap_err()
+    }
+
+    #[test]
+    fn a_value_error_names_its_line_and_key() {
+        let (line, message) = error("\nflag = \"no\"\n");
+        assert_eq!(line, Some(2));
+        assert!(message.starts_with("flag: invalid type"), "{message}");
+        let (_, message) = error("table = { a = 1, b = \"x\" }\n");
+        assert!(message.starts_with("b: "), "{message}");
+        let (line, message) = error("flag = true\nother = 1\n");
+        assert_eq!(line, Some(2));
+        assert!(message.starts_with("unknown field `other`"), "{message}");
+    }
 }

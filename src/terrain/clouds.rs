@@ -1,9 +1,12 @@
 //! Clouds (seed 001, §IV): a 2D plasma made by midpoint displacement, normalised to
 //! [0, 1], thresholded and coloured from sky to cloud.
 
+use serde::{Deserialize, Serialize};
+
 use super::{TerrainParams, whole};
 use crate::error::{Error, Result};
 use crate::mesh::{Rgb, blend_rgb};
+use crate::request::Spelling;
 
 /// Cloud image parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -26,6 +29,99 @@ impl Default for CloudParams {
             sky: [70, 130, 210],
             cloud: [255, 255, 255],
         }
+    }
+}
+
+/// The clouds request (#38): the cloud picture's parameters as the command line's
+/// `asperity clouds` and Python's `asperity.clouds` give them, with one
+/// [`CloudRequest::check`] for both.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
+pub struct CloudRequest {
+    /// Pixels per side, 2^n + 1.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = CloudRequest::default().size))]
+    pub size: u64,
+    /// Roughness H of the plasma.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = CloudRequest::default().hurst, allow_negative_numbers = true))]
+    pub hurst: f64,
+    /// Seed.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 0))]
+    pub seed: u64,
+    /// Plasma values below this (0 to 1) are clear sky.
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, default_value_t = CloudRequest::default().threshold, allow_negative_numbers = true)
+    )]
+    pub threshold: f64,
+    /// Sky colour R,G,B.
+    #[cfg_attr(feature = "cli", arg(long, value_parser = crate::cli::parse::rgb, default_value = "70,130,210"))]
+    pub sky: Rgb,
+    /// Cloud colour R,G,B.
+    #[cfg_attr(feature = "cli", arg(long, value_parser = crate::cli::parse::rgb, default_value = "255,255,255"))]
+    pub cloud: Rgb,
+}
+
+impl Default for CloudRequest {
+    fn default() -> Self {
+        let d = CloudParams::default();
+        CloudRequest {
+            size: d.plasma.size,
+            hurst: d.plasma.hurst,
+            seed: d.plasma.seed,
+            threshold: d.threshold,
+            sky: d.sky,
+            cloud: d.cloud,
+        }
+    }
+}
+
+impl CloudRequest {
+    /// The request's own rules, in the messages every front end prints (`spelling` names
+    /// the fields): the threshold lies in [0, 1]; the picture (the plasma's heights, twice
+    /// while smoothing, and the RGB pixels) fits the memory budget. The plasma checks its
+    /// size and roughness when it is made.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] with the first rule broken; a picture too large is refused by
+    /// estimate before allocating ([`crate::memory::ensure_available`]).
+    pub fn check(&self, spelling: Spelling) -> Result<()> {
+        if !(0.0..=1.0).contains(&self.threshold) {
+            return Err(Error::InvalidInput(format!(
+                "{}: must lie in [0, 1]",
+                spelling.with("threshold", self.threshold)
+            )));
+        }
+        let points = self.size.saturating_mul(self.size);
+        crate::memory::ensure_available(
+            points.saturating_mul(2 * 8 + 3),
+            &format!("a {0}x{0} cloud picture", self.size),
+            &format!("ask for a smaller {}", spelling.of("size")),
+        )
+    }
+
+    /// The library's parameters.
+    pub fn params(&self) -> CloudParams {
+        CloudParams {
+            plasma: TerrainParams {
+                size: self.size,
+                hurst: self.hurst,
+                seed: self.seed,
+                ..CloudParams::default().plasma
+            },
+            threshold: self.threshold,
+            sky: self.sky,
+            cloud: self.cloud,
+        }
+    }
+
+    /// The picture and its cloud cover ([`clouds`]), after [`CloudRequest::check`].
+    ///
+    /// # Errors
+    /// As [`CloudRequest::check`] and [`clouds`].
+    pub fn picture(&self, spelling: Spelling) -> Result<(Vec<u8>, f64)> {
+        self.check(spelling)?;
+        clouds(&self.params())
     }
 }
 

@@ -20,7 +20,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-pub use clouds::{CloudParams, clouds};
+pub use clouds::{CloudParams, CloudRequest, clouds};
 pub use diamond_square::{DiamondSquare, Lattice, Rect, Rule};
 pub use dual::{DualParams, QuadSurface, dual_midpoint_displacement};
 pub use erosion::ThermalErosion;
