@@ -47,21 +47,3 @@ pub fn run(args: CloudArgs, ctx: super::Context) -> Result<()> {
     );
     Ok(())
 }
-
-#[cfg(test)]
-mod tests {
-    use clap::Parser;
-
-    use super::CloudRequest;
-
-    #[derive(Parser)]
-    struct Flags {
-        #[command(flatten)]
-        clouds: CloudRequest,
-    }
-
-    #[test]
-    fn no_flags_give_the_librarys_defaults() {
-        assert_eq!(Flags::try_parse_from(["clouds"]).unwrap().clouds, CloudRequest::default());
-    }
-}

@@ -5,9 +5,9 @@ pub mod analyze;
 pub mod clouds;
 pub mod compare;
 mod convert;
-mod embedded;
 mod demo;
 pub mod detail;
+mod embedded;
 mod info;
 pub mod input;
 pub mod noise;
@@ -347,7 +347,11 @@ pub(crate) fn require_extension(output: &std::path::Path, extensions: &[&str]) -
 /// names relative to the input's folder is named relative to the output's instead, or by
 /// its absolute path where no relative path leads there, so that the written OBJ still
 /// finds it. Names already absolute, and libraries that do not exist, are left as they are.
-pub(crate) fn relocate_material_libraries(mesh: &mut crate::mesh::Mesh, input: &std::path::Path, output: &std::path::Path) {
+pub(crate) fn relocate_material_libraries(
+    mesh: &mut crate::mesh::Mesh,
+    input: &std::path::Path,
+    output: &std::path::Path,
+) {
     let Some(materials) = &mut mesh.materials else { return };
     let folder = |p: &std::path::Path| {
         let parent = p.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
@@ -367,5 +371,29 @@ pub(crate) fn relocate_material_libraries(mesh: &mut crate::mesh::Mesh, input: &
             Ok(inside) => inside.display().to_string(),
             Err(_) => found.display().to_string(),
         };
+    }
+}
+
+#[cfg(test)]
+mod request_defaults {
+    use crate::analysis::AnalysisRequest;
+    use crate::hierarchy::HierarchyRequest;
+    use crate::noise::NoiseRequest;
+    use crate::terrain::CloudRequest;
+
+    /// A request as the command line reads it when none of its flags is given.
+    fn without_flags<R: clap::Args + clap::FromArgMatches>() -> R {
+        let matches = R::augment_args(clap::Command::new("request")).try_get_matches_from(["request"]).unwrap();
+        R::from_arg_matches(&matches).unwrap()
+    }
+
+    /// The flags' defaults are the library's: a flag left out means what a Python keyword
+    /// or C++ member left out means (#38).
+    #[test]
+    fn no_flags_give_each_requests_default() {
+        assert_eq!(without_flags::<NoiseRequest>(), NoiseRequest::default());
+        assert_eq!(without_flags::<HierarchyRequest>(), HierarchyRequest::default());
+        assert_eq!(without_flags::<AnalysisRequest>(), AnalysisRequest::default());
+        assert_eq!(without_flags::<CloudRequest>(), CloudRequest::default());
     }
 }

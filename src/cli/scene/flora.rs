@@ -46,10 +46,10 @@ pub fn run(args: FloraArgs, ctx: super::super::Context) -> Result<()> {
     let mesh = grown.mesh();
     crate::io::write(&mesh, &args.output, WriteOptions { ascii: args.ascii })?;
     let leaves = grown.nodes.iter().filter(|n| n.children.is_empty()).count();
-    let source = args.rules.as_ref().map_or_else(
-        || format!("{:?}", args.preset.expect("a preset")).to_lowercase(),
-        |p| p.display().to_string(),
-    );
+    let source = args
+        .rules
+        .as_ref()
+        .map_or_else(|| format!("{:?}", args.preset.expect("a preset")).to_lowercase(), |p| p.display().to_string());
     ctx.report(
         || {
             format!(

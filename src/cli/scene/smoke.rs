@@ -90,7 +90,11 @@ pub fn run(args: SmokeArgs, ctx: super::super::Context) -> Result<()> {
     super::refuse_for_meshes(&args.output, "--fps", args.fps.is_some())?;
     let fps = super::checked_fps(args.fps)?;
     let frames = smoke_frames(args.params(), args.warmup, args.steps_per_frame, args.frames)?;
-    super::refuse_empty_frames(&frames, "smoke", "no particle is in the unit cube then (raise --warmup's batches or lower --rise)")?;
+    super::refuse_empty_frames(
+        &frames,
+        "smoke",
+        "no particle is in the unit cube then (raise --warmup's batches or lower --rise)",
+    )?;
     let written = super::write_frames(&frames, "smoke", &args.output, fps, args.ascii, None)?;
     let triangles: Vec<usize> = frames.iter().map(|m| m.face_count()).collect();
     ctx.report(

@@ -56,9 +56,9 @@ pub fn run(args: WaterArgs, ctx: super::super::Context) -> Result<()> {
         return Err(Error::InvalidInput("water: 1 to 1000 frames and at most 64 waves".into()));
     }
     let terrain = crate::io::read(&args.input)?.mesh;
-    let (lo, hi) = terrain.bounding_box().ok_or_else(|| {
-        Error::InvalidInput(format!("{}: the terrain has no vertices", args.input.display()))
-    })?;
+    let (lo, hi) = terrain
+        .bounding_box()
+        .ok_or_else(|| Error::InvalidInput(format!("{}: the terrain has no vertices", args.input.display())))?;
     let extent = (hi - lo).truncate().max_element();
     let params = WaterParams {
         level: args.level,
