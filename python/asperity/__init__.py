@@ -161,6 +161,8 @@ def _fields(options: Mapping[str, Any]) -> str:
     and arrays as plain values); the library refuses an unknown or mistyped one by name."""
 
     def plain(value: Any) -> Any:
+        if isinstance(value, os.PathLike):
+            return os.fspath(value)
         if isinstance(value, (np.ndarray, np.generic)):
             return plain(value.tolist())
         if isinstance(value, (list, tuple)):
@@ -471,6 +473,7 @@ def compare(
     *,
     target_vertices: Union[int, str] = "1%",
     methods: Optional[Sequence[str]] = None,
+    repair: bool = False,
     progress: Progress = False,
     **options: Any,
 ) -> Dict[str, Any]:
@@ -479,9 +482,12 @@ def compare(
     so a method that stops short shows it: Hausdorff and RMS distance as shares of the
     bounding-box diagonal, minimum angles, slivers, time; ours also ``gave_way`` and
     ``stopped_by``) and ``at_common_count`` (``None``, or ``vertices`` and ``rows``: every
-    method again at the smallest count all reached, when the counts differ)."""
-    flags = _flags({"target_vertices": target_vertices, "methods": methods, **options})
-    return json.loads(_native.compare(*_arrays(mesh), flags, progress))
+    method again at the smallest count all reached, when the counts differ). ``methods``
+    names any of "asperity", "openmesh", "cgal", "meshoptimizer" (all by default); other
+    options: ``keep_features`` and ``feature_vertices`` (ours, as :class:`Hierarchy`'s),
+    ``repair``."""
+    fields = _fields({"target_vertices": target_vertices, "methods": methods, **options})
+    return json.loads(_native.compare(*_arrays(mesh), fields, repair, progress))
 
 
 def hausdorff(reference: MeshLike, other: MeshLike) -> float:
@@ -531,10 +537,14 @@ def noise(kind: str, points: Any, **params: Any) -> np.ndarray:
     return _native.noise(pts, _fields({"kind": kind, **params}))
 
 
-def render(mesh: MeshLike, **options: Any) -> np.ndarray:
-    """``asperity render``'s picture as a (height, width, 4) uint8 RGBA array: ``mode``,
-    ``size=(w, h)``, ``view``, ``up``… (``render``'s flags)."""
-    return _native.render(*_arrays(mesh), _flags(options))
+def render(mesh: MeshLike, *, repair: bool = False, **options: Any) -> np.ndarray:
+    """``asperity render``'s picture as a (height, width, 4) uint8 RGBA array. Options
+    (``render``'s flags): ``size=(w, h)``, ``mode`` ("faces", "wireframe", "points"),
+    ``yaw`` and ``pitch`` (degrees), ``up`` ("x", "y", "z"), ``colors`` ("attribute",
+    "height", "none", "scalar:NAME"), ``background`` ("#rrggbb" or "transparent"),
+    ``samples``, ``crease``, ``edges``, ``water_level``, ``water_clarity``, ``texture`` (a
+    PNG's path), ``repair``; an unknown one is an :class:`InputError` naming it."""
+    return _native.render(*_arrays(mesh), _fields(options), repair)
 
 
 def clouds(**options: Any) -> Tuple[np.ndarray, float]:

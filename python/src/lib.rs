@@ -504,12 +504,14 @@ fn compare(
     py: Python<'_>,
     positions: PyReadonlyArray2<'_, f64>,
     triangles: PyReadonlyArray2<'_, u32>,
-    flags: Vec<String>,
+    fields: &str,
+    repair: bool,
     progress: Bound<'_, PyAny>,
 ) -> PyResult<String> {
-    let args: cli::compare::CompareArgs = parse("compare", &["<array>"], flags, &[])?;
+    let request: asperity::hierarchy::CompareRequest = from_fields(fields, Spelling::Keyword).map_err(to_py)?;
     let mesh = mesh_of(&positions, &triangles)?;
-    let report = run(py, Progress::of(&progress)?, move || args.compare(&repaired(mesh, args.repair())?))?;
+    let report =
+        run(py, Progress::of(&progress)?, move || request.report(&repaired(mesh, repair)?, Spelling::Keyword))?;
     Ok(serde_json::to_string(&report).expect("the report serialises"))
 }
 
@@ -592,11 +594,14 @@ fn render<'py>(
     py: Python<'py>,
     positions: PyReadonlyArray2<'py, f64>,
     triangles: PyReadonlyArray2<'py, u32>,
-    flags: Vec<String>,
+    fields: &str,
+    repair: bool,
 ) -> PyResult<Bound<'py, PyArray3<u8>>> {
-    let args: cli::render::RenderArgs = parse("render", &["<array>", "-o", "<array>.png"], flags, &[])?;
+    let request: asperity::render::RenderRequest = from_fields(fields, Spelling::Keyword).map_err(to_py)?;
     let mesh = mesh_of(&positions, &triangles)?;
-    let picture = run(py, false, move || asperity::render::render(&repaired(mesh, args.repair())?, &args.options()?))?;
+    let picture = run(py, false, move || {
+        asperity::render::render(&repaired(mesh, repair)?, &request.options(Spelling::Keyword)?)
+    })?;
     let array =
         numpy::ndarray::Array3::from_shape_vec((picture.height, picture.width, 4), picture.rgba).expect("h × w × 4");
     Ok(numpy::PyArray3::from_owned_array(py, array))

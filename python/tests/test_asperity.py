@@ -96,6 +96,10 @@ def test_errors_are_typed_with_the_command_lines_messages(tmp_path):
         asperity.clouds(size=33, colour=[1, 2, 3])
     with pytest.raises(asperity.InputError, match="corner=1.5: must lie in"):
         asperity.analyze((positions, triangles), corner=1.5)
+    with pytest.raises(asperity.InputError, match="edges= applies only to mode=faces"):
+        asperity.render((positions, triangles), mode="points", edges=True)
+    with pytest.raises(asperity.InputError, match="methods=: unknown method 'qslim'"):
+        asperity.compare((positions, triangles), methods=["asperity", "qslim"])
     with pytest.raises(asperity.InputError, match="--method dual makes a 3D surface"):
         asperity.terrain(method="dual")
     with pytest.raises(asperity.InputError, match="applies to the command line"):

@@ -7,64 +7,26 @@ use std::path::PathBuf;
 use clap::Args;
 
 use crate::error::Result;
-use crate::hierarchy::compare::{CompareReport, CompareRow, METHODS, compare_report};
-use crate::hierarchy::{FeatureVertices, HierarchyRequest, KeepFeatures, SimplifyOptions, VertexTarget};
+use crate::hierarchy::CompareRequest;
+use crate::hierarchy::compare::CompareRow;
 use crate::request::Spelling;
 
-/// The subcommand's flags (`CompareArgs`).
+/// The subcommand's flags (`CompareArgs`): the input and the library's request.
 #[derive(Debug, Args)]
 pub struct CompareArgs {
     /// Input mesh.
     input: PathBuf,
-    /// Vertex budget: a count ("377") or a share of the input's vertices ("1%").
-    #[arg(long, default_value = "1%", value_parser = VertexTarget::parse)]
-    target_vertices: VertexTarget,
-    /// Methods to run, comma-separated (asperity, openmesh, cgal, meshoptimizer).
-    #[arg(long, value_delimiter = ',', default_values_t = METHODS.map(String::from))]
-    methods: Vec<String>,
-    /// Feature vertices our simplification keeps (they can stop it above the budget).
-    #[arg(long, value_enum, default_value_t = KeepFeatures::Strong)]
-    keep_features: KeepFeatures,
-    /// Our feature vertices on lines: simplified along them or kept [default: along-lines].
-    /// Needs --keep-features corners, strong or all.
-    #[arg(long, value_enum)]
-    feature_vertices: Option<FeatureVertices>,
+    #[command(flatten)]
+    compare: CompareRequest,
     #[command(flatten)]
     repair: super::input::RepairArg,
-}
-
-impl CompareArgs {
-    /// Compares the methods the flags name on `mesh`, at the flags' vertex budget.
-    ///
-    /// # Errors
-    /// Invalid flags; the methods' errors.
-    pub fn compare(&self, mesh: &crate::mesh::Mesh) -> Result<CompareReport> {
-        let methods: Vec<&str> = self.methods.iter().map(String::as_str).collect();
-        // Our side's settings through the hierarchy's request (its checks and messages);
-        // the budget is every method's.
-        let request = HierarchyRequest {
-            target_vertices: Some(self.target_vertices),
-            keep_features: Some(self.keep_features),
-            feature_vertices: self.feature_vertices,
-            ..HierarchyRequest::default()
-        };
-        let ours = request.options(mesh.vertex_count(), false, Spelling::Flag)?;
-        let target = ours.target_vertices.unwrap_or(mesh.vertex_count());
-        compare_report(mesh, target, &methods, &SimplifyOptions { target_vertices: None, ..ours })
-    }
-
-    /// Whether `--repair` was given.
-    pub fn repair(&self) -> bool {
-        self.repair.repair
-    }
 }
 
 /// Runs the subcommand.
 pub fn run(args: CompareArgs, ctx: super::Context) -> Result<()> {
     let mesh = super::input::read_input(&args.input, args.repair, ctx)?.read.mesh;
-    let methods: Vec<&str> = args.methods.iter().map(String::as_str).collect();
     let report = ctx
-        .spin("compare", &methods.join(", "), || args.compare(&mesh))
+        .spin("compare", &args.compare.methods.join(", "), || args.compare.report(&mesh, Spelling::Flag))
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;
     if ctx.json {
         println!("{}", serde_json::to_string_pretty(&report).expect("report serialises"));

@@ -377,8 +377,9 @@ pub(crate) fn relocate_material_libraries(
 #[cfg(test)]
 mod request_defaults {
     use crate::analysis::AnalysisRequest;
-    use crate::hierarchy::HierarchyRequest;
+    use crate::hierarchy::{CompareRequest, HierarchyRequest};
     use crate::noise::NoiseRequest;
+    use crate::render::RenderRequest;
     use crate::terrain::CloudRequest;
 
     /// A request as the command line reads it when none of its flags is given.
@@ -395,5 +396,7 @@ mod request_defaults {
         assert_eq!(without_flags::<HierarchyRequest>(), HierarchyRequest::default());
         assert_eq!(without_flags::<AnalysisRequest>(), AnalysisRequest::default());
         assert_eq!(without_flags::<CloudRequest>(), CloudRequest::default());
+        assert_eq!(without_flags::<CompareRequest>(), CompareRequest::default());
+        assert_eq!(without_flags::<RenderRequest>(), RenderRequest::default());
     }
 }

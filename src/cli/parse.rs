@@ -53,32 +53,3 @@ pub fn size(s: &str) -> Result<(usize, usize), String> {
     let [w, h] = list::<usize, 2>(s, "a pixel count")?;
     Ok((w, h))
 }
-
-/// A picture background: a colour, or transparent (`None`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Background(pub Option<[u8; 3]>);
-
-/// `transparent` or `#rrggbb`.
-pub fn background(s: &str) -> Result<Background, String> {
-    if s.eq_ignore_ascii_case("transparent") {
-        return Ok(Background(None));
-    }
-    let hex =
-        s.strip_prefix('#').filter(|h| h.len() == 6 && h.is_ascii()).ok_or("expected `transparent` or #rrggbb")?;
-    let byte = |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).map_err(|_| format!("`{s}` is not a #rrggbb colour"));
-    Ok(Background(Some([byte(0)?, byte(2)?, byte(4)?])))
-}
-
-/// `attribute`, `height`, `none` or `scalar:NAME`.
-pub fn color_source(s: &str) -> Result<crate::render::ColorSource, String> {
-    use crate::render::ColorSource;
-    match s {
-        "attribute" => Ok(ColorSource::Attribute),
-        "height" => Ok(ColorSource::Height),
-        "none" => Ok(ColorSource::None),
-        _ => match s.strip_prefix("scalar:") {
-            Some(name) if !name.is_empty() => Ok(ColorSource::Scalar(name.to_string())),
-            _ => Err("expected attribute, height, none or scalar:NAME".into()),
-        },
-    }
-}

@@ -11,6 +11,7 @@
 
 mod cluster;
 pub mod compare;
+mod compare_request;
 mod conformal;
 mod cost;
 mod give_way;
@@ -34,6 +35,7 @@ mod wedges;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+pub use compare_request::CompareRequest;
 pub use give_way::{TargetReport, topological_floor};
 pub use intersections::added_triangle_intersections;
 pub use param::ParamPoint;

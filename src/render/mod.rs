@@ -6,6 +6,7 @@
 mod camera;
 pub mod hillshade;
 mod raster;
+mod request;
 mod shade;
 pub mod texture;
 pub mod water;
@@ -17,6 +18,7 @@ use rayon::prelude::*;
 
 pub use camera::{Camera, UpAxis};
 use raster::{Fill, Frame, Segment, Triangle};
+pub use request::{Background, RenderRequest};
 pub use shade::{CLAY, ramp};
 use shade::{Lighting, corner_normals, face_normals, ramp_colors};
 
@@ -24,7 +26,7 @@ use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 
 /// What is drawn.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Mode {
