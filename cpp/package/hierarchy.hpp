@@ -26,7 +26,8 @@ namespace asperity {
 /// `simplify` flags). Simplification stops at the first limit reached, or when a level
 /// can remove nothing more. A default-made struct holds the library's defaults.
 struct HierarchyOptions {
-  /// Stop at this many vertices.
+  /// Stop at this many vertices: 1 to the mesh's count (more, or 0, is an InputError, as
+  /// the command line's --target-vertices).
   std::optional<std::size_t> target_vertices;
   /// Stop after this many levels.
   std::optional<std::size_t> levels;
@@ -34,7 +35,8 @@ struct HierarchyOptions {
   std::optional<double> max_error;
   /// Feature vertices kept: "none", "corners" (thesis Fig. 5.15), "strong" (the thesis' choice) or "all".
   std::string keep_features;
-  /// "along-lines" (feature-line vertices removed along their line) or "keep".
+  /// "along-lines" (feature-line vertices removed along their line) or "keep" (refused with
+  /// keep_features "none", where no vertex is a feature).
   std::string feature_vertices;
   /// Input vertices never removed.
   std::vector<std::uint32_t> keep_vertices;

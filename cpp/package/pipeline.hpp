@@ -60,7 +60,8 @@ Report run_in_place(Mesh& mesh, Call&& bridge_call) {
 }  // namespace impl
 
 /// Simplifies `mesh` in place to the base domain of asperity's 4-k hierarchy with at most
-/// `target_vertices` vertices; `keep_features` is "none", "corners", "strong" or "all". (For every
+/// `target_vertices` vertices (1 to the mesh's count: more, or 0, is an InputError, as on the
+/// command line); `keep_features` is "none", "corners", "strong" or "all". (For every
 /// option and the levels, use asperity::Hierarchy.)
 template <class Mesh>
 Report simplify(Mesh& mesh, std::size_t target_vertices, const std::string& keep_features = "strong") {

@@ -3,9 +3,12 @@
 Meshes are numpy arrays — positions ``(n, 3) float64``, triangles ``(m, 3) uint32`` —
 or any object with ``.vertices`` and ``.faces`` (a ``trimesh.Trimesh``), or a
 ``(positions, triangles)`` pair. Keyword options are the command line's flags with
-underscores (``target_vertices="5%"`` is ``--target-vertices 5%``): they are parsed by the
-command line's own definitions, so they mean the same, are checked the same and fail with
-the same one-line messages; results are bit for bit the command line's.
+underscores (``target_vertices="5%"`` is ``--target-vertices 5%``): they are the fields of
+the library's request the flags fill too (``terrain``'s are still parsed as its flags), so
+they mean the same and are checked the same, a message naming the keyword
+(``swap_weight=-1: must be a non-negative weight``); an unknown one is an
+:class:`InputError` listing the options there are. Results are bit for bit the command
+line's.
 
 Errors raise :class:`InputError` (a ``ValueError``: a bad file, mesh, recipe or option)
 or :class:`InternalError` (a ``RuntimeError``: please report it). Long calls release the
@@ -486,6 +489,8 @@ def compare(
     names any of "asperity", "openmesh", "cgal", "meshoptimizer" (all by default); other
     options: ``keep_features`` and ``feature_vertices`` (ours, as :class:`Hierarchy`'s),
     ``repair``."""
+    if isinstance(methods, str):
+        methods = methods.split(",")  # "asperity,cgal", as the command line's --methods
     fields = _fields({"target_vertices": target_vertices, "methods": methods, **options})
     return json.loads(_native.compare(*_arrays(mesh), fields, repair, progress))
 

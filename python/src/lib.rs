@@ -1,8 +1,8 @@
 //! `asperity._asperity`: the native layer of the Python package. Every function takes
 //! numpy arrays and its options: as the JSON object of a library request's fields (noise,
-//! the hierarchy and detail: read strictly by `asperity::request::from_fields`, #38) or,
-//! where no request exists yet, as the command line's own flags parsed by its own argument
-//! definitions. Either way it calls the same library functions the command line calls, so
+//! the hierarchy, detail, analyze, compare, render, clouds: read strictly by
+//! `asperity::request::from_fields`, #38) or, for the terrain (no request yet), as the
+//! command line's own flags parsed by its own argument definitions. Either way it calls the same library functions the command line calls, so
 //! results are identical bit for bit and errors carry the same one-line messages, each
 //! option spelt as its keyword. No logic of its own: see `python/asperity/__init__.py` for
 //! the public API and its documentation.

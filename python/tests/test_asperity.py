@@ -265,6 +265,8 @@ def test_terrain_noise_render_clouds_compare_repair():
     rows = report["at_target"]
     assert report["target_vertices"] == 40 and report["at_common_count"] is None
     assert [r["method"] for r in rows] == ["asperity", "meshoptimizer"]
+    as_text = asperity.compare((positions, triangles), target_vertices=40, methods="asperity,meshoptimizer")
+    assert [r["method"] for r in as_text["at_target"]] == ["asperity", "meshoptimizer"]
     assert all(r["vertices"] <= 41 for r in rows) and all(r["hausdorff"] > 0 for r in rows)
     doubled = np.vstack([triangles, triangles[:5]])
     repaired, report = asperity.repair((positions, doubled))

@@ -24,7 +24,7 @@ pub struct CompareRequest {
     #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = KeepFeatures::Strong))]
     pub keep_features: KeepFeatures,
     /// Our feature vertices on lines: simplified along them or kept [default: along-lines].
-    /// Needs keep-features corners, strong or all.
+    /// Needs --keep-features (keep_features) corners, strong or all.
     #[cfg_attr(feature = "cli", arg(long, value_enum))]
     pub feature_vertices: Option<FeatureVertices>,
 }

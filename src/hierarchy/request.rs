@@ -31,7 +31,7 @@ pub struct HierarchyRequest {
     pub keep_features: Option<KeepFeatures>,
     /// Feature vertices on a feature line: simplified along their line, so it stays a line
     /// of every level (along-lines), or never removed (keep: the thesis' literal rule)
-    /// [default: along-lines]. Needs keep-features corners, strong or all.
+    /// [default: along-lines]. Needs --keep-features (keep_features) corners, strong or all.
     #[cfg_attr(feature = "cli", arg(long, value_enum))]
     pub feature_vertices: Option<FeatureVertices>,
     /// Weight of the removal error in E(v) (eq. 4.1) [default: 0.75].
@@ -79,7 +79,8 @@ impl HierarchyRequest {
     /// is checked, a message naming it as its source spells it (`spelling` for this
     /// request's, `[hierarchy] name` for the table's): a vertex target above the input's
     /// count, a negative or non-finite error or weight, `feature_vertices` where no vertex
-    /// is a feature.
+    /// is a feature (the table's `feature_vertices` gives way to this request's
+    /// `keep_features` none instead).
     ///
     /// # Errors
     /// [`Error::InvalidInput`] with the first rule broken.
@@ -96,14 +97,17 @@ impl HierarchyRequest {
         };
         let target_vertices =
             match self.target_vertices.map(|t| (t, spelling)).or(table.target_vertices.map(|t| (t, from_table))) {
-                Some((target, source)) => Some(target.resolve(vertices, &source.of("target_vertices"))?),
+                Some((target, source)) => Some(target.resolve(vertices, source)?),
                 None => None,
             };
         let max_error = non_negative(pick(self.max_error, table.max_error), "max_error", "fraction of the diagonal")?;
         let removal_weight = non_negative(pick(self.removal_weight, table.removal_weight), "removal_weight", "weight")?;
         let swap_weight = non_negative(pick(self.swap_weight, table.swap_weight), "swap_weight", "weight")?;
         let keep = self.keep_features.map(|k| (k, spelling)).or(table.keep_features.map(|k| (k, from_table)));
-        let lines = self.feature_vertices.map(|f| (f, spelling)).or(table.feature_vertices.map(|f| (f, from_table)));
+        // The table's feature_vertices gives way where this request keeps no features (it
+        // would have nothing to apply to), so that no table locks a front end out of "none".
+        let table_lines = table.feature_vertices.filter(|_| self.keep_features != Some(KeepFeatures::None));
+        let lines = self.feature_vertices.map(|f| (f, spelling)).or(table_lines.map(|f| (f, from_table)));
         if let (Some((_, lines_source)), Some((KeepFeatures::None, keep_source))) = (lines, keep) {
             return Err(Error::InvalidInput(format!(
                 "{} applies only with {} corners, strong or all (with none, no vertex is a feature)",
@@ -172,7 +176,10 @@ mod tests {
         let t = table("max_error = -1.0\ntarget_vertices = 500\n");
         let err = |r: Result<SimplifyOptions>| r.unwrap_err().to_string();
         let none = HierarchyRequest::default();
-        assert!(err(none.options_over(&t, 100, false, Spelling::Flag)).contains("[hierarchy] target_vertices 500"));
+        assert!(
+            err(none.options_over(&t, 100, false, Spelling::Flag))
+                .contains("[hierarchy] target_vertices = 500 is more")
+        );
         let own = HierarchyRequest { target_vertices: Some(VertexTarget::Vertices(50)), ..Default::default() };
         assert!(err(own.options_over(&t, 100, false, Spelling::Keyword)).contains("[hierarchy] max_error = -1"));
         // A setting given replaces the table's broken one, which is not read.
@@ -180,6 +187,10 @@ mod tests {
         assert_eq!(own.options_over(&t, 100, false, Spelling::Keyword).unwrap().max_error, Some(0.5));
         let bad = HierarchyRequest { swap_weight: Some(f64::NAN), ..Default::default() };
         assert!(err(bad.options(100, false, Spelling::Member)).contains("option .swap_weight = NaN"));
+        // A table's feature_vertices gives way to a front end's keep_features = none.
+        let none = HierarchyRequest { keep_features: Some(KeepFeatures::None), ..Default::default() };
+        let o = none.options_over(&table("feature_vertices = \"keep\""), 100, false, Spelling::Flag).unwrap();
+        assert_eq!((o.keep_features, o.feature_vertices), (KeepFeatures::None, FeatureVertices::AlongLines));
         let lines = HierarchyRequest { feature_vertices: Some(FeatureVertices::Keep), ..Default::default() };
         let message = err(lines.options_over(&table("keep_features = \"none\""), 100, false, Spelling::Flag));
         assert!(message.contains("--feature-vertices applies only with [hierarchy] keep_features"), "{message}");

@@ -1,6 +1,7 @@
 //! A vertex target as users write it (`377` or `5%`).
 
 use crate::error::{Error, Result};
+use crate::request::Spelling;
 
 /// A vertex budget, absolute or relative.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -35,14 +36,16 @@ impl VertexTarget {
     }
 
     /// The vertex count for an input of `vertices` vertices; a count above the input's is
-    /// refused, naming `source` (it would remove nothing, #36).
+    /// refused, naming the field `target_vertices` as `spelling` writes it (it would remove
+    /// nothing, #36).
     ///
     /// # Errors
-    /// [`Error::InvalidInput`] naming `source`.
-    pub fn resolve(self, vertices: usize, source: &str) -> Result<usize> {
+    /// [`Error::InvalidInput`] naming the field.
+    pub fn resolve(self, vertices: usize, spelling: Spelling) -> Result<usize> {
         match self {
             VertexTarget::Vertices(v) if v > vertices => Err(Error::InvalidInput(format!(
-                "{source} {v} is more than the input's {vertices} vertices: nothing would be removed"
+                "{} is more than the input's {vertices} vertices: nothing would be removed",
+                spelling.with("target_vertices", v)
             ))),
             VertexTarget::Vertices(v) => Ok(v),
             VertexTarget::Percent(p) => Ok(((vertices as f64 * p / 100.0).round() as usize).max(4)),

@@ -99,19 +99,41 @@ pub fn parse_toml<T: serde::de::DeserializeOwned>(
         let at = span.start.min(text.len());
         let line_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
         let line = text[..at].matches('\n').count() + 1;
-        // The error is in a value: its key is the last one the line names before it (inline
-        // tables included: `noise = { kind = "perln" }` names `kind`).
-        let key = text[line_start..at]
-            .rsplit_once('=')
-            .map(|(before, _)| before.rsplit(['{', ',']).next().unwrap_or(before).trim())
-            .filter(|key| !key.is_empty());
-        match key {
+        match value_key(&text[line_start..at], &text[at..]) {
             Some(key) => (Some(line), format!("{key}: {}", e.message())),
             None => (Some(line), e.message().to_string()),
         }
     })?;
     check(&value).map_err(|msg| (None, msg))?;
     Ok(value)
+}
+
+/// The key whose value an error at the end of `before` (its line up to the error) is in:
+/// the last `key =` outside strings, within the innermost inline table or list. `None` when
+/// the error is at a key itself (`after` starts with the key and its `=`, as for an unknown
+/// field) or no key precedes it on the line.
+fn value_key<'t>(before: &'t str, after: &str) -> Option<&'t str> {
+    let after = after.lines().next().unwrap_or("");
+    let at_key = after.split_once('=').is_some_and(|(key, _)| {
+        let key = key.trim();
+        !key.is_empty() && key.chars().all(|c| c.is_alphanumeric() || matches!(c, '_' | '-' | '.'))
+    });
+    if at_key {
+        return None;
+    }
+    // Scan outside strings: a key starts after the line's start, `{` or `,` and ends at `=`.
+    let (mut quote, mut key_start, mut key) = (None::<char>, 0, None);
+    for (i, c) in before.char_indices() {
+        match (quote, c) {
+            (Some(q), c) if c == q => quote = None,
+            (Some(_), _) => {}
+            (None, '"' | '\'') => quote = Some(c),
+            (None, '{' | ',' | '[') => key_start = i + 1,
+            (None, '=') => key = Some(before[key_start..i].trim()),
+            _ => {}
+        }
+    }
+    key.filter(|k| !k.is_empty())
 }
 
 /// Reads a TOML file with `parse` (such as [`parse_toml`]); errors name the file and line.
@@ -143,6 +165,15 @@ mod tests {
     struct Doc {
         flag: Option<bool>,
         table: Option<std::collections::BTreeMap<String, u8>>,
+        inner: Option<Inner>,
+    }
+
+    #[derive(Debug, serde::Deserialize)]
+    #[serde(deny_unknown_fields)]
+    #[allow(dead_code)]
+    struct Inner {
+        kind: Option<String>,
+        octaves: Option<u8>,
     }
 
     fn error(text: &str) -> (Option<usize>, String) {
@@ -156,8 +187,17 @@ mod tests {
         assert!(message.starts_with("flag: invalid type"), "{message}");
         let (_, message) = error("table = { a = 1, b = \"x\" }\n");
         assert!(message.starts_with("b: "), "{message}");
+        // An `=` or `,` inside a string is not a key's.
+        let (_, message) = error("table = { a = 1, \"c=d,e\" = -1 }\n");
+        assert!(message.starts_with("\"c=d,e\": "), "{message}");
         let (line, message) = error("flag = true\nother = 1\n");
         assert_eq!(line, Some(2));
         assert!(message.starts_with("unknown field `other`"), "{message}");
+        // An unknown key inside an inline table is named by the message alone, not
+        // prefixed with the key before it.
+        let (_, message) = error("inner = { kind = \"x\", octavs = 3 }\n");
+        assert!(message.starts_with("unknown field `octavs`"), "{message}");
+        let (_, message) = error("inner = { kind = \"x\", octaves = \"many\" }\n");
+        assert!(message.starts_with("octaves: invalid type"), "{message}");
     }
 }

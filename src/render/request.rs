@@ -53,11 +53,11 @@ pub struct RenderRequest {
     #[cfg_attr(feature = "cli", arg(long, allow_negative_numbers = true))]
     pub water_level: Option<f64>,
     /// How far one sees into the water, as a fraction of the bounding-box diagonal
-    /// (with water-level) [default: 0.02].
+    /// (with --water-level, water_level) [default: 0.02].
     #[cfg_attr(feature = "cli", arg(long))]
     pub water_clarity: Option<f64>,
     /// Draw the mesh with this texture (PNG) at its UVs (faces mode; the mesh needs texture
-    /// coordinates: OBJ vt, PLY s t, glTF TEXCOORD_0). Replaces colors.
+    /// coordinates: OBJ vt, PLY s t, glTF TEXCOORD_0). Replaces --colors (colors).
     #[cfg_attr(feature = "cli", arg(long))]
     pub texture: Option<PathBuf>,
 }

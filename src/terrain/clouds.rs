@@ -78,7 +78,7 @@ impl Default for CloudRequest {
 
 impl CloudRequest {
     /// The request's own rules, in the messages every front end prints (`spelling` names
-    /// the fields): the threshold lies in [0, 1]; the picture (the plasma's heights, twice
+    /// the fields): the size is 2^n + 1; the threshold lies in [0, 1]; the picture (the plasma's heights, twice
     /// while smoothing, and the RGB pixels) fits the memory budget. The plasma checks its
     /// size and roughness when it is made.
     ///
@@ -86,6 +86,13 @@ impl CloudRequest {
     /// [`Error::InvalidInput`] with the first rule broken; a picture too large is refused by
     /// estimate before allocating ([`crate::memory::ensure_available`]).
     pub fn check(&self, spelling: Spelling) -> Result<()> {
+        let n = self.size.checked_sub(1).filter(|m| m.is_power_of_two()).map(|m| m.trailing_zeros());
+        if !n.is_some_and(|l| (1..=31).contains(&l)) {
+            return Err(Error::InvalidInput(format!(
+                "{}: must be 2^n + 1 (3, 5, 9, ... 513, ...)",
+                spelling.with("size", self.size)
+            )));
+        }
         if !(0.0..=1.0).contains(&self.threshold) {
             return Err(Error::InvalidInput(format!(
                 "{}: must lie in [0, 1]",
