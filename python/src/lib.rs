@@ -464,10 +464,9 @@ fn detail<'py>(
         // The recipe's [hierarchy] table under the keyword arguments, as the command line's
         // `detail` applies it under its flags.
         let simplify = request.options_over(&recipe.hierarchy, mesh.vertex_count(), false, Spelling::Keyword)?;
-        let hierarchy = asperity::hierarchy::build(&mesh, &simplify)?;
         let options =
             DetailOptions { simplify, no_self_intersections: !allow_self_intersections, ..Default::default() };
-        let outcome = asperity::detail::apply_to(&hierarchy, &mesh, &recipe, &options)?;
+        let outcome = asperity::detail::apply(&mesh, &recipe, &options)?;
         let report = serde_json::json!({
             "input_vertices": mesh.vertex_count(),
             "base_vertices": outcome.base_vertices,
@@ -475,7 +474,7 @@ fn detail<'py>(
             "levels": outcome.levels,
             "steps": outcome.steps,
             "self_intersections": outcome.intersections,
-            "seconds": { "hierarchy": hierarchy.seconds, "detail": outcome.seconds.detail, "refine": outcome.seconds.refine },
+            "seconds": { "hierarchy": outcome.seconds.hierarchy, "detail": outcome.seconds.detail, "refine": outcome.seconds.refine },
         });
         Ok((outcome.result.mesh, report))
     })?;

@@ -91,23 +91,24 @@ impl HierarchyRequest {
         record_levels: bool,
         spelling: Spelling,
     ) -> Result<SimplifyOptions> {
-        let from_table = Spelling::Table("hierarchy");
-        let pick = |own: Option<f64>, theirs: Option<f64>| -> Given<f64> {
-            own.map(|v| (v, spelling)).or(theirs.map(|v| (v, from_table)))
+        // Each setting with the source that gave it: this request's own, else the table's.
+        fn pick<T>(own: Option<T>, table: Option<T>, spelling: Spelling) -> Given<T> {
+            own.map(|v| (v, spelling)).or(table.map(|v| (v, Spelling::Table("hierarchy"))))
+        }
+        let target_vertices = match pick(self.target_vertices, table.target_vertices, spelling) {
+            Some((target, source)) => Some(target.resolve(vertices, source)?),
+            None => None,
         };
-        let target_vertices =
-            match self.target_vertices.map(|t| (t, spelling)).or(table.target_vertices.map(|t| (t, from_table))) {
-                Some((target, source)) => Some(target.resolve(vertices, source)?),
-                None => None,
-            };
-        let max_error = non_negative(pick(self.max_error, table.max_error), "max_error", "fraction of the diagonal")?;
-        let removal_weight = non_negative(pick(self.removal_weight, table.removal_weight), "removal_weight", "weight")?;
-        let swap_weight = non_negative(pick(self.swap_weight, table.swap_weight), "swap_weight", "weight")?;
-        let keep = self.keep_features.map(|k| (k, spelling)).or(table.keep_features.map(|k| (k, from_table)));
+        let max_error = pick(self.max_error, table.max_error, spelling);
+        let max_error = non_negative(max_error, "max_error", "fraction of the diagonal")?;
+        let removal_weight = pick(self.removal_weight, table.removal_weight, spelling);
+        let removal_weight = non_negative(removal_weight, "removal_weight", "weight")?;
+        let swap_weight = non_negative(pick(self.swap_weight, table.swap_weight, spelling), "swap_weight", "weight")?;
+        let keep = pick(self.keep_features, table.keep_features, spelling);
         // The table's feature_vertices gives way where this request keeps no features (it
         // would have nothing to apply to), so that no table locks a front end out of "none".
         let table_lines = table.feature_vertices.filter(|_| self.keep_features != Some(KeepFeatures::None));
-        let lines = self.feature_vertices.map(|f| (f, spelling)).or(table_lines.map(|f| (f, from_table)));
+        let lines = pick(self.feature_vertices, table_lines, spelling);
         if let (Some((_, lines_source)), Some((KeepFeatures::None, keep_source))) = (lines, keep) {
             return Err(Error::InvalidInput(format!(
                 "{} applies only with {} corners, strong or all (with none, no vertex is a feature)",

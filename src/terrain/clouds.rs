@@ -86,8 +86,7 @@ impl CloudRequest {
     /// [`Error::InvalidInput`] with the first rule broken; a picture too large is refused by
     /// estimate before allocating ([`crate::memory::ensure_available`]).
     pub fn check(&self, spelling: Spelling) -> Result<()> {
-        let n = self.size.checked_sub(1).filter(|m| m.is_power_of_two()).map(|m| m.trailing_zeros());
-        if !n.is_some_and(|l| (1..=31).contains(&l)) {
+        if super::levels_of_size(self.size).is_none() {
             return Err(Error::InvalidInput(format!(
                 "{}: must be 2^n + 1 (3, 5, 9, ... 513, ...)",
                 spelling.with("size", self.size)

@@ -167,6 +167,13 @@ impl Default for TerrainParams {
     }
 }
 
+/// The subdivision levels n of a grid of `size` = 2ⁿ + 1 points a side, n from 1 to 31;
+/// `None` for any other size.
+pub(crate) fn levels_of_size(size: u64) -> Option<u32> {
+    let n = size.checked_sub(1).filter(|m| m.is_power_of_two()).map(|m| m.trailing_zeros());
+    n.filter(|l| (1..=31).contains(l))
+}
+
 impl TerrainParams {
     /// The generator, after checking the parameters.
     ///
@@ -174,8 +181,7 @@ impl TerrainParams {
     /// [`Error::InvalidInput`] when the size is not 2ⁿ + 1 (n from 1 to 31) or a number is
     /// not finite.
     pub fn generator(&self) -> Result<DiamondSquare> {
-        let n = self.size.checked_sub(1).filter(|m| m.is_power_of_two()).map(|m| m.trailing_zeros());
-        let Some(levels) = n.filter(|&l| (1..=31).contains(&l)) else {
+        let Some(levels) = levels_of_size(self.size) else {
             return Err(Error::InvalidInput(format!(
                 "terrain size {} must be 2^n + 1 (3, 5, 9, ... 2147483649)",
                 self.size
