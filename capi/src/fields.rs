@@ -1,13 +1,13 @@
 //! Fields over points and meshes for C++: terrain meshes, noise at given points, surface
-//! analysis. Noise takes the library's request (`NoiseRequest`, read from the C++ options
-//! struct's fields); terrain still takes `asperity terrain`'s flags (the C++ options struct
-//! turned into them, #38), so every parameter means what the command line's flag means,
-//! with the same checks and messages.
+//! analysis. Each takes the library's request (`TerrainRequest`, `NoiseRequest`,
+//! `AnalysisRequest`), read from the C++ options struct's fields as a JSON object (#38), so
+//! every parameter means what the command line's flag means, with the same checks and
+//! messages, each naming the option as C++ spells it (`option .tile_size`).
 
 use asperity::analysis::AnalysisRequest;
-use asperity::cli::{self, parse_flags};
 use asperity::noise::NoiseRequest;
 use asperity::request::{Spelling, from_fields};
+use asperity::terrain::TerrainRequest;
 use asperity::{Error, Result};
 use glam::DVec3;
 
@@ -15,19 +15,11 @@ use crate::arrays::{analysis_arrays, arrays_of, flat, mesh_of};
 use crate::bridge::{Analysis, Report, TerrainMesh};
 use crate::guarded;
 
-/// How the C++ options structs spell a flag: `.size` for `--size`.
-fn member(name: &str) -> String {
-    format!("option .{name}")
-}
-
-// cxx passes a C++ `rust::Vec<rust::String>` as `&Vec<String>`.
-#[allow(clippy::ptr_arg)]
-pub fn terrain_mesh(flags: &Vec<String>) -> Result<TerrainMesh, String> {
+pub fn terrain_mesh(fields: &str) -> Result<TerrainMesh, String> {
     guarded(|| {
         let start = std::time::Instant::now();
-        let args: cli::terrain::TerrainArgs =
-            parse_flags("terrain", &["-o", "<mesh>.ply"], flags.clone(), &["--range", "--preset"], member)?;
-        let mesh = cli::terrain::mesh_of(&args)?;
+        let (request, tile) = TerrainRequest::from_fields(fields, Spelling::Member)?;
+        let mesh = request.mesh(tile, Spelling::Member)?;
         let report = Report {
             input_vertices: 0,
             output_vertices: mesh.vertex_count(),

@@ -168,8 +168,8 @@ mod bridge {
         /// The mesh repaired as `--repair` does (degenerate and duplicate faces, non-manifold
         /// vertices and edges, orientation, unreferenced vertices); the report is one line.
         fn repair(positions: &[f64], triangles: &[u32]) -> Result<RepairOutcome>;
-        /// A terrain mesh from `asperity terrain`'s flags (the C++ options struct's fields).
-        fn terrain_mesh(flags: &Vec<String>) -> Result<TerrainMesh>;
+        /// A terrain mesh from the JSON object of the terrain request's fields (and `tile`, `tile_size`).
+        fn terrain_mesh(fields: &str) -> Result<TerrainMesh>;
         /// `asperity noise`'s field at points (`dimension` 2: the image plane; 3: space).
         /// `fields`: the JSON object of the noise request's fields.
         fn noise(points: &[f64], dimension: usize, fields: &str) -> Result<Vec<f64>>;

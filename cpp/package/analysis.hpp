@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "asperity/flags.hpp"
+#include "asperity/fields.hpp"
 #include "asperity/mesh_arrays.hpp"
 
 namespace asperity {

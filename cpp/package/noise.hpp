@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "asperity/errors.hpp"
-#include "asperity/flags.hpp"
+#include "asperity/fields.hpp"
 #include "asperity/mesh_arrays.hpp"
 
 namespace asperity {

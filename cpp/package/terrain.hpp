@@ -10,14 +10,15 @@
 #include <OpenMesh/Core/Utils/color_cast.hh>
 
 #include "asperity/errors.hpp"
-#include "asperity/flags.hpp"
+#include "asperity/fields.hpp"
 #include "asperity/mesh_arrays.hpp"
 
 namespace asperity {
 
-/// `asperity terrain`'s parameters (see `asperity terrain --help`; `iterations` and
-/// `roughness` are spelled `size` and `hurst` here). Unset options take the command
-/// line's defaults; an option that does not apply to the method is refused, naming it.
+/// `asperity terrain`'s parameters, the library's terrain request (see `asperity terrain
+/// --help`; `iterations` and `roughness` are spelled `size` and `hurst` here). Unset
+/// options take the request's defaults; an option that does not apply to the method is
+/// refused, naming it.
 struct TerrainOptions {
   /// classic, smooth or dual.
   std::string method = "classic";
@@ -74,27 +75,23 @@ struct TerrainOptions {
 
 namespace impl {
 
-inline Flags terrain_flags(const TerrainOptions& o) {
-  Flags f;
+inline std::string terrain_fields(const TerrainOptions& o) {
+  Fields f;
   f.add("method", o.method).add("size", o.size).add("hurst", o.hurst).add("sigma", o.sigma);
-  f.add("x", o.x).add("y", o.y).add("levels", o.levels).add_switch("deterministic", o.deterministic);
-  f.add_switch("cross-product", o.cross_product).add_switch("no-mean-correction", o.no_mean_correction);
+  f.add("x", o.x).add("y", o.y).add("levels", o.levels);
+  if (o.deterministic) f.add("deterministic", true);
+  if (o.cross_product) f.add("cross_product", true);
+  if (o.no_mean_correction) f.add("no_mean_correction", true);
   f.add("seed", o.seed).add("distribution", o.distribution).add("mean", o.mean).add("variance", o.variance);
-  f.add("corners", o.corners).add_switch("applet", o.applet).add("width", o.width).add("depth", o.depth);
-  f.add("max-height", o.max_height).add("sea-level", o.sea_level).add("peak-height", o.peak_height);
-  if (o.colors) {
-    std::string ramp;
-    for (const auto& c : *o.colors) {
-      if (!ramp.empty()) ramp += ';';
-      ramp += std::to_string(c[0]) + ',' + std::to_string(c[1]) + ',' + std::to_string(c[2]);
-    }
-    f.add("colors", ramp);
-  }
-  f.add("grid", o.grid).add("erode", o.erode).add("erode-iterations", o.erode_iterations).add("talus", o.talus);
+  f.add("corners", o.corners).add("width", o.width).add("depth", o.depth);
+  if (o.applet) f.add("applet", true);
+  f.add("max_height", o.max_height).add("sea_level", o.sea_level).add("peak_height", o.peak_height);
+  f.add("colors", o.colors).add("grid", o.grid).add("erode", o.erode);
+  f.add("erode_iterations", o.erode_iterations).add("talus", o.talus);
   f.add("rain", o.rain).add("evaporation", o.evaporation).add("capacity", o.capacity);
-  f.add("dissolving", o.dissolving).add("deposition", o.deposition).add("time-step", o.time_step);
-  f.add("tile", o.tile).add("tile-size", o.tile_size);
-  return f;
+  f.add("dissolving", o.dissolving).add("deposition", o.deposition).add("time_step", o.time_step);
+  f.add("tile", o.tile).add("tile_size", o.tile_size);
+  return f.json();
 }
 
 }  // namespace impl
@@ -103,8 +100,8 @@ inline Flags terrain_flags(const TerrainOptions& o) {
 /// mesh and set.
 template <class Mesh>
 Mesh terrain(const TerrainOptions& options = TerrainOptions()) {
-  const auto flags = impl::terrain_flags(options);
-  const auto out = impl::call([&] { return ffi::terrain_mesh(flags.get()); });
+  const auto fields = impl::terrain_fields(options);
+  const auto out = impl::call([&] { return ffi::terrain_mesh(fields); });
   Mesh mesh;
   from_arrays(mesh, out.mesh);
   const bool normals = out.normals.size() == 3 * mesh.n_vertices();

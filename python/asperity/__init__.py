@@ -140,25 +140,6 @@ def _arrays(mesh: MeshLike, triangles: Any = None) -> Tuple[np.ndarray, np.ndarr
     return positions, np.ascontiguousarray(raw, dtype=np.uint32)
 
 
-def _value(value: Any) -> str:
-    if isinstance(value, (list, tuple)):
-        if value and isinstance(value[0], (list, tuple)):
-            return ";".join(_value(v) for v in value)
-        return ",".join(str(v) for v in value)
-    return str(value)
-
-
-def _flags(options: Mapping[str, Any]) -> List[str]:
-    """Keyword options as the command line's flags (``False``/``None`` leave a flag out)."""
-    flags = []
-    for key, value in options.items():
-        if value is None or value is False:
-            continue
-        flag = "--" + key.replace("_", "-")
-        flags.append(flag if value is True else f"{flag}={_value(value)}")
-    return flags
-
-
 def _fields(options: Mapping[str, Any]) -> str:
     """Keyword options as the JSON object of a library request's fields (numpy scalars
     and arrays as plain values); the library refuses an unknown or mistyped one by name."""
@@ -505,8 +486,9 @@ def terrain(*, progress: Progress = False, **options: Any) -> np.ndarray:
     """``asperity terrain``'s heights as a (rows, columns) float64 array: ``size``,
     ``method`` ("classic", "smooth"), ``hurst``, ``seed``, ``sea_level``, ``erode``
     ("thermal", "hydraulic", "thermal,hydraulic") with ``rain``, ``capacity``…,
-    ``tile=(i, j)`` with ``tile_size``, ``preset``… (every heightfield flag)."""
-    return _native.terrain(_flags(options), progress)
+    ``tile=(i, j)`` with ``tile_size``, ``preset``… (every field of the library's terrain
+    request, as the command line's flags name them; a misspelt one is refused by name)."""
+    return _native.terrain(_fields(options), progress)
 
 
 def terrain_layers(*, progress: Progress = False, **options: Any) -> Dict[str, np.ndarray]:
@@ -514,7 +496,7 @@ def terrain_layers(*, progress: Progress = False, **options: Any) -> Dict[str, n
     from the same run, as (rows, columns) float64 arrays keyed ``"heights"``, ``"flow"``,
     ``"sediment"``, ``"water"``, ``"wetness"``: masks in [0, 1] (``layers="flow,water"``
     picks some; all four by default). The same keyword arguments as ``terrain``."""
-    heights, layers = _native.terrain_layers(_flags(options), progress)
+    heights, layers = _native.terrain_layers(_fields(options), progress)
     return {"heights": heights, **dict(layers)}
 
 
@@ -523,7 +505,7 @@ def terrain_mesh(**options: Any) -> Mesh:
     ``tile``) with normals and height colours, or with ``method="dual"`` Janeczek's surface
     over the quadrilateral ``x``, ``y`` (``levels``, ``deterministic``, ``cross_product``,
     ``no_mean_correction``)."""
-    positions, triangles, normals, colors = _native.terrain_mesh(_flags(options))
+    positions, triangles, normals, colors = _native.terrain_mesh(_fields(options))
     attributes = {}
     if normals is not None:
         attributes["normals"] = normals

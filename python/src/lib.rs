@@ -1,14 +1,13 @@
 //! `asperity._asperity`: the native layer of the Python package. Every function takes
-//! numpy arrays and its options: as the JSON object of a library request's fields (noise,
-//! the hierarchy, detail, analyze, compare, render, clouds: read strictly by
-//! `asperity::request::from_fields`, #38) or, for the terrain (no request yet), as the
-//! command line's own flags parsed by its own argument definitions. Either way it calls the same library functions the command line calls, so
+//! numpy arrays and its options as the JSON object of a library request's fields (the
+//! terrain, noise, the hierarchy, detail, analyze, compare, render, clouds: read strictly
+//! by `asperity::request::from_fields`, #38, with no argv between). It calls the same
+//! library functions the command line calls, so
 //! results are identical bit for bit and errors carry the same one-line messages, each
 //! option spelt as its keyword. No logic of its own: see `python/asperity/__init__.py` for
 //! the public API and its documentation.
 
 mod arrays;
-mod flags;
 mod interrupt;
 mod level;
 
@@ -20,13 +19,12 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use arrays::{mesh_of, points_of, positions_array, triangles_array, vectors_array};
-use asperity::cli;
 use asperity::detail::DetailOptions;
 use asperity::hierarchy::HierarchyRequest;
 use asperity::mesh::Mesh;
 use asperity::noise::NoiseRequest;
 use asperity::request::{Spelling, from_fields};
-use flags::parse;
+use asperity::terrain::TerrainRequest;
 use interrupt::{Progress, run};
 
 pyo3::create_exception!(
@@ -516,14 +514,9 @@ fn compare(
 
 /// `asperity terrain`'s heights as a rows × columns array.
 #[pyfunction]
-fn terrain<'py>(
-    py: Python<'py>,
-    flags: Vec<String>,
-    progress: Bound<'py, PyAny>,
-) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let args: cli::terrain::TerrainArgs =
-        parse("terrain", &["-o", "<array>.f32"], flags, &["--range", "--peak-height", "--colors", "--layers"])?;
-    let field = run(py, Progress::of(&progress)?, move || cli::terrain::heights_of(&args))?;
+fn terrain<'py>(py: Python<'py>, fields: &str, progress: Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let (request, tile) = TerrainRequest::from_fields(fields, Spelling::Keyword).map_err(to_py)?;
+    let field = run(py, Progress::of(&progress)?, move || request.heights(tile, Spelling::Keyword))?;
     let shape = (field.rect.height(), field.rect.width());
     let array = numpy::ndarray::Array2::from_shape_vec(shape, field.heights).expect("rows × columns");
     Ok(PyArray2::from_owned_array(py, array))
@@ -535,12 +528,12 @@ fn terrain<'py>(
 #[allow(clippy::type_complexity)]
 fn terrain_layers<'py>(
     py: Python<'py>,
-    flags: Vec<String>,
+    fields: &str,
     progress: Bound<'py, PyAny>,
 ) -> PyResult<(Bound<'py, PyArray2<f64>>, Vec<(String, Bound<'py, PyArray2<f64>>)>)> {
-    let args: cli::terrain::TerrainArgs =
-        parse("terrain", &["-o", "<array>.f32"], flags, &["--range", "--peak-height", "--colors"])?;
-    let (heights, layers) = run(py, Progress::of(&progress)?, move || cli::terrain::layers_of(&args))?;
+    let (request, tile) = TerrainRequest::from_fields(fields, Spelling::Keyword).map_err(to_py)?;
+    let (heights, layers) =
+        run(py, Progress::of(&progress)?, move || request.heights_and_layers(tile, Spelling::Keyword))?;
     let array = |field: asperity::terrain::Heightfield| {
         let shape = (field.rect.height(), field.rect.width());
         PyArray2::from_owned_array(
@@ -558,15 +551,15 @@ fn terrain_layers<'py>(
 #[allow(clippy::type_complexity)]
 fn terrain_mesh<'py>(
     py: Python<'py>,
-    flags: Vec<String>,
+    fields: &str,
 ) -> PyResult<(
     Bound<'py, PyArray2<f64>>,
     Bound<'py, PyArray2<u32>>,
     Option<Bound<'py, PyArray2<f64>>>,
     Option<Bound<'py, PyArray2<u8>>>,
 )> {
-    let args: cli::terrain::TerrainArgs = parse("terrain", &["-o", "<array>.ply"], flags, &["--range", "--layers"])?;
-    let mesh = run(py, false, move || cli::terrain::mesh_of(&args))?;
+    let (request, tile) = TerrainRequest::from_fields(fields, Spelling::Keyword).map_err(to_py)?;
+    let mesh = run(py, false, move || request.mesh(tile, Spelling::Keyword))?;
     let normals = mesh.normals.map(|n| vectors_array(py, n));
     let colors = mesh.colors.map(|c| arrays::colors_array(py, c));
     Ok((positions_array(py, mesh.positions), triangles_array(py, mesh.triangles), normals, colors))

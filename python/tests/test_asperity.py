@@ -79,8 +79,12 @@ def test_errors_are_typed_with_the_command_lines_messages(tmp_path):
     (tmp_path / "broken.off").write_text("OFF\n3 1 0\n0 0 0\n1 0 0\n")
     with pytest.raises(asperity.InputError, match="broken.off"):
         asperity.read(tmp_path / "broken.off")
-    with pytest.raises(asperity.InputError, match="unexpected argument '--bogus'"):
+    with pytest.raises(asperity.InputError, match="bogus= is not an option here; the options are applet=, "):
         asperity.terrain(size=33, bogus=1)
+    with pytest.raises(asperity.InputError, match="size= applies only to method=classic and smooth"):
+        asperity.terrain_mesh(method="dual", size=33)
+    with pytest.raises(asperity.InputError, match="iterations= and size= set the same thing"):
+        asperity.terrain(size=33, iterations=5)
     with pytest.raises(asperity.InputError, match="is not a vertex count or a percentage"):
         asperity.Hierarchy(positions, triangles, target_vertices="many")
     # The hierarchy's and the clouds' requests name each keyword as Python spells it (#38).
@@ -100,7 +104,7 @@ def test_errors_are_typed_with_the_command_lines_messages(tmp_path):
         asperity.render((positions, triangles), mode="points", edges=True)
     with pytest.raises(asperity.InputError, match="methods=: unknown method 'qslim'"):
         asperity.compare((positions, triangles), methods=["asperity", "qslim"])
-    with pytest.raises(asperity.InputError, match="--method dual makes a 3D surface"):
+    with pytest.raises(asperity.InputError, match="method=dual makes a 3D surface"):
         asperity.terrain(method="dual")
     with pytest.raises(asperity.InputError, match="applies to the command line"):
         asperity.terrain(size=33, preview="x.png")

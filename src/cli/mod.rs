@@ -7,11 +7,9 @@ pub mod compare;
 mod convert;
 mod demo;
 pub mod detail;
-mod embedded;
 mod info;
 pub mod input;
 pub mod noise;
-pub(crate) mod parse;
 pub mod refine;
 pub mod render;
 mod report;
@@ -23,7 +21,6 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
 
-pub use embedded::parse_flags;
 pub use report::Context;
 
 use crate::error::{Error, Result};
@@ -380,7 +377,7 @@ mod request_defaults {
     use crate::hierarchy::{CompareRequest, HierarchyRequest};
     use crate::noise::NoiseRequest;
     use crate::render::RenderRequest;
-    use crate::terrain::CloudRequest;
+    use crate::terrain::{CloudRequest, TerrainRequest};
 
     /// A request as the command line reads it when none of its flags is given.
     fn without_flags<R: clap::Args + clap::FromArgMatches>() -> R {
@@ -398,5 +395,6 @@ mod request_defaults {
         assert_eq!(without_flags::<CloudRequest>(), CloudRequest::default());
         assert_eq!(without_flags::<CompareRequest>(), CompareRequest::default());
         assert_eq!(without_flags::<RenderRequest>(), RenderRequest::default());
+        assert_eq!(without_flags::<TerrainRequest>(), TerrainRequest::default());
     }
 }

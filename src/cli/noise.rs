@@ -25,7 +25,7 @@ pub struct NoiseArgs {
     scale: Option<f64>,
     /// PNG grey range LO,HI [default: the image's own minimum and maximum; Gabor −3,3,
     /// three standard deviations at K = 1, and phasor −1,1, so K shows as contrast].
-    #[arg(long, value_parser = super::parse::range, allow_hyphen_values = true)]
+    #[arg(long, value_parser = crate::request::parse::range, allow_hyphen_values = true)]
     range: Option<(f64, f64)>,
     /// Output: .png (16-bit grey) or .f32 (raw little-endian, row-major).
     #[arg(short, long)]

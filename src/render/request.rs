@@ -16,7 +16,7 @@ use crate::request::Spelling;
 #[cfg_attr(feature = "cli", derive(clap::Args))]
 pub struct RenderRequest {
     /// Picture size W,H in pixels.
-    #[cfg_attr(feature = "cli", arg(long, value_parser = crate::cli::parse::size, default_value = "1024,768"))]
+    #[cfg_attr(feature = "cli", arg(long, value_parser = crate::request::parse::size, default_value = "1024,768"))]
     pub size: (usize, usize),
     /// Faces (shaded), wireframe (hidden lines removed) or points.
     #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = Mode::Faces))]

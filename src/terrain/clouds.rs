@@ -55,10 +55,10 @@ pub struct CloudRequest {
     )]
     pub threshold: f64,
     /// Sky colour R,G,B.
-    #[cfg_attr(feature = "cli", arg(long, value_parser = crate::cli::parse::rgb, default_value = "70,130,210"))]
+    #[cfg_attr(feature = "cli", arg(long, value_parser = crate::request::parse::rgb, default_value = "70,130,210"))]
     pub sky: Rgb,
     /// Cloud colour R,G,B.
-    #[cfg_attr(feature = "cli", arg(long, value_parser = crate::cli::parse::rgb, default_value = "255,255,255"))]
+    #[cfg_attr(feature = "cli", arg(long, value_parser = crate::request::parse::rgb, default_value = "255,255,255"))]
     pub cloud: Rgb,
 }
 

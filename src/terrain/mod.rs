@@ -12,6 +12,7 @@ pub mod hydraulic;
 pub mod mosaic;
 pub mod presets;
 mod random;
+mod request;
 pub mod sidecar;
 pub mod stream;
 mod whole_file;
@@ -27,6 +28,10 @@ pub use erosion::ThermalErosion;
 pub use hydraulic::{ErosionLayers, HydraulicBudget, HydraulicErosion};
 pub use presets::Preset;
 pub use random::{Displacements, Distribution};
+pub use request::{
+    ErosionModel, TerrainLayout, TerrainMethod, TerrainOutput, TerrainRequest, TerrainSetup, TerrainTarget, TerrainTile,
+    dual_mesh,
+};
 
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, Rgb};
@@ -391,13 +396,14 @@ fn finished(params: &TerrainParams, rect: Rect, which: &[ErosionLayer]) -> Resul
 /// A layer of hydraulic erosion written beside the heights (see [`ErosionLayers`] for what
 /// each holds): a mask in [0, 1].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum ErosionLayer {
-    /// Water that ran through each point.
+    /// Water that ran through each point over the run: rivers and gullies.
     Flow,
-    /// Deposited sediment.
+    /// Sediment deposited by the run: fans and valley floors.
     Sediment,
-    /// Standing water after the run.
+    /// Water standing after the run: lakes.
     Water,
     /// Water depth over the run.
     Wetness,

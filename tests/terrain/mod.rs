@@ -1,4 +1,5 @@
 //! Terrain: generation, smoothing, erosion and formats; tiles, streaming and scale.
 
 mod generation;
+mod request;
 mod scale;

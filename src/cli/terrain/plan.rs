@@ -11,18 +11,18 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use serde::{Deserialize, Serialize};
 
-use super::{Generation, Job, Setup};
+use super::{Job, Setup};
 use crate::error::{Error, Result};
 use crate::io::write_atomically;
 use crate::terrain::mosaic::{MosaicTile, raw_descriptor, source_of, vrt};
 use crate::terrain::sidecar::{Quantisation, Sidecar, WorldPlacement};
 use crate::terrain::stream::{LAYER_RANGE, StreamFormat};
-use crate::terrain::tiles_per_side;
+use crate::terrain::{TerrainMethod, TerrainRequest, tiles_per_side};
 
 #[derive(Debug, Args)]
 pub(crate) struct PlanArgs {
     #[command(flatten)]
-    generation: Generation,
+    generation: TerrainRequest,
     /// Points per tile side, 2^k + 1 (with --preset, a size the engine imports); tiles
     /// share their borders.
     #[arg(long)]
@@ -60,7 +60,7 @@ struct Plan {
     /// Every tile, by index.
     tiles: Vec<PlannedTile>,
     /// The generation flags every tile is made with.
-    parameters: Generation,
+    parameters: TerrainRequest,
 }
 
 /// One tile of the plan.
@@ -89,7 +89,7 @@ fn fingerprint(text: &str) -> String {
 }
 
 /// The fingerprint of what a plan's tiles are made from.
-fn plan_fingerprint(parameters: &Generation, size: u64, tile_size: u64, format: &str) -> Result<String> {
+fn plan_fingerprint(parameters: &TerrainRequest, size: u64, tile_size: u64, format: &str) -> Result<String> {
     let text =
         serde_json::to_string(&(parameters, size, tile_size, format)).map_err(|e| Error::Internal(e.to_string()))?;
     Ok(fingerprint(&format!("asperity terrain plan v{PLAN_VERSION} {text}")))
@@ -124,7 +124,7 @@ fn layer_file(tile_file: &str, layer: crate::terrain::ErosionLayer) -> String {
 
 /// The job of tile (i, j) of a plan in `dir`.
 fn tile_job<'a>(
-    generation: &'a Generation,
+    generation: &'a TerrainRequest,
     tile: (u64, u64),
     tile_size: u64,
     output: PathBuf,
@@ -138,7 +138,7 @@ fn tile_job<'a>(
 pub(super) fn run(args: PlanArgs, ctx: crate::cli::Context) -> Result<()> {
     let start = std::time::Instant::now();
     let g = &args.generation;
-    if g.method == super::MethodArg::Dual {
+    if g.method == TerrainMethod::Dual {
         return Err(Error::InvalidInput(
             "terrain plan tiles heightfields: --method classic or smooth (a dual surface is one quadrilateral)".into(),
         ));

@@ -2,6 +2,8 @@
 //! the messages `check()` gives, and reading a request from named fields with strict keys
 //! (Python's keyword arguments and C++'s option structs arrive so, with no argv between).
 
+pub mod parse;
+
 use serde::de::DeserializeOwned;
 
 use crate::error::{Error, Result};
@@ -50,12 +52,29 @@ impl Spelling {
 /// # Errors
 /// Not a JSON object, an unknown field, or a field whose value does not fit it.
 pub fn from_fields<R: DeserializeOwned + serde::Serialize + Default>(json: &str, spelling: Spelling) -> Result<R> {
+    from_fields_also(json, spelling, &[])
+}
+
+/// [`from_fields`] for a request whose default leaves out fields when it is written (a
+/// list written only when it is not empty) or whose reader takes some fields apart: `also`
+/// names them, so they are known and listed among the options.
+///
+/// # Errors
+/// As [`from_fields`].
+pub fn from_fields_also<R: DeserializeOwned + serde::Serialize + Default>(
+    json: &str,
+    spelling: Spelling,
+    also: &[&str],
+) -> Result<R> {
     let fields: serde_json::Map<String, serde_json::Value> = serde_json::from_str(json)
         .map_err(|e| Error::InvalidInput(format!("the options are not a JSON object of fields: {e}")))?;
-    let known = match serde_json::to_value(R::default()) {
+    let mut known = match serde_json::to_value(R::default()) {
         Ok(serde_json::Value::Object(known)) => known,
         _ => return Err(Error::Internal("a request does not serialise to an object".into())),
     };
+    for name in also {
+        known.entry(name.to_string()).or_insert(serde_json::Value::Null);
+    }
     let mut given = serde_json::Map::new();
     for (name, value) in fields {
         if !known.contains_key(&name) {

@@ -1,4 +1,5 @@
-//! Parsers for comma-separated argument values (`LO,HI`, `X,Y,Z`, `I,J`, `R,G,B`).
+//! Parsers for comma-separated values (`LO,HI`, `X,Y,Z`, `I,J`, `R,G,B`): the command line's
+//! flags and the text forms a request's fields take.
 
 fn list<T: std::str::FromStr, const N: usize>(s: &str, what: &str) -> Result<[T; N], String> {
     let values: Vec<T> = s
