@@ -9,8 +9,9 @@ all: build
 deps:
 	@./scripts/install-deps.sh
 
+# The command line is the library's `cli` feature (off for library users, #38).
 build: deps
-	$(CARGO) build --release
+	$(CARGO) build --release --features cli
 
 # The main job on built-in inputs: meshes and previews under out/.
 demo: build
@@ -20,14 +21,15 @@ demo: build
 figures: build
 	./scripts/figures.sh
 
-# The tests select the whole workspace, as the C++ and Python builds after them do: features
-# then resolve alike (the Python crate's proc-macros turn on syn features), so those builds
-# reuse this one instead of compiling every crate again (6 minutes of CI).
+# The tests select the whole workspace with the command line (`asperity/cli`: the integration
+# tests drive the binary), as the C++ and Python builds after them do: features then resolve
+# alike (the Python crate's proc-macros turn on syn features), so those builds reuse this
+# one instead of compiling every crate again (6 minutes of CI).
 test: deps
 	@./scripts/install-deps.sh --test
 	@./scripts/install-gltf-validator.sh
 	@./scripts/fetch-test-meshes.sh
-	$(CARGO) test --workspace
+	$(CARGO) test --workspace --features asperity/cli
 	@./scripts/cpp-example.sh
 	@$(MAKE) --no-print-directory python-test
 	@$(MAKE) --no-print-directory clippy
@@ -44,7 +46,7 @@ python: deps
 # environment with the system's OpenMesh and GMP hidden.
 python-test: deps
 	@./scripts/python-package.sh --test
-	@[ -x target/debug/asperity ] || $(CARGO) build --bin asperity
+	@[ -x target/debug/asperity ] || $(CARGO) build --bin asperity --features cli
 	ASPERITY_CLI=target/debug/asperity target/python-venv/bin/python -m pytest -q python/tests
 	@./scripts/python-wheel-check.sh target/wheels/manylinux/*.whl
 
@@ -55,7 +57,7 @@ wheel: deps
 
 # API documentation, private items included; a broken link fails the tests.
 doc:
-	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --workspace --document-private-items
+	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --workspace --features asperity/cli --document-private-items
 
 # The C++ package (find_package(asperity)) into PREFIX, optimised.
 PREFIX ?= /usr/local
@@ -65,11 +67,11 @@ install-cpp: deps
 	cmake --install target/cpp-release
 
 # Lints are part of the tests where clippy is installed; the library is also linted without
-# its `cli` feature (what a library user gets with default-features = false: no clap).
+# its `cli` feature (what a library user gets by default: no clap).
 clippy: deps
 	@if $(CARGO) clippy --version >/dev/null 2>&1; then \
-	  $(CARGO) clippy --workspace --all-targets -- -D warnings && \
-	  $(CARGO) clippy -p asperity --lib --no-default-features -- -D warnings; \
+	  $(CARGO) clippy --workspace --all-targets --features asperity/cli -- -D warnings && \
+	  $(CARGO) clippy -p asperity --lib -- -D warnings; \
 	else echo "clippy not installed: lints skipped"; fi
 
 # Each cargo-fuzz target for FUZZ_SECONDS (default 60) on nightly; crashes are saved under

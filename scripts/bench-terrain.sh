@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=target/release/asperity
-[ -x "$bin" ] || cargo build --release
+[ -x "$bin" ] || cargo build --release --features cli
 for size in 16385 65537; do
   /usr/bin/time -f "peak RSS %M KB, wall %e s" "$bin" terrain --size "$size" --seed 1 --stream --format raw16 -o /dev/null 2>&1 | sed "s/^/$size: /" || true
 done

@@ -9,7 +9,7 @@ root=$PWD
 # In the dev profile, build as `cargo test` does (workspace libraries and tests, so features
 # resolve alike): the library `cargo test` compiled is reused, not compiled again.
 packages="-p;asperity-cxx"
-[ "$profile" = dev ] && packages="--workspace;--lib;--tests"
+[ "$profile" = dev ] && packages="--workspace;--lib;--tests;--features;asperity/cli"
 cmake -S cpp -B target/cpp-package -DASPERITY_PACKAGE=ON -DASPERITY_CARGO_PROFILE="$profile" \
   -DASPERITY_CARGO_PACKAGES="$packages" \
   -DCMAKE_INSTALL_PREFIX="$root/target/cpp-install" >/dev/null

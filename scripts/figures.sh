@@ -46,7 +46,7 @@ if [[ "${1:-}" == "--docs" ]]; then
   echo "figures: docs/figures.md (${#FIGURES[@]} figures)"
   exit 0
 fi
-cargo build --release -q
+cargo build --release -q --features cli
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 ./target/release/asperity demo --out "$work" --quiet

@@ -2,7 +2,7 @@
 # Refreshes the README gallery (docs/gallery/) from `asperity demo`'s pictures.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo build --release -q
+cargo build --release -q --features cli
 ./target/release/asperity demo --out target/gallery-demo --quiet
 mkdir -p docs/gallery
 for picture in noise-panel terrain-map terrain terrain-views terrain-dual terrain-smooth-map terrain-eroded clouds \

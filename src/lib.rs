@@ -30,3 +30,17 @@ pub mod terrain;
 
 pub use error::{Error, Location, Result};
 pub use mesh::{FaceId, Mesh, VertexId};
+
+/// Without the `cli` feature the integration tests (`tests/main.rs`, which drive the
+/// binary) are not built: `cargo test` alone would pass on the unit tests and say nothing.
+/// This one fails instead, saying how to run them all.
+#[cfg(all(test, not(feature = "cli")))]
+mod without_the_command_line {
+    #[test]
+    fn the_integration_tests_need_the_cli_feature() {
+        panic!(
+            "the integration tests (tests/main.rs) drive the command line, the `cli` feature: run `make test`, \
+             or `cargo test --features cli`"
+        );
+    }
+}
