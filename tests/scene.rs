@@ -133,3 +133,26 @@ fn the_water_pass_shows_the_ground_through_shallow_water_and_the_sky_at_grazing_
     };
     assert!(mean(&grazing) > mean(&steep) + 40.0, "the sky reflects at grazing angles");
 }
+
+/// The generators' requests (#38) read strictly, and their rules hold in the library, not
+/// only behind the command line's flags.
+#[test]
+fn the_generators_requests_are_strict_and_checked_in_the_library() {
+    use asperity::scene::flora::{FloraPreset, FloraRequest};
+    use asperity::scene::water::WaterRequest;
+    let water: WaterRequest = serde_json::from_str(r#"{"level": 0.5, "frames": 3}"#).unwrap();
+    assert_eq!((water.level, water.frames, water.cells), (0.5, 3, WaterRequest::default().cells));
+    assert!(serde_json::from_str::<WaterRequest>(r#"{"level": 0.5, "frame": 3}"#).is_err());
+    let no_frames = WaterRequest { frames: 0, ..WaterRequest::default() };
+    assert!(no_frames.check().unwrap_err().to_string().contains("1 to 1000 frames"));
+    let terrain = asperity::mesh::primitives::grid(8);
+    let request = WaterRequest { level: 0.1, frames: 2, cells: 16, ..WaterRequest::default() };
+    let (params, frames) = request.frames_over(&terrain, 12.0).unwrap();
+    assert_eq!(frames.len(), 2);
+    assert!(frames[0].positions.iter().all(|p| (p.z - params.level).abs() < 1.0));
+    let neither = FloraRequest::default().plant().unwrap_err().to_string();
+    assert!(neither.contains("a preset or from rules"), "{neither}");
+    let palm = FloraRequest { preset: Some(FloraPreset::Palm), ..FloraRequest::default() };
+    assert_eq!(palm.source(), "palm");
+    assert!(!palm.plant().unwrap().nodes.is_empty());
+}

@@ -32,6 +32,10 @@ pub struct DetailArgs {
     allow_self_intersections: bool,
     #[command(flatten)]
     hierarchy: HierarchyRequest,
+    /// Test each level's new faces for self-intersections even where the recipe's
+    /// [hierarchy] table turns the test off (intersection_guard = false).
+    #[arg(long = "intersection-guard", conflicts_with = "intersection_guard")]
+    intersection_guard_on: bool,
     /// Allow the output to overwrite the input.
     #[arg(long)]
     force: bool,
@@ -49,7 +53,11 @@ pub fn run(args: DetailArgs, ctx: super::Context) -> Result<()> {
         None => Recipe::default(),
     };
     let (mesh, repair) = mesh_or_builtin(&args.input, args.repair, ctx)?;
-    let simplify = args.hierarchy.options_over(&recipe.hierarchy, mesh.vertex_count(), false, Spelling::Flag)?;
+    let mut request = args.hierarchy.clone();
+    if args.intersection_guard_on {
+        request.intersection_guard = Some(true);
+    }
+    let simplify = request.options_over(&recipe.hierarchy, mesh.vertex_count(), false, Spelling::Flag)?;
     let hierarchy = ctx
         .spin("simplify", "building the 4-k hierarchy", || build(&mesh, &simplify))
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;

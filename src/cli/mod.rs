@@ -377,6 +377,10 @@ mod request_defaults {
     use crate::hierarchy::{CompareRequest, HierarchyRequest};
     use crate::noise::NoiseRequest;
     use crate::render::RenderRequest;
+    use crate::scene::butterflies::ButterflyParams;
+    use crate::scene::compose::SceneParams;
+    use crate::scene::menger::MengerRequest;
+    use crate::scene::smoke::SmokeParams;
     use crate::terrain::{CloudRequest, TerrainRequest};
 
     /// A request as the command line reads it when none of its flags is given.
@@ -396,5 +400,9 @@ mod request_defaults {
         assert_eq!(without_flags::<CompareRequest>(), CompareRequest::default());
         assert_eq!(without_flags::<RenderRequest>(), RenderRequest::default());
         assert_eq!(without_flags::<TerrainRequest>(), TerrainRequest::default());
+        assert_eq!(without_flags::<SmokeParams>(), SmokeParams::default());
+        assert_eq!(without_flags::<ButterflyParams>(), ButterflyParams::default());
+        assert_eq!(without_flags::<SceneParams>(), SceneParams::default());
+        assert_eq!(without_flags::<MengerRequest>(), MengerRequest::default());
     }
 }

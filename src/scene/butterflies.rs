@@ -13,24 +13,35 @@ use crate::error::{Error, Result};
 use crate::mesh::{Mesh, Rgb};
 use crate::noise::hash::{Stream, derive_seed};
 
-/// Parameters of a flight.
+/// Parameters of a flight: the request `asperity butterflies` flattens into its flags
+/// (#38), checked when the butterflies fly.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
 pub struct ButterflyParams {
     /// Seed.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 0))]
     pub seed: u64,
     /// Butterflies.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = ButterflyParams::default().count))]
     pub count: usize,
-    /// Steps simulated.
+    /// Steps simulated (one keyframe each).
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = ButterflyParams::default().steps))]
     pub steps: usize,
-    /// A butterfly's step length (unit-cube units).
+    /// A butterfly's step length, in units of the unit cube they fly in.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = ButterflyParams::default().speed))]
     pub speed: f64,
     /// The target's random-walk step length.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = ButterflyParams::default().wander))]
     pub wander: f64,
-    /// Distance at which the target counts as caught.
+    /// Distance at which a target counts as caught.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = ButterflyParams::default().catch_radius))]
     pub catch_radius: f64,
     /// Wing turn per step, degrees.
+    #[cfg_attr(feature = "cli", arg(long = "flap", value_name = "FLAP", default_value_t = ButterflyParams::default().flap_deg))]
     pub flap_deg: f64,
     /// Wings turn between −limit and +limit, degrees.
+    #[cfg_attr(feature = "cli", arg(long = "flap-limit", value_name = "FLAP_LIMIT", default_value_t = ButterflyParams::default().flap_limit_deg))]
     pub flap_limit_deg: f64,
 }
 
@@ -159,7 +170,13 @@ pub fn fly(params: &ButterflyParams) -> Result<Vec<Flight>> {
 }
 
 /// One flight from `start` chasing a target first at `target`.
-pub fn fly_one(params: &ButterflyParams, colouring: Colouring, start: DVec3, target: DVec3, draw: &mut Stream) -> Flight {
+pub fn fly_one(
+    params: &ButterflyParams,
+    colouring: Colouring,
+    start: DVec3,
+    target: DVec3,
+    draw: &mut Stream,
+) -> Flight {
     let mut flight = Flight {
         colouring,
         positions: vec![start],

@@ -4,7 +4,7 @@
 //! glTF animation, all from one seed.
 
 use glam::{DQuat, DVec2, DVec3};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::butterflies::{ButterflyParams, Flight, body_mesh, fly, wing_mesh};
 use super::cabin::cabin;
@@ -17,28 +17,41 @@ use crate::mesh::Mesh;
 use crate::noise::hash::{Stream, derive_seed};
 use crate::terrain::{Method, Palette, Rect, TerrainParams, ramp_color};
 
-/// Parameters of the scene.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+/// Parameters of the scene: the request `asperity scene` flattens into its flags (#38;
+/// the extent and relief are the library's alone), checked by [`compose`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
 pub struct SceneParams {
     /// Seed of everything.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 0))]
     pub seed: u64,
-    /// Terrain grid points per side, 2ⁿ + 1.
+    /// Terrain grid points per side, 2^n + 1.
+    #[cfg_attr(feature = "cli", arg(long = "size", value_name = "SIZE", default_value_t = SceneParams::default().terrain_size))]
     pub terrain_size: u64,
     /// Terrain side length, world units (metres).
+    #[cfg_attr(feature = "cli", arg(skip = SceneParams::default().extent))]
     pub extent: f64,
     /// Height from the lowest to the highest terrain point.
+    #[cfg_attr(feature = "cli", arg(skip = SceneParams::default().relief))]
     pub relief: f64,
-    /// Share of the terrain's points under the sea.
+    /// Share of the terrain under the sea (0 to 1).
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = SceneParams::default().sea_fraction))]
     pub sea_fraction: f64,
     /// Trees wanted (fewer where land is scarce).
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = SceneParams::default().trees))]
     pub trees: usize,
     /// Steepest ground a tree stands on, degrees.
+    #[cfg_attr(feature = "cli", arg(long = "max-slope", value_name = "MAX_SLOPE", default_value_t = SceneParams::default().max_slope_deg))]
     pub max_slope_deg: f64,
     /// Animation frames (water and smoke meshes; butterfly keys between them).
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = SceneParams::default().frames))]
     pub frames: usize,
     /// Frames per second.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = SceneParams::default().fps))]
     pub fps: f64,
     /// Butterflies.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = SceneParams::default().butterflies))]
     pub butterflies: usize,
 }
 
@@ -167,7 +180,14 @@ pub fn compose(params: &SceneParams) -> Result<Scene> {
                         .map(|&(preset, k)| plant(&preset.rules(), params.seed.wrapping_add(k), 8).map(|p| p.mesh()))
                         .collect::<Result<Vec<_>>>()
                 },
-                || smoke_frames(SmokeParams { seed: params.seed, resolution: 40, ..SmokeParams::default() }, 40, 1, frames),
+                || {
+                    smoke_frames(
+                        SmokeParams { seed: params.seed, resolution: 40, ..SmokeParams::default() },
+                        40,
+                        1,
+                        frames,
+                    )
+                },
             )
         },
         || {
@@ -184,7 +204,12 @@ pub fn compose(params: &SceneParams) -> Result<Scene> {
                 },
                 || {
                     let steps = (frames.max(2) - 1) * BUTTERFLY_STEPS_PER_FRAME;
-                    fly(&ButterflyParams { seed: params.seed, count: params.butterflies.max(1), steps, ..Default::default() })
+                    fly(&ButterflyParams {
+                        seed: params.seed,
+                        count: params.butterflies.max(1),
+                        steps,
+                        ..Default::default()
+                    })
                 },
             )
         },
@@ -277,7 +302,8 @@ fn cabin_site(terrain: &Mesh, slopes: &[f64], sea: f64, params: &SceneParams) ->
     let middle = DVec2::splat(params.extent / 2.0);
     let land: Vec<usize> = (0..terrain.vertex_count()).filter(|&v| terrain.positions[v].z > sea + 2.0).collect();
     let margin = 0.1 * params.extent;
-    let inside = |p: DVec3| p.x > margin && p.y > margin && p.x < params.extent - margin && p.y < params.extent - margin;
+    let inside =
+        |p: DVec3| p.x > margin && p.y > margin && p.x < params.extent - margin && p.y < params.extent - margin;
     let best = land
         .iter()
         .copied()
@@ -287,8 +313,9 @@ fn cabin_site(terrain: &Mesh, slopes: &[f64], sea: f64, params: &SceneParams) ->
             d(a).total_cmp(&d(b)).then(a.cmp(&b))
         })
         .or_else(|| land.iter().copied().min_by(|&a, &b| slopes[a].total_cmp(&slopes[b]).then(a.cmp(&b))));
-    best.map(|v| terrain.positions[v])
-        .ok_or_else(|| Error::InvalidInput("the terrain has no land 2 m above the sea for the cabin: lower the sea fraction".into()))
+    best.map(|v| terrain.positions[v]).ok_or_else(|| {
+        Error::InvalidInput("the terrain has no land 2 m above the sea for the cabin: lower the sea fraction".into())
+    })
 }
 
 /// Plants on a jittered grid of candidate spots, kept where the ground is above the sea
@@ -344,7 +371,8 @@ impl Scene {
         doc.add_node(SceneNode::new("terrain", Some(terrain)), None);
         let cabin = doc.add_mesh(&self.cabin, "cabin", None);
         doc.add_node(SceneNode::new("cabin", Some(cabin)), None);
-        let plants: Vec<usize> = self.plants.iter().enumerate().map(|(k, m)| doc.add_mesh(m, format!("plant_{k}"), None)).collect();
+        let plants: Vec<usize> =
+            self.plants.iter().enumerate().map(|(k, m)| doc.add_mesh(m, format!("plant_{k}"), None)).collect();
         let flora = doc.add_node(SceneNode::new("flora", None), None);
         for (k, p) in self.placements.iter().enumerate() {
             let mut node = SceneNode::new(format!("plant_{k:03}"), Some(plants[p.variant]));
@@ -355,9 +383,10 @@ impl Scene {
         }
         // The floor is the same under every frame, so is each vertex's depth and opacity.
         let clarity = self.params.water_clarity();
-        let alpha: Vec<f32> = self.water.first().map_or_else(Vec::new, |m| {
-            m.scalars["depth"].iter().map(|&d| opacity(d, clarity) as f32).collect()
-        });
+        let alpha: Vec<f32> = self
+            .water
+            .first()
+            .map_or_else(Vec::new, |m| m.scalars["depth"].iter().map(|&d| opacity(d, clarity) as f32).collect());
         let water: Vec<Option<usize>> = self
             .water
             .iter()
@@ -427,7 +456,13 @@ impl Scene {
 /// Adds `flights` (in the unit cube, mapped onto `region`) as animated nodes, one key per
 /// step at `rate` steps per second: a body node moving and turning, with two wing nodes
 /// flapping about its axis.
-pub fn add_butterflies(doc: &mut GlbScene<'_>, flights: &[Flight], region: (DVec3, DVec3), rate: f64, parent: Option<usize>) {
+pub fn add_butterflies(
+    doc: &mut GlbScene<'_>,
+    flights: &[Flight],
+    region: (DVec3, DVec3),
+    rate: f64,
+    parent: Option<usize>,
+) {
     if flights.is_empty() {
         return;
     }
@@ -443,7 +478,10 @@ pub fn add_butterflies(doc: &mut GlbScene<'_>, flights: &[Flight], region: (DVec
         };
         let (left, right) = *wing_meshes[look].get_or_insert_with(|| {
             let wings = &WINGS[look];
-            (doc.add_mesh(&wings.0, format!("wing_left_{look}"), None), doc.add_mesh(&wings.1, format!("wing_right_{look}"), None))
+            (
+                doc.add_mesh(&wings.0, format!("wing_left_{look}"), None),
+                doc.add_mesh(&wings.1, format!("wing_right_{look}"), None),
+            )
         });
         let node = doc.add_node(SceneNode::new(format!("butterfly_{i}"), Some(body)), Some(group));
         let left = doc.add_node(SceneNode::new(format!("butterfly_{i}_left"), Some(left)), Some(node));

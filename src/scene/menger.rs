@@ -6,6 +6,7 @@
 
 use glam::DVec3;
 use rustc_hash::FxHashMap;
+use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
@@ -32,6 +33,38 @@ pub fn is_solid(mut x: u32, mut y: u32, mut z: u32) -> bool {
 /// sides see 8ⁿ per tunnel-free column pattern, summed).
 pub fn square_count(level: u32) -> u64 {
     2 * 20u64.pow(level) + 4 * 8u64.pow(level)
+}
+
+/// The Menger sponge request (#38): what `asperity menger` asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
+pub struct MengerRequest {
+    /// Recursion level (0 is the cube).
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(0..=i64::from(MAX_LEVEL)))
+    )]
+    pub level: u32,
+    /// Edge length of the whole sponge, centred at the origin.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 1.0))]
+    pub edge: f64,
+}
+
+impl Default for MengerRequest {
+    fn default() -> Self {
+        MengerRequest { level: 3, edge: 1.0 }
+    }
+}
+
+impl MengerRequest {
+    /// The sponge ([`menger_sponge`]).
+    ///
+    /// # Errors
+    /// As [`menger_sponge`].
+    pub fn sponge(&self) -> Result<Mesh> {
+        menger_sponge(self.level, self.edge)
+    }
 }
 
 /// The level-`level` sponge with edge length `edge`, centred at the origin: every square

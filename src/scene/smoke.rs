@@ -22,30 +22,44 @@ use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::noise::hash::{Stream, derive_seed};
 
-/// Parameters of the smoke plume.
+/// Parameters of the smoke plume: the request `asperity smoke` flattens into its flags
+/// (#38), checked by [`SmokeParams::check`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
 pub struct SmokeParams {
     /// Seed of the emission points and the vector field.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 0))]
     pub seed: u64,
     /// Particles per batch.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = SmokeParams::default().batch))]
     pub batch: usize,
     /// Steps between batches.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = SmokeParams::default().emit_every))]
     pub emit_every: usize,
-    /// Time step Δt.
+    /// Time step Δt of forward Euler.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = SmokeParams::default().dt))]
     pub dt: f64,
-    /// Cells of the vector field's lattice per side of the unit cube.
+    /// Cells of the random vector field's lattice per side of the unit cube.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = SmokeParams::default().field_cells))]
     pub field_cells: usize,
-    /// Largest |x| and |y| of the field's vectors.
+    /// Largest sideways component (|x|, |y|) of the field's vectors.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = SmokeParams::default().swirl))]
     pub swirl: f64,
     /// The field's fixed upward component.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = SmokeParams::default().rise))]
     pub rise: f64,
-    /// Half-width of the square of the xy-plane, centred at (½, ½), where particles start.
+    /// Half-width of the emission square on the xy-plane, around (½, ½).
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = SmokeParams::default().spread))]
     pub spread: f64,
-    /// Radius R of a lone particle's blob.
+    /// Radius R of one particle's blob.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = SmokeParams::default().radius))]
     pub radius: f64,
     /// Blinn's blobbiness B (larger: blobs reach less far and merge less).
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = SmokeParams::default().blobbiness))]
     pub blobbiness: f64,
     /// Grid points per unit length of the marching-tetrahedra grid.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = SmokeParams::default().resolution))]
     pub resolution: usize,
 }
 
@@ -155,7 +169,13 @@ impl ParticleSystem {
         let mut draw = Stream::new(derive_seed(params.seed, "smoke field"));
         let cells = params.field_cells.pow(3);
         let field = (0..cells)
-            .map(|_| DVec3::new(draw.uniform(-params.swirl, params.swirl), draw.uniform(-params.swirl, params.swirl), params.rise))
+            .map(|_| {
+                DVec3::new(
+                    draw.uniform(-params.swirl, params.swirl),
+                    draw.uniform(-params.swirl, params.swirl),
+                    params.rise,
+                )
+            })
             .collect();
         Ok(ParticleSystem {
             params,
@@ -241,7 +261,8 @@ pub fn metaball_surface(centres: &[DVec3], params: &SmokeParams) -> Result<(Mesh
     let mut cubes = Vec::new();
     for &c in centres {
         let first = ((c - reach - origin) / spacing).floor().max(DVec3::ZERO).as_uvec3();
-        let last = ((c + reach - origin) / spacing).ceil().as_uvec3().min(glam::UVec3::from_array(dims.map(|d| d as u32 - 1)));
+        let last =
+            ((c + reach - origin) / spacing).ceil().as_uvec3().min(glam::UVec3::from_array(dims.map(|d| d as u32 - 1)));
         for z in first.z..=last.z {
             for y in first.y..=last.y {
                 for x in first.x..=last.x {

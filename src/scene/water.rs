@@ -132,6 +132,90 @@ pub struct WaterParams {
     pub clarity: f64,
 }
 
+/// The water request (#38): what `asperity water` asks for over a terrain, in the
+/// terrain's units where it says so and as shares of the terrain's larger side otherwise.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
+pub struct WaterRequest {
+    /// Sea level (z, in the terrain's units).
+    #[cfg_attr(feature = "cli", arg(long, allow_negative_numbers = true))]
+    pub level: f64,
+    /// Grid cells along the terrain's longer side.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = WaterRequest::default().cells))]
+    pub cells: usize,
+    /// Directional waves summed.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = WaterRequest::default().waves))]
+    pub waves: usize,
+    /// Seed of the waves' directions, lengths and phases.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 0))]
+    pub seed: u64,
+    /// Depth at which the water's opacity has risen by 1 − 1/e, as a fraction of the
+    /// terrain's larger side.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = WaterRequest::default().clarity))]
+    pub clarity: f64,
+    /// Frames written.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = WaterRequest::default().frames))]
+    pub frames: usize,
+}
+
+impl Default for WaterRequest {
+    fn default() -> Self {
+        WaterRequest { level: 0.0, cells: 128, waves: 4, seed: 0, clarity: 0.02, frames: 24 }
+    }
+}
+
+impl WaterRequest {
+    /// The most water vertices over all frames.
+    pub const MAX_VERTICES: usize = 1 << 25;
+
+    /// The request's own rules: 1 to 1000 frames and at most 64 waves.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] naming the rule.
+    pub fn check(&self) -> Result<()> {
+        if !(1..=1000).contains(&self.frames) || self.waves > 64 {
+            return Err(Error::InvalidInput("water: 1 to 1000 frames and at most 64 waves".into()));
+        }
+        Ok(())
+    }
+
+    /// The surface's parameters over a terrain whose larger side is `extent` long.
+    pub fn params(&self, extent: f64) -> WaterParams {
+        WaterParams {
+            level: self.level,
+            cells: self.cells,
+            waves: waves_from_seed(self.seed, self.waves, extent),
+            clarity: self.clarity * extent,
+        }
+    }
+
+    /// The water's frames over `terrain` at `fps` (its floor sampled once), refused before
+    /// they are made when they would exceed [`WaterRequest::MAX_VERTICES`].
+    ///
+    /// # Errors
+    /// A rule of [`WaterRequest::check`]; a terrain without vertices or one the water
+    /// cannot lie on ([`water_floor`]); too many vertices.
+    pub fn frames_over(&self, terrain: &Mesh, fps: f64) -> Result<(WaterParams, Vec<Mesh>)> {
+        self.check()?;
+        let (lo, hi) =
+            terrain.bounding_box().ok_or_else(|| Error::InvalidInput("the terrain has no vertices".into()))?;
+        let params = self.params((hi - lo).truncate().max_element());
+        let floor = water_floor(terrain, &params)?;
+        let vertices = floor.point_count() * self.frames;
+        if vertices > Self::MAX_VERTICES {
+            return Err(Error::InvalidInput(format!(
+                "water: {} frames of {} vertices exceed {} vertices: lower --cells or --frames",
+                self.frames,
+                floor.point_count(),
+                Self::MAX_VERTICES
+            )));
+        }
+        let frames = (0..self.frames).map(|k| surface_on(&floor, &params, k as f64 / fps)).collect();
+        Ok((params, frames))
+    }
+}
+
 /// Colours of shallow and deep water.
 const SHALLOW: [f64; 3] = [70.0, 170.0, 175.0];
 const DEEP: [f64; 3] = [18.0, 55.0, 120.0];
@@ -162,9 +246,10 @@ pub fn water_floor(terrain: &Mesh, params: &WaterParams) -> Result<Floor> {
     if params.waves.iter().any(|w| !(w.wavelength > 0.0 && w.wavelength.is_finite() && w.amplitude.is_finite())) {
         return Err(Error::InvalidInput("waves need a positive wavelength and a finite amplitude".into()));
     }
-    let (lo, hi) = terrain.bounding_box().filter(|_| !terrain.triangles.is_empty()).ok_or_else(|| {
-        Error::InvalidInput("the terrain has no faces to put water over".into())
-    })?;
+    let (lo, hi) = terrain
+        .bounding_box()
+        .filter(|_| !terrain.triangles.is_empty())
+        .ok_or_else(|| Error::InvalidInput("the terrain has no faces to put water over".into()))?;
     let size = (hi - lo).truncate();
     if !(size.x > 0.0 && size.y > 0.0) {
         return Err(Error::InvalidInput("the terrain has no extent in x and y to put water over".into()));

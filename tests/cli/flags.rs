@@ -24,7 +24,11 @@ struct Case {
 
 /// Flags whose effect is not in the output, with the test that checks what they do.
 const EXEMPT: [(&str, &str, &str); 7] = [
-    ("render", "--texture", "needs a mesh with UVs and a PNG: `uv::the_command_line_keeps_uvs_through_simplify_and_draws_them`"),
+    (
+        "render",
+        "--texture",
+        "needs a mesh with UVs and a PNG: `uv::the_command_line_keeps_uvs_through_simplify_and_draws_them`",
+    ),
     ("demo", "--out", "slow; `demo_writes_its_meshes` checks the folder it names"),
     (
         "terrain",
@@ -96,6 +100,9 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     add("detail", "--removal-weight", &d, &["--removal-weight", "0.1"]);
     add("detail", "--swap-weight", &d, &["--swap-weight", "3"]);
     add("detail", "--no-intersection-guard", &d, &["--no-intersection-guard"]);
+    // The guard turned back on over a recipe's table that turns it off.
+    let du = ["detail", &eight, "-o", "d.ply", "--recipe", "unguarded.toml"];
+    add("detail", "--intersection-guard", &du, &["--intersection-guard"]);
     let df = ["detail", &fandisk, "-o", "d.ply", "--recipe", "relief.toml", "--target-vertices", "400"];
     add("detail", "--keep-features", &df, &["--keep-features", "none"]);
     add("detail", "--feature-vertices", &df, &["--feature-vertices", "keep"]);
@@ -152,7 +159,8 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     add("refine", "--keep-features", &rff, &["--keep-features", "none"]);
     add("refine", "--feature-vertices", &rff, &["--feature-vertices", "keep"]);
     // seed 002's generators
-    let rules = |name: &str| Path::new(env!("CARGO_MANIFEST_DIR")).join("src/scene/flora").join(name).display().to_string();
+    let rules =
+        |name: &str| Path::new(env!("CARGO_MANIFEST_DIR")).join("src/scene/flora").join(name).display().to_string();
     let (palm_rules, flower_rules) = (rules("palm.toml"), rules("flower.toml"));
     let b = ["butterflies", "--count", "2", "--steps", "20", "-o", "b.glb"];
     add("butterflies", "--count", &b, &["--count", "3"]);
@@ -160,7 +168,12 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     add("butterflies", "--seed", &b, &["--seed", "1"]);
     add("butterflies", "--speed", &b, &["--speed", "0.02"]);
     add("butterflies", "--wander", &b, &["--wander", "0.05"]);
-    add("butterflies", "--catch-radius", &["butterflies", "--count", "2", "--steps", "400", "-o", "b.glb"], &["--catch-radius", "0.1"]);
+    add(
+        "butterflies",
+        "--catch-radius",
+        &["butterflies", "--count", "2", "--steps", "400", "-o", "b.glb"],
+        &["--catch-radius", "0.1"],
+    );
     add("butterflies", "--flap", &b, &["--flap", "5"]);
     add("butterflies", "--flap-limit", &b, &["--flap-limit", "30"]);
     add("butterflies", "--fps", &b, &["--fps", "24"]);
@@ -188,7 +201,12 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     add("smoke", "--seed", &k, &["--seed", "1"]);
     add("smoke", "--frames", &k, &["--frames", "2"]);
     add("smoke", "--warmup", &k, &["--warmup", "30"]);
-    add("smoke", "--steps-per-frame", &["smoke", "--frames", "2", "--resolution", "24", "-o", "k.glb"], &["--steps-per-frame", "3"]);
+    add(
+        "smoke",
+        "--steps-per-frame",
+        &["smoke", "--frames", "2", "--resolution", "24", "-o", "k.glb"],
+        &["--steps-per-frame", "3"],
+    );
     add("smoke", "--fps", &["smoke", "--frames", "2", "--resolution", "24", "-o", "k.glb"], &["--fps", "24"]);
     add("smoke", "--batch", &k, &["--batch", "3"]);
     add("smoke", "--emit-every", &k, &["--emit-every", "3"]);
@@ -210,7 +228,12 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     add("water", "--clarity", &w, &["--clarity", "0.5"]);
     add("water", "--frames", &w, &["--frames", "3"]);
     add("water", "--fps", &w, &["--fps", "30"]);
-    add("water", "--ascii", &["water", &eight, "--level", "0", "--frames", "1", "--cells", "16", "-o", "w.ply"], &["--ascii"]);
+    add(
+        "water",
+        "--ascii",
+        &["water", &eight, "--level", "0", "--frames", "1", "--cells", "16", "-o", "w.ply"],
+        &["--ascii"],
+    );
     // simplify
     let s = ["simplify", &eight, "-o", "s.ply"];
     add("simplify", "--target-vertices", &s, &["--target-vertices", "100"]);
@@ -261,7 +284,8 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     add("terrain", "--dissolving", &rained, &["--dissolving", "0.8"]);
     add("terrain", "--deposition", &rained, &["--deposition", "0.8"]);
     add("terrain", "--time-step", &rained, &["--time-step", "0.1"]);
-    let rained_heightmap = ["terrain", "--size", "33", "-o", "t.png", "--erode", "hydraulic", "--erode-iterations", "10"];
+    let rained_heightmap =
+        ["terrain", "--size", "33", "-o", "t.png", "--erode", "hydraulic", "--erode-iterations", "10"];
     add("terrain", "--layers", &rained_heightmap, &["--layers", "flow"]);
     add("terrain", "--preset", &["terrain", "--size", "33", "-o", "t.raw"], &["--preset", "unity"]);
     add("terrain", "--sidecar", &["terrain", "--size", "33", "-o", "t.png"], &["--sidecar"]);
@@ -344,7 +368,10 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
         ("convert", owned(&["convert", &broken, "v.off"])),
         ("detail", owned(&["detail", &broken, "-o", "d.ply"])),
         ("info", owned(&["info", &broken, "--json"])),
-        ("refine", owned(&["refine", &broken, "--region", "box = { min = [0, 0, 0], max = [1, 1, 1] }", "-o", "rf.ply"])),
+        (
+            "refine",
+            owned(&["refine", &broken, "--region", "box = { min = [0, 0, 0], max = [1, 1, 1] }", "-o", "rf.ply"]),
+        ),
         // The picture of a repaired mesh can look the same: the report says what changed.
         ("render", owned(&["render", &broken, "-o", "r.png", "--size", "64,48", "--json"])),
         ("simplify", owned(&["simplify", &broken, "-o", "s.ply"])),
@@ -355,7 +382,10 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
         ("analyze", owned(&["analyze", "in.ply", "-o", "in.ply"])),
         ("convert", owned(&["convert", "in.ply", "in.ply"])),
         ("detail", owned(&["detail", "in.ply", "-o", "in.ply"])),
-        ("refine", owned(&["refine", "in.ply", "--region", "box = { min = [0, 0, 0], max = [1, 1, 1] }", "-o", "in.ply"])),
+        (
+            "refine",
+            owned(&["refine", "in.ply", "--region", "box = { min = [0, 0, 0], max = [1, 1, 1] }", "-o", "in.ply"]),
+        ),
         ("simplify", owned(&["simplify", "in.ply", "-o", "in.ply"])),
     ] {
         fixes(sub, "--force", base);
@@ -378,6 +408,8 @@ fn run(args: &[String], meshes: &Path) -> Outcome {
     let relief = "seed = 3\n\n[[step]]\nop = \"noise\"\nlevel = -1\n\
                   noise = { kind = \"fbm\", amplitude = 0.4, frequency = 12.0, attenuate = false }\n";
     std::fs::write(dir.path().join("relief.toml"), relief).unwrap();
+    let unguarded = format!("{relief}\n[hierarchy]\nintersection_guard = false\n");
+    std::fs::write(dir.path().join("unguarded.toml"), unguarded).unwrap();
     std::fs::copy(meshes.join("eight.off"), dir.path().join("in.ply.off")).unwrap();
     let eight = asperity::io::read(&meshes.join("eight.off")).unwrap().mesh;
     asperity::io::write(&eight, &dir.path().join("in.ply"), Default::default()).unwrap();
@@ -400,6 +432,7 @@ fn run(args: &[String], meshes: &Path) -> Outcome {
         }
     }
     files.remove(Path::new("relief.toml"));
+    files.remove(Path::new("unguarded.toml"));
     files.remove(Path::new("in.ply.off"));
     let report = args.iter().any(|a| a == "--json").then(|| {
         let mut value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap_or(serde_json::Value::Null);

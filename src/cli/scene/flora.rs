@@ -8,23 +8,13 @@ use clap::Args;
 
 use crate::error::Result;
 use crate::io::WriteOptions;
-use crate::scene::flora::{FloraPreset, FloraRules, plant};
+use crate::scene::flora::FloraRequest;
 
-/// The subcommand's flags.
+/// The subcommand's flags: the plant's request and where it goes.
 #[derive(Debug, Args)]
 pub struct FloraArgs {
-    /// A preset from seed 002: a cottonwood-like tree, a palm (a chain) or a flower.
-    #[arg(long, required_unless_present = "rules", conflicts_with = "rules")]
-    preset: Option<FloraPreset>,
-    /// Rules as TOML (the presets' format: src/scene/flora/*.toml).
-    #[arg(long)]
-    rules: Option<PathBuf>,
-    /// Seed of the productions and annotations.
-    #[arg(long, default_value_t = 0)]
-    seed: u64,
-    /// Vertices around each branch ring (3 to 64).
-    #[arg(long, default_value_t = 8)]
-    sides: u32,
+    #[command(flatten)]
+    plant: FloraRequest,
     /// Output mesh; the format follows the extension.
     #[arg(short, long)]
     output: PathBuf,
@@ -37,24 +27,16 @@ pub struct FloraArgs {
 pub fn run(args: FloraArgs, ctx: super::super::Context) -> Result<()> {
     let start = Instant::now();
     super::super::refuse_ascii_for(&args.output, args.ascii)?;
-    let rules = match (&args.rules, args.preset) {
-        (Some(path), _) => FloraRules::read(path)?,
-        (None, Some(preset)) => preset.rules(),
-        (None, None) => unreachable!("clap requires one"),
-    };
-    let grown = plant(&rules, args.seed, args.sides)?;
+    let grown = args.plant.plant()?;
     let mesh = grown.mesh();
     crate::io::write(&mesh, &args.output, WriteOptions { ascii: args.ascii })?;
     let leaves = grown.nodes.iter().filter(|n| n.children.is_empty()).count();
-    let source = args
-        .rules
-        .as_ref()
-        .map_or_else(|| format!("{:?}", args.preset.expect("a preset")).to_lowercase(), |p| p.display().to_string());
+    let source = args.plant.source();
     ctx.report(
         || {
             format!(
                 "flora: {source} seed {} => {} nodes ({} leaf clusters) => {} vertices, {} tris => {} in {} ms",
-                args.seed,
+                args.plant.seed,
                 grown.nodes.len(),
                 leaves,
                 mesh.vertex_count(),
@@ -65,7 +47,7 @@ pub fn run(args: FloraArgs, ctx: super::super::Context) -> Result<()> {
         },
         || {
             serde_json::json!({
-                "output": args.output, "rules": source, "seed": args.seed, "nodes": grown.nodes.len(),
+                "output": args.output, "rules": source, "seed": args.plant.seed, "nodes": grown.nodes.len(),
                 "leaf_nodes": leaves, "vertices": mesh.vertex_count(), "triangles": mesh.face_count(),
                 "seconds": start.elapsed().as_secs_f64(),
             })

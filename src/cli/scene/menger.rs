@@ -7,17 +7,13 @@ use clap::Args;
 
 use crate::error::Result;
 use crate::io::WriteOptions;
-use crate::scene::menger::{MAX_LEVEL, menger_sponge};
+use crate::scene::menger::MengerRequest;
 
-/// The subcommand's flags.
+/// The subcommand's flags: the sponge's request and where it goes.
 #[derive(Debug, Args)]
 pub struct MengerArgs {
-    /// Recursion level (0 is the cube).
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(0..=i64::from(MAX_LEVEL)))]
-    level: u32,
-    /// Edge length of the whole sponge, centred at the origin.
-    #[arg(long, default_value_t = 1.0)]
-    edge: f64,
+    #[command(flatten)]
+    sponge: MengerRequest,
     /// Output mesh; the format follows the extension.
     #[arg(short, long)]
     output: PathBuf,
@@ -30,14 +26,14 @@ pub struct MengerArgs {
 pub fn run(args: MengerArgs, ctx: super::super::Context) -> Result<()> {
     let start = Instant::now();
     super::super::refuse_ascii_for(&args.output, args.ascii)?;
-    let sponge = menger_sponge(args.level, args.edge)?;
+    let sponge = args.sponge.sponge()?;
     crate::io::write(&sponge, &args.output, WriteOptions { ascii: args.ascii })?;
     let report = sponge.validate();
     ctx.report(
         || {
             format!(
                 "menger: level {} => {} vertices, {} tris, genus {} => {} in {} ms",
-                args.level,
+                args.sponge.level,
                 sponge.vertex_count(),
                 sponge.face_count(),
                 report.genus.map_or("-".into(), |g| g.to_string()),
@@ -47,7 +43,7 @@ pub fn run(args: MengerArgs, ctx: super::super::Context) -> Result<()> {
         },
         || {
             serde_json::json!({
-                "output": args.output, "level": args.level, "edge": args.edge, "vertices": sponge.vertex_count(),
+                "output": args.output, "level": args.sponge.level, "edge": args.sponge.edge, "vertices": sponge.vertex_count(),
                 "triangles": sponge.face_count(), "genus": report.genus, "closed": report.is_closed_manifold(),
                 "seconds": start.elapsed().as_secs_f64(),
             })

@@ -9,33 +9,11 @@ use clap::Args;
 use crate::error::Result;
 use crate::scene::compose::{SceneParams, compose};
 
-/// The subcommand's flags.
+/// The subcommand's flags: the scene's parameters and where it goes.
 #[derive(Debug, Args)]
 pub struct SceneArgs {
-    /// Seed of everything.
-    #[arg(long, default_value_t = 0)]
-    seed: u64,
-    /// Terrain grid points per side, 2^n + 1.
-    #[arg(long, default_value_t = SceneParams::default().terrain_size)]
-    size: u64,
-    /// Share of the terrain under the sea (0 to 1).
-    #[arg(long, default_value_t = SceneParams::default().sea_fraction)]
-    sea_fraction: f64,
-    /// Trees wanted.
-    #[arg(long, default_value_t = SceneParams::default().trees)]
-    trees: usize,
-    /// Steepest ground a tree stands on, degrees.
-    #[arg(long, default_value_t = SceneParams::default().max_slope_deg)]
-    max_slope: f64,
-    /// Butterflies.
-    #[arg(long, default_value_t = SceneParams::default().butterflies)]
-    butterflies: usize,
-    /// Animation frames.
-    #[arg(long, default_value_t = SceneParams::default().frames)]
-    frames: usize,
-    /// Frames per second.
-    #[arg(long, default_value_t = SceneParams::default().fps)]
-    fps: f64,
+    #[command(flatten)]
+    params: SceneParams,
     /// Output .glb.
     #[arg(short, long)]
     output: PathBuf,
@@ -51,17 +29,7 @@ pub fn run(args: SceneArgs, ctx: super::super::Context) -> Result<()> {
     if let Some(preview) = &args.preview {
         super::super::require_extension(preview, &["png"])?;
     }
-    let params = SceneParams {
-        seed: args.seed,
-        terrain_size: args.size,
-        sea_fraction: args.sea_fraction,
-        trees: args.trees,
-        max_slope_deg: args.max_slope,
-        butterflies: args.butterflies,
-        frames: args.frames,
-        fps: args.fps,
-        ..SceneParams::default()
-    };
+    let params = args.params;
     let scene = compose(&params)?;
     let doc = scene.glb();
     crate::io::glb_scene::write_scene_glb(&doc, &args.output)?;
@@ -73,12 +41,12 @@ pub fn run(args: SceneArgs, ctx: super::super::Context) -> Result<()> {
         || {
             format!(
                 "scene: seed {} => terrain {}², sea level {:.2} m, {} plants, cabin, smoke, {} butterflies, {} frames ({} meshes, {} tris) => {}{} in {} ms",
-                args.seed,
-                args.size,
+                params.seed,
+                params.terrain_size,
                 scene.sea_level,
                 scene.placements.len(),
                 scene.flights.len(),
-                args.frames,
+                params.frames,
                 doc.meshes.len(),
                 triangles,
                 args.output.display(),

@@ -24,8 +24,65 @@ pub const MAX_NODES: usize = 200_000;
 /// The most leaves a plant may have.
 pub const MAX_LEAVES: usize = 4_000_000;
 
+/// The plant request (#38): what `asperity flora` asks for, a preset's rules or a rules
+/// file's, grown with a seed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
+pub struct FloraRequest {
+    /// A preset from seed 002: a cottonwood-like tree, a palm (a chain) or a flower.
+    #[cfg_attr(feature = "cli", arg(long, required_unless_present = "rules", conflicts_with = "rules"))]
+    pub preset: Option<FloraPreset>,
+    /// Rules as TOML (the presets' format: src/scene/flora/*.toml).
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub rules: Option<std::path::PathBuf>,
+    /// Seed of the productions and annotations.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 0))]
+    pub seed: u64,
+    /// Vertices around each branch ring (3 to 64).
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 8))]
+    pub sides: u32,
+}
+
+impl Default for FloraRequest {
+    fn default() -> Self {
+        FloraRequest { preset: None, rules: None, seed: 0, sides: 8 }
+    }
+}
+
+impl FloraRequest {
+    /// The rules grown: the rules file's, or the preset's.
+    ///
+    /// # Errors
+    /// Both or neither given; a rules file that cannot be read ([`FloraRules::read`]).
+    pub fn rules(&self) -> Result<FloraRules> {
+        match (&self.rules, self.preset) {
+            (Some(path), None) => FloraRules::read(path),
+            (None, Some(preset)) => Ok(preset.rules()),
+            _ => Err(Error::InvalidInput("a plant grows from a preset or from rules: give one".into())),
+        }
+    }
+
+    /// What the plant grows from, as the report names it: the rules file, or the preset.
+    pub fn source(&self) -> String {
+        match (&self.rules, self.preset) {
+            (Some(path), _) => path.display().to_string(),
+            (None, Some(preset)) => format!("{preset:?}").to_lowercase(),
+            (None, None) => String::new(),
+        }
+    }
+
+    /// The plant ([`plant`]).
+    ///
+    /// # Errors
+    /// As [`FloraRequest::rules`] and [`plant`].
+    pub fn plant(&self) -> Result<Plant> {
+        plant(&self.rules()?, self.seed, self.sides)
+    }
+}
+
 /// A named preset: the seed's cottonwood, palm and flower.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum FloraPreset {
