@@ -10,6 +10,7 @@ mod dual;
 pub mod erosion;
 pub mod hydraulic;
 pub mod mosaic;
+pub mod plan;
 pub mod presets;
 mod random;
 mod request;

@@ -14,24 +14,13 @@ use clap::{Args, Subcommand};
 use crate::error::{Error, Result};
 use crate::io::{self, WriteOptions, write_atomically};
 use crate::request::Spelling;
+use crate::terrain::plan::layer_path;
 use crate::terrain::sidecar::{HeightRange, Sidecar};
 use crate::terrain::stream::{LAYER_RANGE, StreamFormat, default_band, write_layer, write_terrain_observed};
 use crate::terrain::{
-    ErosionLayer, Rect, TerrainMethod, TerrainOutput, TerrainParams, TerrainRequest, TerrainSetup, TerrainTarget, mesh,
-    presets,
+    ErosionLayer, Rect, TerrainMethod, TerrainOutput, TerrainRequest, TerrainSetup, TerrainTarget, mesh, presets,
 };
 use preview::{PreviewSampler, write_preview};
-
-/// The file of `layer` beside the heightmap `output`: its name with `.LAYER` before the
-/// extension (`terrain.png` → `terrain.flow.png`).
-pub(crate) fn layer_path(output: &std::path::Path, layer: ErosionLayer) -> PathBuf {
-    let stem = output.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    let name = match output.extension() {
-        Some(ext) => format!("{stem}.{}.{}", layer.name(), ext.to_string_lossy()),
-        None => format!("{stem}.{}", layer.name()),
-    };
-    output.with_file_name(name)
-}
 
 /// The subcommand's flags (`TerrainArgs`).
 #[derive(Debug, Args)]
@@ -204,22 +193,14 @@ fn run_job(job: &Job, ctx: crate::cli::Context) -> Result<()> {
 /// setup ([`TerrainRequest::layout`]) and the files.
 #[derive(Debug)]
 pub(super) struct Setup {
-    params: TerrainParams,
-    /// The region written.
-    rect: Rect,
-    /// Points per side of the region the tiles are cut from (the grid, or a preset's window).
-    extent: u64,
+    /// What is generated: the parameters, region, range and layers.
+    terrain: TerrainSetup,
     /// The output file.
     output: PathBuf,
     /// A whole mesh (PLY, OBJ) or a streamable encoding.
     format: StreamFormat,
     whole_mesh: bool,
-    /// Heights mapped to 16 bits.
-    range: (f64, f64),
-    hurst: f64,
     sidecar: bool,
-    /// Erosion layers written beside the heightmap, each once, in the order asked.
-    layers: Vec<ErosionLayer>,
 }
 
 impl Setup {
@@ -274,7 +255,7 @@ impl Setup {
         if format == StreamFormat::Ply && points > i32::MAX as u64 {
             return Err(Error::InvalidInput(format!("{points} vertices exceed PLY's int indices: use --tile")));
         }
-        let TerrainSetup { params, rect, extent, hurst, layers, range } = layout.ready(&target, Spelling::Flag)?;
+        let terrain = layout.ready(&target, Spelling::Flag)?;
         let sidecar = job.sidecar || g.preset.is_some();
         if sidecar && std::fs::metadata(&output).is_ok_and(|m| !m.is_file()) {
             return Err(Error::InvalidInput(format!(
@@ -282,13 +263,13 @@ impl Setup {
                 output.display()
             )));
         }
-        Ok(Setup { params, rect, extent, output, format, whole_mesh, range, hurst, sidecar, layers })
+        Ok(Setup { terrain, output, format, whole_mesh, sidecar })
     }
 }
 
 /// Generates and writes the terrain `setup` describes, its preview and sidecar.
 fn generate(job: &Job, setup: &Setup, start: Instant, ctx: crate::cli::Context) -> Result<()> {
-    let (params, rect, output) = (&setup.params, setup.rect, &setup.output);
+    let (params, rect, output) = (&setup.terrain.params, setup.terrain.rect, &setup.output);
     let points = rect.width() as u64 * rect.height() as u64;
     let mut streamed_preview: Option<PreviewSampler> = None;
     let mut extremes = HeightRange { min: f64::INFINITY, max: f64::NEG_INFINITY };
@@ -301,10 +282,10 @@ fn generate(job: &Job, setup: &Setup, start: Instant, ctx: crate::cli::Context) 
         let band = if job.stream { job.band.unwrap_or_else(|| default_band(rect.width())) } else { rect.height() };
         // A file written whole takes its heights and every layer from one erosion run; a
         // streamed one runs it again per file, band by band, in bounded memory.
-        let known = match (setup.layers.is_empty(), job.stream) {
-            (false, false) => Some(
-                ctx.spin("terrain", "eroding", || crate::terrain::heights_and_layers(params, rect, &setup.layers))?,
-            ),
+        let known = match (setup.terrain.layers.is_empty(), job.stream) {
+            (false, false) => Some(ctx.spin("terrain", "eroding", || {
+                crate::terrain::heights_and_layers(params, rect, &setup.terrain.layers)
+            })?),
             _ => None,
         };
         let mut failure = None;
@@ -327,12 +308,12 @@ fn generate(job: &Job, setup: &Setup, start: Instant, ctx: crate::cli::Context) 
                     }
                 };
                 let known = known.as_ref().map(|(field, _)| field);
-                write_terrain_observed(params, rect, known, setup.format, setup.range, band, w, &mut observe)
+                write_terrain_observed(params, rect, known, setup.format, setup.terrain.range, band, w, &mut observe)
                     .map_err(|e| io_or_kept(e, &mut failure))
             })
         })
         .map_err(|e| failure.take().unwrap_or(e))?;
-        for (k, &layer) in setup.layers.iter().enumerate() {
+        for (k, &layer) in setup.terrain.layers.iter().enumerate() {
             let values = known.as_ref().map(|(_, layers)| &layers[k]);
             layer_files.push(write_layer_file(job, setup, layer, values, band)?);
         }
@@ -352,7 +333,7 @@ fn generate(job: &Job, setup: &Setup, start: Instant, ctx: crate::cli::Context) 
                 "terrain: {method} {}x{} (H {}, seed {}) => {}{layers} in {} ms ({:.1} M points/s)",
                 rect.width(),
                 rect.height(),
-                setup.hurst,
+                setup.terrain.hurst,
                 job.generation.seed,
                 output.display(),
                 crate::cli::millis(start),
@@ -362,7 +343,7 @@ fn generate(job: &Job, setup: &Setup, start: Instant, ctx: crate::cli::Context) 
         || {
             serde_json::json!({
                 "method": method, "output": output, "preview": job.preview, "sidecar": sidecar_path, "layers": layer_files,
-                "columns": rect.width(), "rows": rect.height(), "hurst": setup.hurst, "seed": job.generation.seed,
+                "columns": rect.width(), "rows": rect.height(), "hurst": setup.terrain.hurst, "seed": job.generation.seed,
                 "points": points, "seconds": seconds, "points_per_second": points as f64 / seconds.max(1e-9),
             })
         },
@@ -405,17 +386,17 @@ fn write_layer_file(
 ) -> Result<PathBuf> {
     let path = layer_path(&setup.output, layer);
     let mut extremes = HeightRange { min: f64::INFINITY, max: f64::NEG_INFINITY };
-    let rect = setup.rect;
+    let rect = setup.terrain.rect;
     let mut failure = None;
     write_atomically(&path, |w| {
         let mut observe =
             |field: &crate::terrain::Heightfield, y0: u64, y1: u64| widen(&mut extremes, field, rect, y0, y1);
-        write_layer(&setup.params, rect, layer, values, setup.format, band, w, &mut observe)
+        write_layer(&setup.terrain.params, rect, layer, values, setup.format, band, w, &mut observe)
             .map_err(|e| io_or_kept(e, &mut failure))
     })
     .map_err(|e| failure.take().unwrap_or(e))?;
     if setup.sidecar {
-        let mut sidecar = Sidecar::new(&setup.params, rect, setup.format, LAYER_RANGE, extremes);
+        let mut sidecar = Sidecar::new(&setup.terrain.params, rect, setup.format, LAYER_RANGE, extremes);
         sidecar.file = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
         sidecar.bytes = io::written_size(&path)?;
         sidecar.plan = job.plan.clone();
@@ -428,7 +409,8 @@ fn write_layer_file(
 
 /// Writes OUTPUT.json beside the heightmap (after it: a sidecar means the file is complete).
 fn write_sidecar(job: &Job, setup: &Setup, heights: HeightRange) -> Result<PathBuf> {
-    let mut sidecar = Sidecar::new(&setup.params, setup.rect, setup.format, setup.range, heights);
+    let mut sidecar =
+        Sidecar::new(&setup.terrain.params, setup.terrain.rect, setup.format, setup.terrain.range, heights);
     sidecar.file = setup.output.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     sidecar.bytes = io::written_size(&setup.output)?;
     sidecar.plan = job.plan.clone();
