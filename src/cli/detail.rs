@@ -32,8 +32,8 @@ pub struct DetailArgs {
     allow_self_intersections: bool,
     #[command(flatten)]
     hierarchy: HierarchyRequest,
-    /// Test each level's new faces for self-intersections even where the recipe's
-    /// [hierarchy] table turns the test off (intersection_guard = false).
+    /// Test each level's new faces for self-intersections even where the recipe's hierarchy
+    /// table turns the test off (intersection_guard = false).
     #[arg(long = "intersection-guard", conflicts_with = "intersection_guard")]
     intersection_guard_on: bool,
     /// Allow the output to overwrite the input.
