@@ -44,7 +44,7 @@ for target in $targets; do
     for crash in fuzz/artifacts/"$target"/*; do
       [ -f "$crash" ] || continue
       cp "$crash" "tests/data/fuzz/$target/"
-      echo "fuzz: $target failed on $crash, saved to tests/data/fuzz/$target/ (replayed by cargo test)"
+      echo "fuzz: $target failed on $crash, saved to tests/data/fuzz/$target/ (replayed by make test)"
     done
     status=1
   fi

@@ -4,7 +4,7 @@ Meshes are numpy arrays — positions ``(n, 3) float64``, triangles ``(m, 3) uin
 or any object with ``.vertices`` and ``.faces`` (a ``trimesh.Trimesh``), or a
 ``(positions, triangles)`` pair. Keyword options are the command line's flags with
 underscores (``target_vertices="5%"`` is ``--target-vertices 5%``): they are the fields of
-the library's request the flags fill too (``terrain``'s are still parsed as its flags), so
+the library's request the flags fill too, sent as JSON with no argv between, so
 they mean the same and are checked the same, a message naming the keyword
 (``swap_weight=-1: must be a non-negative weight``); an unknown one is an
 :class:`InputError` listing the options there are. Results are bit for bit the command
@@ -147,8 +147,13 @@ def _fields(options: Mapping[str, Any]) -> str:
     def plain(value: Any) -> Any:
         if isinstance(value, os.PathLike):
             return os.fspath(value)
-        if isinstance(value, (np.ndarray, np.generic)):
-            return plain(value.tolist())
+        if isinstance(value, np.floating) and value.dtype.itemsize < 8:
+            # A float32 as its shortest text (0.7, not 0.699999988…): what the flag would read.
+            return plain(float(str(value)))
+        if isinstance(value, np.ndarray):
+            return plain(value[()]) if value.ndim == 0 else [plain(v) for v in value]
+        if isinstance(value, np.generic):
+            return plain(value.item())
         if isinstance(value, (list, tuple)):
             return [plain(v) for v in value]
         if isinstance(value, float) and not np.isfinite(value):

@@ -56,44 +56,33 @@ pub enum ErosionModel {
 
 /// A list of names as a request reads it: a list, one name, comma-separated text
 /// (`"thermal,hydraulic"`, as the flag takes it), or null (none). Plans written before
-/// hydraulic erosion stored one erosion model or null.
+/// hydraulic erosion stored one erosion model or null. A wrong name is named in the message.
 fn name_list<'de, D, T>(d: D) -> std::result::Result<Vec<T>, D::Error>
 where
     D: serde::Deserializer<'de>,
     T: serde::de::DeserializeOwned,
 {
-    #[derive(Deserialize)]
-    #[serde(untagged)]
-    enum Written<T> {
-        Many(Vec<T>),
-        One(T),
-        Text(String),
-    }
-    let text_item = |name: &str| {
-        T::deserialize(serde::de::value::StrDeserializer::<serde::de::value::Error>::new(name.trim()))
+    let name = |text: &str| {
+        serde_json::from_value::<T>(serde_json::Value::String(text.trim().to_string()))
             .map_err(serde::de::Error::custom)
     };
-    match Option::<Written<T>>::deserialize(d)? {
-        None => Ok(Vec::new()),
-        Some(Written::Many(items)) => Ok(items),
-        Some(Written::One(item)) => Ok(vec![item]),
-        Some(Written::Text(text)) => text.split(',').map(text_item).collect(),
+    match serde_json::Value::deserialize(d)? {
+        serde_json::Value::Null => Ok(Vec::new()),
+        serde_json::Value::String(text) => text.split(',').map(name).collect(),
+        list @ serde_json::Value::Array(_) => serde_json::from_value(list).map_err(serde::de::Error::custom),
+        other => Err(serde::de::Error::custom(format!("{other} is not a name, a list of names or text"))),
     }
 }
 
 /// The ramp's colours as a request reads them: five `[r, g, b]` (sea, low, mid, high,
-/// peak), their named object, or the flag's text `R,G,B;R,G,B;…`.
+/// peak), their named object, or the flag's text `R,G,B;R,G,B;…`; a wrong value is named.
 fn palette_of<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Option<Palette>, D::Error> {
-    #[derive(Deserialize)]
-    #[serde(untagged)]
-    enum Written {
-        Colours(Palette),
-        Text(String),
-    }
-    match Option::<Written>::deserialize(d)? {
-        None => Ok(None),
-        Some(Written::Colours(palette)) => Ok(Some(palette)),
-        Some(Written::Text(text)) => crate::request::parse::palette(&text).map(Some).map_err(serde::de::Error::custom),
+    match serde_json::Value::deserialize(d)? {
+        serde_json::Value::Null => Ok(None),
+        serde_json::Value::String(text) => {
+            crate::request::parse::palette(&text).map(Some).map_err(serde::de::Error::custom)
+        }
+        colours => serde_json::from_value(colours).map(Some).map_err(serde::de::Error::custom),
     }
 }
 
@@ -362,7 +351,11 @@ impl TerrainRequest {
     pub fn from_fields(json: &str, spelling: Spelling) -> Result<(TerrainRequest, TerrainTile)> {
         let mut fields: serde_json::Map<String, serde_json::Value> = serde_json::from_str(json)
             .map_err(|e| Error::InvalidInput(format!("the options are not a JSON object of fields: {e}")))?;
-        fields.retain(|_, value| !value.is_null());
+        // A file field set to false (Python's `stream=False`) leaves it out, as null does.
+        let left_out = |name: &str, value: &serde_json::Value| {
+            value.is_null() || (FILE_FIELDS.contains(&name) && *value == serde_json::Value::Bool(false))
+        };
+        fields.retain(|name, value| !left_out(name, value));
         if let Some(name) = FILE_FIELDS.iter().find(|name| fields.contains_key(**name)) {
             return Err(Error::InvalidInput(format!(
                 "{} applies to the command line's asperity terrain, which writes files: here it would be ignored",
@@ -425,6 +418,11 @@ impl TerrainRequest {
             format!("{} and dual (smooth's points are uniform within their parents' range)", method("classic"));
         let dual_only = method("dual");
         let hydraulic_only = spelling.with("erode", "hydraulic");
+        // Pictures and files are the command line's; the others make meshes in memory.
+        let coloured_outputs = match spelling {
+            Spelling::Flag => "coloured outputs (a .ply or .obj mesh, or --preview)".to_string(),
+            _ => "coloured outputs (a mesh)".to_string(),
+        };
         let rules: Vec<(&str, bool, bool, String)> = vec![
             ("iterations", self.iterations.is_some(), !dual, heightfield.clone()),
             (
@@ -492,7 +490,7 @@ impl TerrainRequest {
                 "peak_height",
                 self.peak_height.is_some(),
                 !dual && coloured,
-                format!("coloured outputs (a .ply or .obj mesh, or {}) of {heightfield}", spelling.of("preview")),
+                format!("{coloured_outputs} of {heightfield}"),
             ),
         ];
         if let Some((field, _, _, belongs)) = rules.iter().find(|(_, given, applies, _)| *given && !applies) {
@@ -503,11 +501,7 @@ impl TerrainRequest {
             )));
         }
         if self.colors.is_some() && !coloured {
-            return Err(Error::InvalidInput(format!(
-                "{} applies only to coloured outputs (a .ply or .obj mesh, or {})",
-                spelling.of("colors"),
-                spelling.of("preview")
-            )));
+            return Err(Error::InvalidInput(format!("{} applies only to {coloured_outputs}", spelling.of("colors"))));
         }
         if target.tile.is_some() && target.tile_size.is_none() {
             return Err(Error::InvalidInput(format!("{} needs {}", spelling.of("tile"), spelling.of("tile_size"))));
@@ -541,6 +535,14 @@ impl TerrainRequest {
             }
             None => self.size.unwrap_or(257),
         };
+        if let Some((lo, hi)) = self.range
+            && hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater)
+        {
+            return Err(Error::InvalidInput(format!(
+                "{}: the range needs LO < HI",
+                spelling.with("range", format!("{lo},{hi}"))
+            )));
+        }
         let grid = self.grid.unwrap_or_default();
         if grid == Grid::Hex && target.tile.is_some() {
             return Err(Error::InvalidInput(format!(
@@ -690,10 +692,14 @@ impl TerrainRequest {
             )));
         }
         let target = TerrainTarget { tile: tile.tile, tile_size: tile.tile_size, ..TerrainTarget::default() };
-        let setup = self.layout(&target, spelling)?.ready(&target, spelling)?;
-        let layers = if setup.layers.is_empty() { ErosionLayer::ALL.to_vec() } else { setup.layers.clone() };
-        let (heights, fields) = super::heights_and_layers(&setup.params, setup.rect, &layers)?;
-        Ok((heights, layers.into_iter().zip(fields).collect()))
+        let mut layout = self.layout(&target, spelling)?;
+        // No layers named: all four, in the memory estimate too.
+        if layout.layers.is_empty() {
+            layout.layers = ErosionLayer::ALL.to_vec();
+        }
+        let setup = layout.ready(&target, spelling)?;
+        let (heights, fields) = super::heights_and_layers(&setup.params, setup.rect, &setup.layers)?;
+        Ok((heights, setup.layers.into_iter().zip(fields).collect()))
     }
 
     /// The mesh `asperity terrain` writes to `.ply`: a heightfield's on `tile` (positions,
@@ -795,7 +801,10 @@ impl TerrainLayout {
         crate::memory::ensure_available(
             rows * columns * (bytes_per_point * smoothing + hydraulic_bytes),
             &format!("a {}x{} terrain built whole", rect.width(), rect.height()),
-            &format!("write a heightmap with {}, or cut it into {} pieces", spelling.of("stream"), spelling.of("tile")),
+            &match spelling {
+                Spelling::Flag => "write a heightmap with --stream, or cut it into --tile pieces".to_string(),
+                _ => format!("ask for a tile ({}, {})", spelling.of("tile"), spelling.of("tile_size")),
+            },
         )?;
         let params = match max_height {
             Some(top) => params.with_max_height(top)?,

@@ -55,6 +55,12 @@ fn lists_and_colours_read_alike_as_text_and_as_lists() {
     assert_eq!(from_text, from_list);
     assert_eq!(from_text.colors.unwrap().peak, [13, 14, 15]);
     assert!(message(r#"{"colors": [[1,2,3]]}"#).contains(": colors=: "));
+    let channel = message(r#"{"colors": "1,2,3;4,5,6;7,8,9;10,11,12;13,14,256"}"#);
+    assert!(channel.contains("colors=: `256` is not a value from 0 to 255"), "{channel}");
+    let listed = message(r#"{"colors": [[1,2,3],[4,5,6],[7,8,9],[10,11,12],[13,14,256]]}"#);
+    assert!(listed.contains("colors=: ") && listed.contains("256"), "{listed}");
+    // Python's `stream=False` leaves the file field out, as None does.
+    assert!(read(r#"{"size": 17, "stream": false, "sidecar": null}"#).is_ok());
 }
 
 /// Plans are fingerprinted from the request as it is written: its form is part of every
@@ -139,4 +145,36 @@ fn heights_and_meshes_equal_what_the_command_writes() {
     assert_eq!(mesh.triangles, file.mesh.triangles);
     assert_eq!(mesh.colors, file.mesh.colors);
     assert_eq!(mesh.positions, file.mesh.positions);
+}
+
+/// A plan written by the previous layout (a79daa0's `asperity terrain plan --size 129
+/// --tile-size 65 --erode thermal,hydraulic --erode-iterations 2 --layers water,flow
+/// --sea-level 0.1 --seed 9 --hurst 0.6 --range -2,3`): its parameters read back and
+/// are written the same, and the plan made from them has the same fingerprint, so its
+/// complete tiles stay complete.
+#[test]
+fn a_plan_of_the_previous_layout_keeps_its_fingerprint() {
+    use asperity::terrain::plan::Plan;
+    use asperity::terrain::{TerrainOutput, TerrainTarget};
+    let written = concat!(
+        r#"{"method":"classic","size":129,"iterations":null,"hurst":0.6,"roughness":null,"sigma":1.0,"x":null,"#,
+        r#""y":null,"levels":null,"deterministic":false,"cross_product":false,"no_mean_correction":false,"#,
+        r#""steps":null,"seed":9,"distribution":null,"mean":null,"variance":null,"corners":null,"applet":false,"#,
+        r#""width":null,"depth":null,"max_height":null,"sea_level":0.1,"colors":null,"peak_height":null,"#,
+        r#""grid":null,"range":[-2.0,3.0],"erode":["thermal","hydraulic"],"erode_iterations":2,"talus":null,"#,
+        r#""rain":null,"evaporation":null,"capacity":null,"dissolving":null,"deposition":null,"time_step":null,"#,
+        r#""layers":["water","flow"],"preset":null}"#
+    );
+    let request: TerrainRequest = serde_json::from_str(written).unwrap();
+    assert_eq!(serde_json::to_string(&request).unwrap(), written);
+    let target = TerrainTarget {
+        output: TerrainOutput::Heightmap16,
+        tile: Some((0, 0)),
+        tile_size: Some(65),
+        sidecar: true,
+        ..TerrainTarget::default()
+    };
+    let setup = request.layout(&target, Spelling::Flag).unwrap().ready(&target, Spelling::Flag).unwrap();
+    let plan = Plan::new(&request, &setup, 65, "png", std::path::Path::new("p")).unwrap();
+    assert_eq!(plan.fingerprint, "86fcefbb21a7bf60");
 }

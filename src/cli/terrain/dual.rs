@@ -11,12 +11,13 @@ use crate::terrain::{dual_mesh, dual_midpoint_displacement};
 /// Janeczek's dual method: a quad surface written as a mesh with normals and a height ramp.
 pub(super) fn run(job: &Job, start: Instant, ctx: crate::cli::Context) -> Result<()> {
     let g = job.generation;
-    let params = g.dual_params(&job.target(), Spelling::Flag)?;
-    let palette = g.colors.unwrap_or_default();
+    g.check_modes(&job.target(), Spelling::Flag)?;
     let format = io::Format::from_path(&job.output)?;
     if !matches!(format, io::Format::Ply | io::Format::Obj) {
         return Err(Error::InvalidInput(format!("{}: --method dual writes .ply or .obj", job.output.display())));
     }
+    let params = g.dual_params(&job.target(), Spelling::Flag)?;
+    let palette = g.colors.unwrap_or_default();
     if let Some(dir) = &g.steps {
         crate::io::create_output_dir(dir)?;
     }
