@@ -52,22 +52,30 @@ impl Spelling {
 /// # Errors
 /// Not a JSON object, an unknown field, or a field whose value does not fit it.
 pub fn from_fields<R: DeserializeOwned + serde::Serialize + Default>(json: &str, spelling: Spelling) -> Result<R> {
-    from_fields_also(json, spelling, &[])
+    from_field_map(field_map(json)?, spelling, &[])
 }
 
-/// [`from_fields`] for a request whose default leaves out fields when it is written (a
-/// list written only when it is not empty) or whose reader takes some fields apart: `also`
-/// names them, so they are known and listed among the options.
+/// The JSON object of a request's fields.
+///
+/// # Errors
+/// Not a JSON object.
+pub fn field_map(json: &str) -> Result<serde_json::Map<String, serde_json::Value>> {
+    serde_json::from_str(json)
+        .map_err(|e| Error::InvalidInput(format!("the options are not a JSON object of fields: {e}")))
+}
+
+/// [`from_fields`] over fields already parsed (a reader that takes some apart first), for a
+/// request whose default may leave out fields when it is written (a list written only when
+/// it is not empty) or whose reader took some apart: `also` names them, so they are known
+/// and listed among the options.
 ///
 /// # Errors
 /// As [`from_fields`].
-pub fn from_fields_also<R: DeserializeOwned + serde::Serialize + Default>(
-    json: &str,
+pub fn from_field_map<R: DeserializeOwned + serde::Serialize + Default>(
+    fields: serde_json::Map<String, serde_json::Value>,
     spelling: Spelling,
     also: &[&str],
 ) -> Result<R> {
-    let fields: serde_json::Map<String, serde_json::Value> = serde_json::from_str(json)
-        .map_err(|e| Error::InvalidInput(format!("the options are not a JSON object of fields: {e}")))?;
     let mut known = match serde_json::to_value(R::default()) {
         Ok(serde_json::Value::Object(known)) => known,
         _ => return Err(Error::Internal("a request does not serialise to an object".into())),

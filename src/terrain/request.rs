@@ -331,6 +331,13 @@ pub struct TerrainTile {
     pub tile_size: Option<u64>,
 }
 
+impl TerrainTile {
+    /// The target of a terrain made in memory as `output` on this tile.
+    fn target(self, output: TerrainOutput) -> TerrainTarget {
+        TerrainTarget { output, tile: self.tile, tile_size: self.tile_size, ..TerrainTarget::default() }
+    }
+}
+
 /// The fields of a [`TerrainRequest`] that apply to the command line only, which writes
 /// files: refused by name from the embeddings rather than ignored.
 const FILE_FIELDS: [&str; 9] =
@@ -349,8 +356,7 @@ impl TerrainRequest {
     /// # Errors
     /// As [`crate::request::from_fields`]; a file field; two exclusive fields.
     pub fn from_fields(json: &str, spelling: Spelling) -> Result<(TerrainRequest, TerrainTile)> {
-        let mut fields: serde_json::Map<String, serde_json::Value> = serde_json::from_str(json)
-            .map_err(|e| Error::InvalidInput(format!("the options are not a JSON object of fields: {e}")))?;
+        let mut fields = crate::request::field_map(json)?;
         // A file field set to false (Python's `stream=False`) leaves it out, as null does.
         let left_out = |name: &str, value: &serde_json::Value| {
             value.is_null() || (FILE_FIELDS.contains(&name) && *value == serde_json::Value::Bool(false))
@@ -375,9 +381,8 @@ impl TerrainRequest {
                 tile.insert(name.to_string(), value);
             }
         }
-        let tile: TerrainTile = crate::request::from_fields(&serde_json::Value::Object(tile).to_string(), spelling)?;
-        let text = serde_json::Value::Object(fields).to_string();
-        let request = crate::request::from_fields_also(&text, spelling, &["layers", "tile", "tile_size"])?;
+        let tile: TerrainTile = crate::request::from_field_map(tile, spelling, &[])?;
+        let request = crate::request::from_field_map(fields, spelling, &["layers", "tile", "tile_size"])?;
         Ok((request, tile))
     }
 
@@ -423,75 +428,64 @@ impl TerrainRequest {
             Spelling::Flag => "coloured outputs (a .ply or .obj mesh, or --preview)".to_string(),
             _ => "coloured outputs (a mesh)".to_string(),
         };
-        let rules: Vec<(&str, bool, bool, String)> = vec![
-            ("iterations", self.iterations.is_some(), !dual, heightfield.clone()),
+        let max_height_only = format!(
+            "whole grids of {heightfield} (the highest peak is measured on the whole grid: not with {} or {})",
+            spelling.of("stream"),
+            spelling.of("tile")
+        );
+        let applet_only = format!("{} (seed 001's applet)", method("classic"));
+        let stream_only = spelling.of("stream");
+        let erode_only = spelling.of("erode");
+        let thermal_only = spelling.with("erode", "thermal");
+        let tile_only = spelling.of("tile");
+        let sidecar_only = format!("heightmap outputs (.png, .raw16, .f32, .exr, .tif) of {heightfield}");
+        let range_only = format!("16-bit outputs (.png, .raw16) of {heightfield}");
+        let peak_only = format!("{coloured_outputs} of {heightfield}");
+        let rules: [(&str, bool, bool, &str); 39] = [
+            ("iterations", self.iterations.is_some(), !dual, &heightfield),
             (
                 "max_height",
                 self.max_height.is_some(),
                 !dual && !target.stream && target.tile.is_none(),
-                format!(
-                    "whole grids of {heightfield} (the highest peak is measured on the whole grid: not with {} or {})",
-                    spelling.of("stream"),
-                    spelling.of("tile")
-                ),
+                &max_height_only,
             ),
-            ("roughness", self.roughness.is_some(), !smooth, not_smooth.clone()),
-            ("x", self.x.is_some(), dual, dual_only.clone()),
-            ("y", self.y.is_some(), dual, dual_only.clone()),
-            ("levels", self.levels.is_some(), dual, dual_only.clone()),
-            ("deterministic", self.deterministic, dual, dual_only.clone()),
-            ("cross_product", self.cross_product, dual, dual_only.clone()),
-            ("no_mean_correction", self.no_mean_correction, dual, dual_only.clone()),
-            ("steps", self.steps.is_some(), dual, dual_only.clone()),
-            ("size", self.size.is_some(), !dual, heightfield.clone()),
-            ("distribution", self.distribution.is_some(), !dual, heightfield.clone()),
-            ("mean", self.mean.is_some(), !dual, heightfield.clone()),
-            ("variance", self.variance.is_some(), !dual, heightfield.clone()),
-            ("corners", self.corners.is_some(), !dual, heightfield.clone()),
-            ("width", self.width.is_some(), !dual, heightfield.clone()),
-            ("depth", self.depth.is_some(), !dual, heightfield.clone()),
-            ("sea_level", self.sea_level.is_some(), !dual, heightfield.clone()),
-            ("grid", self.grid.is_some(), !dual, heightfield.clone()),
-            ("stream", target.stream, !dual, heightfield.clone()),
-            ("tile", target.tile.is_some(), !dual, heightfield.clone()),
-            (
-                "applet",
-                self.applet,
-                self.method == TerrainMethod::Classic,
-                format!("{} (seed 001's applet)", method("classic")),
-            ),
-            ("hurst", self.hurst.is_some(), !smooth, not_smooth),
-            ("band", target.band.is_some(), target.stream, spelling.of("stream")),
-            ("erode", !self.erode.is_empty(), !dual, heightfield.clone()),
-            ("erode_iterations", self.erode_iterations.is_some(), !self.erode.is_empty(), spelling.of("erode")),
-            ("talus", self.talus.is_some(), thermal, spelling.with("erode", "thermal")),
-            ("rain", self.rain.is_some(), hydraulic, hydraulic_only.clone()),
-            ("evaporation", self.evaporation.is_some(), hydraulic, hydraulic_only.clone()),
-            ("capacity", self.capacity.is_some(), hydraulic, hydraulic_only.clone()),
-            ("dissolving", self.dissolving.is_some(), hydraulic, hydraulic_only.clone()),
-            ("deposition", self.deposition.is_some(), hydraulic, hydraulic_only.clone()),
-            ("time_step", self.time_step.is_some(), hydraulic, hydraulic_only.clone()),
-            ("layers", !self.layers.is_empty(), hydraulic, hydraulic_only),
-            ("preset", self.preset.is_some(), !dual, heightfield.clone()),
-            (
-                "sidecar",
-                target.sidecar,
-                !dual && !mesh_output,
-                format!("heightmap outputs (.png, .raw16, .f32, .exr, .tif) of {heightfield}"),
-            ),
-            ("tile_size", target.tile_size.is_some(), target.tile.is_some(), spelling.of("tile")),
-            (
-                "range",
-                self.range.is_some(),
-                !dual && sixteen_bit,
-                format!("16-bit outputs (.png, .raw16) of {heightfield}"),
-            ),
-            (
-                "peak_height",
-                self.peak_height.is_some(),
-                !dual && coloured,
-                format!("{coloured_outputs} of {heightfield}"),
-            ),
+            ("roughness", self.roughness.is_some(), !smooth, &not_smooth),
+            ("x", self.x.is_some(), dual, &dual_only),
+            ("y", self.y.is_some(), dual, &dual_only),
+            ("levels", self.levels.is_some(), dual, &dual_only),
+            ("deterministic", self.deterministic, dual, &dual_only),
+            ("cross_product", self.cross_product, dual, &dual_only),
+            ("no_mean_correction", self.no_mean_correction, dual, &dual_only),
+            ("steps", self.steps.is_some(), dual, &dual_only),
+            ("size", self.size.is_some(), !dual, &heightfield),
+            ("distribution", self.distribution.is_some(), !dual, &heightfield),
+            ("mean", self.mean.is_some(), !dual, &heightfield),
+            ("variance", self.variance.is_some(), !dual, &heightfield),
+            ("corners", self.corners.is_some(), !dual, &heightfield),
+            ("width", self.width.is_some(), !dual, &heightfield),
+            ("depth", self.depth.is_some(), !dual, &heightfield),
+            ("sea_level", self.sea_level.is_some(), !dual, &heightfield),
+            ("grid", self.grid.is_some(), !dual, &heightfield),
+            ("stream", target.stream, !dual, &heightfield),
+            ("tile", target.tile.is_some(), !dual, &heightfield),
+            ("applet", self.applet, self.method == TerrainMethod::Classic, &applet_only),
+            ("hurst", self.hurst.is_some(), !smooth, &not_smooth),
+            ("band", target.band.is_some(), target.stream, &stream_only),
+            ("erode", !self.erode.is_empty(), !dual, &heightfield),
+            ("erode_iterations", self.erode_iterations.is_some(), !self.erode.is_empty(), &erode_only),
+            ("talus", self.talus.is_some(), thermal, &thermal_only),
+            ("rain", self.rain.is_some(), hydraulic, &hydraulic_only),
+            ("evaporation", self.evaporation.is_some(), hydraulic, &hydraulic_only),
+            ("capacity", self.capacity.is_some(), hydraulic, &hydraulic_only),
+            ("dissolving", self.dissolving.is_some(), hydraulic, &hydraulic_only),
+            ("deposition", self.deposition.is_some(), hydraulic, &hydraulic_only),
+            ("time_step", self.time_step.is_some(), hydraulic, &hydraulic_only),
+            ("layers", !self.layers.is_empty(), hydraulic, &hydraulic_only),
+            ("preset", self.preset.is_some(), !dual, &heightfield),
+            ("sidecar", target.sidecar, !dual && !mesh_output, &sidecar_only),
+            ("tile_size", target.tile_size.is_some(), target.tile.is_some(), &tile_only),
+            ("range", self.range.is_some(), !dual && sixteen_bit, &range_only),
+            ("peak_height", self.peak_height.is_some(), !dual && coloured, &peak_only),
         ];
         if let Some((field, _, _, belongs)) = rules.iter().find(|(_, given, applies, _)| *given && !applies) {
             return Err(Error::InvalidInput(format!(
@@ -635,13 +629,12 @@ impl TerrainRequest {
         Ok(TerrainParams { erosion, hydraulic, ..params })
     }
 
-    /// The dual method's parameters.
+    /// The dual method's parameters (the caller has refused other modes' parameters with
+    /// [`TerrainRequest::check_modes`]).
     ///
     /// # Errors
-    /// A parameter of another mode ([`TerrainRequest::check_modes`] for a mesh `target`); a
-    /// roughness that is not positive.
-    pub fn dual_params(&self, target: &TerrainTarget, spelling: Spelling) -> Result<DualParams> {
-        self.check_modes(target, spelling)?;
+    /// A roughness that is not positive.
+    pub fn dual_params(&self, spelling: Spelling) -> Result<DualParams> {
         Ok(DualParams {
             x: self.x.unwrap_or([1.0, 0.0, 0.0]).into(),
             y: self.y.unwrap_or([0.0, 1.0, 0.0]).into(),
@@ -668,7 +661,7 @@ impl TerrainRequest {
                 spelling.of("layers")
             )));
         }
-        let target = TerrainTarget { tile: tile.tile, tile_size: tile.tile_size, ..TerrainTarget::default() };
+        let target = tile.target(TerrainOutput::Heightmap);
         let setup = self.layout(&target, spelling)?.ready(&target, spelling)?;
         super::heights(&setup.params, setup.rect)
     }
@@ -691,7 +684,7 @@ impl TerrainRequest {
                 spelling.with("erode", "hydraulic")
             )));
         }
-        let target = TerrainTarget { tile: tile.tile, tile_size: tile.tile_size, ..TerrainTarget::default() };
+        let target = tile.target(TerrainOutput::Heightmap);
         let mut layout = self.layout(&target, spelling)?;
         // No layers named: all four, in the memory estimate too.
         if layout.layers.is_empty() {
@@ -708,12 +701,7 @@ impl TerrainRequest {
     /// # Errors
     /// As [`TerrainRequest::layout`] and [`TerrainLayout::ready`], or the dual method's.
     pub fn mesh(&self, tile: TerrainTile, spelling: Spelling) -> Result<Mesh> {
-        let target = TerrainTarget {
-            output: TerrainOutput::Mesh,
-            tile: tile.tile,
-            tile_size: tile.tile_size,
-            ..TerrainTarget::default()
-        };
+        let target = tile.target(TerrainOutput::Mesh);
         if !self.layers.is_empty() {
             return Err(Error::InvalidInput(format!(
                 "{} are heightmaps made beside the heights, not a mesh",
@@ -721,7 +709,8 @@ impl TerrainRequest {
             )));
         }
         if self.method == TerrainMethod::Dual {
-            let params = self.dual_params(&target, spelling)?;
+            self.check_modes(&target, spelling)?;
+            let params = self.dual_params(spelling)?;
             let surface = dual_midpoint_displacement(&params, |_, _| {})?;
             return Ok(dual_mesh(&surface, &params, &self.colors.unwrap_or_default()));
         }

@@ -16,7 +16,7 @@ pub(super) fn run(job: &Job, start: Instant, ctx: crate::cli::Context) -> Result
     if !matches!(format, io::Format::Ply | io::Format::Obj) {
         return Err(Error::InvalidInput(format!("{}: --method dual writes .ply or .obj", job.output.display())));
     }
-    let params = g.dual_params(&job.target(), Spelling::Flag)?;
+    let params = g.dual_params(Spelling::Flag)?;
     let palette = g.colors.unwrap_or_default();
     if let Some(dir) = &g.steps {
         crate::io::create_output_dir(dir)?;

@@ -224,7 +224,7 @@ impl Setup {
             }
             _ => job.output.clone(),
         };
-        let whole_mesh = matches!(ext.as_str(), "obj" | "ply") && !job.stream;
+        let whole_mesh = target.output == TerrainOutput::Mesh && !job.stream;
         let format = StreamFormat::from_extension(&ext).ok_or_else(|| {
             Error::InvalidInput(format!(
                 "{}: the output must end in .ply, .obj, .png, .raw16, .f32, .exr or .tif",
