@@ -307,7 +307,7 @@ impl Demo {
     }
 
     fn dual_terrain(&mut self) -> Result<()> {
-        use crate::terrain::{DualParams, dual_midpoint_displacement, ramp_color};
+        use crate::terrain::{DualParams, dual_mesh, dual_midpoint_displacement};
         let params = DualParams {
             x: glam::DVec3::new(1.0, 0.0, 0.25),
             y: glam::DVec3::new(0.0, 1.0, 0.0),
@@ -316,12 +316,7 @@ impl Demo {
             ..DualParams::default()
         };
         let surface = dual_midpoint_displacement(&params, |_, _| {})?;
-        let mut m = surface.to_mesh();
-        let z = params.x.cross(params.y).normalize();
-        let heights: Vec<f64> = m.positions.iter().map(|p| p.dot(z)).collect();
-        let (lo, hi) = value_range(&heights).unwrap_or((0.0, 1.0));
-        let palette = crate::terrain::Palette::default();
-        m.colors = Some(heights.iter().map(|h| ramp_color(&palette, (h - lo) / (hi - lo).max(1e-12), false)).collect());
+        let m = dual_mesh(&surface, &params, &crate::terrain::Palette::default());
         self.mesh(&m, "terrain-dual.ply")?;
         self.picture(&view(&m, VIEW, UpAxis::Z, ColorSource::Attribute, Mode::Faces, false)?, "terrain-dual.png")
     }
@@ -503,15 +498,7 @@ impl Demo {
 
 /// The hillshaded colour map of a whole terrain.
 fn terrain_map(params: &crate::terrain::TerrainParams, heights: &[f64]) -> Picture {
-    use crate::render::hillshade::{Relief, hillshade};
-    let last = (params.size - 1).max(1) as f64;
-    let relief = Relief {
-        heights,
-        columns: params.size as usize,
-        spacing: (params.width / last, params.depth / last),
-        exaggeration: None,
-    };
-    hillshade(&relief, |h| params.color(h))
+    crate::terrain::preview::relief_picture(params, heights, params.size as usize, 1)
 }
 
 /// Example recipes the demo runs (the files of `recipes/`, built in), with the axis that

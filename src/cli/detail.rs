@@ -65,7 +65,7 @@ pub fn run(args: DetailArgs, ctx: super::Context) -> Result<()> {
         DetailOptions { simplify, no_self_intersections: !args.allow_self_intersections, ..Default::default() };
     let mut outcome =
         ctx.spin("detail", "applying the recipe level by level", || apply_to(&hierarchy, &mesh, &recipe, &options))?;
-    super::relocate_material_libraries(&mut outcome.result.mesh, &args.input, &args.output);
+    crate::io::obj::relocate_material_libraries(&mut outcome.result.mesh, &args.input, &args.output);
     io::write(&outcome.result.mesh, &args.output, WriteOptions::default())?;
     for note in &outcome.attribute_notes {
         ctx.note(note);

@@ -70,7 +70,7 @@ pub fn run(args: RefineArgs, ctx: super::Context) -> Result<()> {
     if let Err(e) = hierarchy.attach_attributes(&mut refined.mesh, &[]) {
         ctx.note(&format!("UVs and materials not carried: {e}"));
     }
-    super::relocate_material_libraries(&mut refined.mesh.mesh, &args.input, &args.output);
+    crate::io::obj::relocate_material_libraries(&mut refined.mesh.mesh, &args.input, &args.output);
     let out = &refined.mesh.mesh;
     io::write(out, &args.output, WriteOptions::default())?;
     let report = out.validate();

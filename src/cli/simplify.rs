@@ -68,7 +68,7 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
         .spin("simplify", "building the 4-k hierarchy", || build(mesh, &options))
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;
     let mut base = hierarchy.with_attributes(hierarchy.base_mesh())?.mesh;
-    super::relocate_material_libraries(&mut base, &args.input, &args.output);
+    crate::io::obj::relocate_material_libraries(&mut base, &args.input, &args.output);
     io::write(&base, &args.output, WriteOptions::default())?;
     if let Some(dir) = &args.levels_out {
         write_levels(&hierarchy, &args.input, dir)?;
@@ -111,7 +111,7 @@ fn write_levels(hierarchy: &Hierarchy, input: &Path, dir: &Path) -> Result<()> {
     for (k, level) in hierarchy.levels.iter().enumerate() {
         let path = dir.join(format!("level_{:02}.{extension}", steps - k));
         let mut mesh = hierarchy.with_attributes(level.clone())?.mesh;
-        super::relocate_material_libraries(&mut mesh, input, &path);
+        crate::io::obj::relocate_material_libraries(&mut mesh, input, &path);
         io::write(&mesh, &path, WriteOptions::default())?;
     }
     Ok(())

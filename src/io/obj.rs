@@ -271,7 +271,10 @@ impl Reader {
         if corners_with_uv == 3 * triangle_texcoords.len() && !triangle_texcoords.is_empty() {
             mesh.uvs = Some(CornerUvs { values: self.texcoords, corners: triangle_texcoords });
             if self.texcoords_3d > 0 {
-                notes.push(format!("{} OBJ texture coordinates have a third coordinate: kept as u v", self.texcoords_3d));
+                notes.push(format!(
+                    "{} OBJ texture coordinates have a third coordinate: kept as u v",
+                    self.texcoords_3d
+                ));
             }
         } else if corners_with_uv > 0 {
             notes.push(format!(
@@ -392,10 +395,12 @@ pub fn write(mesh: &Mesh, w: &mut dyn Write) -> std::io::Result<()> {
     for f in order {
         let t = &mesh.triangles[f];
         if let Some(m) = &mesh.materials
-            && m.faces[f] != material && m.faces[f] != u32::MAX {
-                material = m.faces[f];
-                writeln!(w, "usemtl {}", m.names[material as usize])?;
-            }
+            && m.faces[f] != material
+            && m.faces[f] != u32::MAX
+        {
+            material = m.faces[f];
+            writeln!(w, "usemtl {}", m.names[material as usize])?;
+        }
         match &mesh.uvs {
             Some(uvs) => write_textured_face(w, *t, uvs.corners[f], mesh.normals.is_some())?,
             None => write_face(w, *t, mesh.normals.is_some())?,
@@ -412,4 +417,31 @@ fn write_textured_face(w: &mut dyn Write, t: [u32; 3], uv: [u32; 3], with_normal
         if with_normals { write!(w, " {v}/{vt}/{v}")? } else { write!(w, " {v}/{vt}")? }
     }
     writeln!(w)
+}
+
+/// `mesh` (read from `input`) about to be written to `output`: each material library it
+/// names relative to the input's folder is named relative to the output's instead, or by
+/// its absolute path where no relative path leads there, so that the written OBJ still
+/// finds it. Names already absolute, and libraries that do not exist, are left as they are.
+pub fn relocate_material_libraries(mesh: &mut crate::mesh::Mesh, input: &std::path::Path, output: &std::path::Path) {
+    let Some(materials) = &mut mesh.materials else { return };
+    let folder = |p: &std::path::Path| {
+        let parent = p.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
+        parent.canonicalize().ok()
+    };
+    let (Some(from), Some(to)) = (folder(input), folder(output)) else { return };
+    if from == to {
+        return;
+    }
+    for library in &mut materials.libraries {
+        let path = std::path::Path::new(library.as_str());
+        if path.is_absolute() {
+            continue;
+        }
+        let Ok(found) = from.join(path).canonicalize() else { continue };
+        *library = match found.strip_prefix(&to) {
+            Ok(inside) => inside.display().to_string(),
+            Err(_) => found.display().to_string(),
+        };
+    }
 }

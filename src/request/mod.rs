@@ -111,3 +111,39 @@ fn plain(e: &serde_json::Error) -> String {
     let text = e.to_string();
     text.split(" at line ").next().unwrap_or(&text).to_string()
 }
+
+#[cfg(all(test, feature = "cli"))]
+mod request_defaults {
+    use crate::analysis::AnalysisRequest;
+    use crate::hierarchy::{CompareRequest, HierarchyRequest};
+    use crate::noise::NoiseRequest;
+    use crate::render::RenderRequest;
+    use crate::scene::butterflies::ButterflyParams;
+    use crate::scene::compose::SceneParams;
+    use crate::scene::menger::MengerRequest;
+    use crate::scene::smoke::SmokeParams;
+    use crate::terrain::{CloudRequest, TerrainRequest};
+
+    /// A request as the command line reads it when none of its flags is given.
+    fn without_flags<R: clap::Args + clap::FromArgMatches>() -> R {
+        let matches = R::augment_args(clap::Command::new("request")).try_get_matches_from(["request"]).unwrap();
+        R::from_arg_matches(&matches).unwrap()
+    }
+
+    /// The flags' defaults are the library's: a flag left out means what a Python keyword
+    /// or C++ member left out means (#38).
+    #[test]
+    fn no_flags_give_each_requests_default() {
+        assert_eq!(without_flags::<NoiseRequest>(), NoiseRequest::default());
+        assert_eq!(without_flags::<HierarchyRequest>(), HierarchyRequest::default());
+        assert_eq!(without_flags::<AnalysisRequest>(), AnalysisRequest::default());
+        assert_eq!(without_flags::<CloudRequest>(), CloudRequest::default());
+        assert_eq!(without_flags::<CompareRequest>(), CompareRequest::default());
+        assert_eq!(without_flags::<RenderRequest>(), RenderRequest::default());
+        assert_eq!(without_flags::<TerrainRequest>(), TerrainRequest::default());
+        assert_eq!(without_flags::<SmokeParams>(), SmokeParams::default());
+        assert_eq!(without_flags::<ButterflyParams>(), ButterflyParams::default());
+        assert_eq!(without_flags::<SceneParams>(), SceneParams::default());
+        assert_eq!(without_flags::<MengerRequest>(), MengerRequest::default());
+    }
+}

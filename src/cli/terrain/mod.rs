@@ -4,7 +4,6 @@
 
 mod dual;
 mod plan;
-mod preview;
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -12,15 +11,12 @@ use std::time::Instant;
 use clap::{Args, Subcommand};
 
 use crate::error::{Error, Result};
-use crate::io::{self, WriteOptions, write_atomically};
 use crate::request::Spelling;
+use crate::terrain::files::TerrainFiles;
 use crate::terrain::plan::layer_path;
-use crate::terrain::sidecar::{HeightRange, Sidecar};
-use crate::terrain::stream::{LAYER_RANGE, StreamFormat, default_band, write_layer, write_terrain_observed};
-use crate::terrain::{
-    ErosionLayer, Rect, TerrainMethod, TerrainOutput, TerrainRequest, TerrainSetup, TerrainTarget, mesh, presets,
-};
-use preview::{PreviewSampler, write_preview};
+use crate::terrain::preview::{PreviewSampler, preview};
+use crate::terrain::stream::{StreamFormat, default_band};
+use crate::terrain::{TerrainMethod, TerrainOutput, TerrainRequest, TerrainSetup, TerrainTarget, presets};
 
 /// The subcommand's flags (`TerrainArgs`).
 #[derive(Debug, Args)]
@@ -195,12 +191,8 @@ fn run_job(job: &Job, ctx: crate::cli::Context) -> Result<()> {
 pub(super) struct Setup {
     /// What is generated: the parameters, region, range and layers.
     terrain: TerrainSetup,
-    /// The output file.
-    output: PathBuf,
-    /// A whole mesh (PLY, OBJ) or a streamable encoding.
-    format: StreamFormat,
-    whole_mesh: bool,
-    sidecar: bool,
+    /// Where and how it is written.
+    files: TerrainFiles,
 }
 
 impl Setup {
@@ -263,72 +255,31 @@ impl Setup {
                 output.display()
             )));
         }
-        Ok(Setup { terrain, output, format, whole_mesh, sidecar })
+        let band = job.stream.then(|| job.band.unwrap_or_else(|| default_band(terrain.rect.width())));
+        let files = TerrainFiles { output, format, whole_mesh, sidecar, band, plan: job.plan.clone() };
+        Ok(Setup { terrain, files })
     }
 }
 
 /// Generates and writes the terrain `setup` describes, its preview and sidecar.
 fn generate(job: &Job, setup: &Setup, start: Instant, ctx: crate::cli::Context) -> Result<()> {
-    let (params, rect, output) = (&setup.terrain.params, setup.terrain.rect, &setup.output);
+    let (params, rect, output) = (&setup.terrain.params, setup.terrain.rect, &setup.files.output);
     let points = rect.width() as u64 * rect.height() as u64;
-    let mut streamed_preview: Option<PreviewSampler> = None;
-    let mut extremes = HeightRange { min: f64::INFINITY, max: f64::NEG_INFINITY };
-    let mut layer_files: Vec<PathBuf> = Vec::new();
-    if setup.whole_mesh {
-        let terrain = ctx.spin("terrain", "generating the mesh", || mesh(params, rect))?;
-        let format = if setup.format == StreamFormat::Obj { io::Format::Obj } else { io::Format::Ply };
-        io::write_as(&terrain, output, format, WriteOptions::default())?;
-    } else {
-        let band = if job.stream { job.band.unwrap_or_else(|| default_band(rect.width())) } else { rect.height() };
-        // A file written whole takes its heights and every layer from one erosion run; a
-        // streamed one runs it again per file, band by band, in bounded memory.
-        let known = match (setup.terrain.layers.is_empty(), job.stream) {
-            (false, false) => Some(ctx.spin("terrain", "eroding", || {
-                crate::terrain::heights_and_layers(params, rect, &setup.terrain.layers)
-            })?),
-            _ => None,
-        };
-        let mut failure = None;
-        // A streamed terrain's preview is made from the streamed rows, at most
-        // STREAMED_PREVIEW_SIDE pixels a side: one more band-sized pass would not be bounded.
-        streamed_preview = (job.stream && job.preview.is_some()).then(|| PreviewSampler::new(rect));
-        // I/O failures go back to `write_atomically`, which names the output file; other
-        // errors keep their type.
-        let message = format!("{}x{} points", rect.width(), rect.height());
-        let sampler = &mut streamed_preview;
-        let extremes = &mut extremes;
-        ctx.spin("terrain", &message, || {
-            write_atomically(output, |w| {
-                let mut observe = |field: &crate::terrain::Heightfield, y0: u64, y1: u64| {
-                    if let Some(sampler) = sampler.as_mut() {
-                        sampler.take(field, y0, y1);
-                    }
-                    if setup.sidecar {
-                        widen(extremes, field, rect, y0, y1);
-                    }
-                };
-                let known = known.as_ref().map(|(field, _)| field);
-                write_terrain_observed(params, rect, known, setup.format, setup.terrain.range, band, w, &mut observe)
-                    .map_err(|e| io_or_kept(e, &mut failure))
-            })
-        })
-        .map_err(|e| failure.take().unwrap_or(e))?;
-        for (k, &layer) in setup.terrain.layers.iter().enumerate() {
-            let values = known.as_ref().map(|(_, layers)| &layers[k]);
-            layer_files.push(write_layer_file(job, setup, layer, values, band)?);
-        }
-    }
+    // A streamed terrain's preview is made from the streamed rows (one more band-sized
+    // pass would not be bounded).
+    let mut sampler = (job.stream && job.preview.is_some()).then(|| PreviewSampler::new(rect));
+    let message = format!("{}x{} points", rect.width(), rect.height());
+    let written = ctx.spin("terrain", &message, || setup.files.write(&setup.terrain, sampler.as_mut()))?;
     let seconds = start.elapsed().as_secs_f64();
-    match (&job.preview, streamed_preview) {
-        (Some(preview), Some(sampler)) => sampler.picture(params).write_png(preview)?,
-        (Some(preview), None) => write_preview(params, rect, preview)?,
+    match (&job.preview, sampler) {
+        (Some(path), Some(sampler)) => sampler.picture(params).write_png(path)?,
+        (Some(path), None) => preview(params, rect)?.write_png(path)?,
         _ => {}
     }
-    let sidecar_path = setup.sidecar.then(|| write_sidecar(job, setup, extremes)).transpose()?;
     let method = job.generation.method.name();
     ctx.report(
         || {
-            let layers: String = layer_files.iter().map(|p| format!(", {}", p.display())).collect();
+            let layers: String = written.layers.iter().map(|p| format!(", {}", p.display())).collect();
             format!(
                 "terrain: {method} {}x{} (H {}, seed {}) => {}{layers} in {} ms ({:.1} M points/s)",
                 rect.width(),
@@ -342,80 +293,11 @@ fn generate(job: &Job, setup: &Setup, start: Instant, ctx: crate::cli::Context) 
         },
         || {
             serde_json::json!({
-                "method": method, "output": output, "preview": job.preview, "sidecar": sidecar_path, "layers": layer_files,
+                "method": method, "output": output, "preview": job.preview, "sidecar": written.sidecar, "layers": written.layers,
                 "columns": rect.width(), "rows": rect.height(), "hurst": setup.terrain.hurst, "seed": job.generation.seed,
                 "points": points, "seconds": seconds, "points_per_second": points as f64 / seconds.max(1e-9),
             })
         },
     );
     Ok(())
-}
-
-/// Widens `extremes` to the values of rows y0..=y1 of `field` over `rect`'s columns.
-fn widen(extremes: &mut HeightRange, field: &crate::terrain::Heightfield, rect: Rect, y0: u64, y1: u64) {
-    for y in y0..=y1 {
-        for x in rect.x0..=rect.x1 {
-            let v = field.at(x, y);
-            extremes.min = extremes.min.min(v);
-            extremes.max = extremes.max.max(v);
-        }
-    }
-}
-
-/// A writer's error as `write_atomically` takes it: an I/O error goes back to it (which
-/// names the file); any other keeps its type in `failure` and returns its message.
-fn io_or_kept(e: Error, failure: &mut Option<Error>) -> std::io::Error {
-    match e {
-        Error::Io { source, .. } => source,
-        other => {
-            let message = other.to_string();
-            *failure = Some(other);
-            std::io::Error::other(message)
-        }
-    }
-}
-
-/// Writes `layer` beside the heightmap (its values on the rectangle when known, else
-/// streamed band by band) and, with the heightmap's, its sidecar; returns its path.
-fn write_layer_file(
-    job: &Job,
-    setup: &Setup,
-    layer: ErosionLayer,
-    values: Option<&crate::terrain::Heightfield>,
-    band: usize,
-) -> Result<PathBuf> {
-    let path = layer_path(&setup.output, layer);
-    let mut extremes = HeightRange { min: f64::INFINITY, max: f64::NEG_INFINITY };
-    let rect = setup.terrain.rect;
-    let mut failure = None;
-    write_atomically(&path, |w| {
-        let mut observe =
-            |field: &crate::terrain::Heightfield, y0: u64, y1: u64| widen(&mut extremes, field, rect, y0, y1);
-        write_layer(&setup.terrain.params, rect, layer, values, setup.format, band, w, &mut observe)
-            .map_err(|e| io_or_kept(e, &mut failure))
-    })
-    .map_err(|e| failure.take().unwrap_or(e))?;
-    if setup.sidecar {
-        let mut sidecar = Sidecar::new(&setup.terrain.params, rect, setup.format, LAYER_RANGE, extremes);
-        sidecar.file = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        sidecar.bytes = io::written_size(&path)?;
-        sidecar.plan = job.plan.clone();
-        sidecar.layer = Some(layer.name().to_string());
-        let text = serde_json::to_string_pretty(&sidecar).map_err(|e| Error::Internal(e.to_string()))?;
-        write_atomically(&Sidecar::path_for(&path), |w| w.write_all(format!("{text}\n").as_bytes()))?;
-    }
-    Ok(path)
-}
-
-/// Writes OUTPUT.json beside the heightmap (after it: a sidecar means the file is complete).
-fn write_sidecar(job: &Job, setup: &Setup, heights: HeightRange) -> Result<PathBuf> {
-    let mut sidecar =
-        Sidecar::new(&setup.terrain.params, setup.terrain.rect, setup.format, setup.terrain.range, heights);
-    sidecar.file = setup.output.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    sidecar.bytes = io::written_size(&setup.output)?;
-    sidecar.plan = job.plan.clone();
-    let path = Sidecar::path_for(&setup.output);
-    let text = serde_json::to_string_pretty(&sidecar).map_err(|e| Error::Internal(e.to_string()))?;
-    write_atomically(&path, |w| w.write_all(format!("{text}\n").as_bytes()))?;
-    Ok(path)
 }
