@@ -52,7 +52,7 @@ impl Spelling {
 /// # Errors
 /// Not a JSON object, an unknown field, or a field whose value does not fit it.
 pub fn from_fields<R: DeserializeOwned + serde::Serialize + Default>(json: &str, spelling: Spelling) -> Result<R> {
-    from_field_map(field_map(json)?, spelling, &[])
+    from_field_map(field_map(json)?, spelling, &[], &[])
 }
 
 /// The JSON object of a request's fields.
@@ -67,7 +67,8 @@ pub fn field_map(json: &str) -> Result<serde_json::Map<String, serde_json::Value
 /// [`from_fields`] over fields already parsed (a reader that takes some apart first), for a
 /// request whose default may leave out fields when it is written (a list written only when
 /// it is not empty) or whose reader took some apart: `also` names them, so they are known
-/// and listed among the options.
+/// and listed among the options. Fields in `unlisted` (which the caller refuses) are left
+/// out of the list an unknown field's message gives.
 ///
 /// # Errors
 /// As [`from_fields`].
@@ -75,6 +76,7 @@ pub fn from_field_map<R: DeserializeOwned + serde::Serialize + Default>(
     fields: serde_json::Map<String, serde_json::Value>,
     spelling: Spelling,
     also: &[&str],
+    unlisted: &[&str],
 ) -> Result<R> {
     let mut known = match serde_json::to_value(R::default()) {
         Ok(serde_json::Value::Object(known)) => known,
@@ -86,7 +88,8 @@ pub fn from_field_map<R: DeserializeOwned + serde::Serialize + Default>(
     let mut given = serde_json::Map::new();
     for (name, value) in fields {
         if !known.contains_key(&name) {
-            let mut names: Vec<String> = known.keys().map(|k| spelling.of(k)).collect();
+            let mut names: Vec<String> =
+                known.keys().filter(|k| !unlisted.contains(&k.as_str())).map(|k| spelling.of(k)).collect();
             names.sort();
             return Err(Error::InvalidInput(format!(
                 "{} is not an option here; the options are {}",

@@ -381,8 +381,8 @@ impl TerrainRequest {
                 tile.insert(name.to_string(), value);
             }
         }
-        let tile: TerrainTile = crate::request::from_field_map(tile, spelling, &[])?;
-        let request = crate::request::from_field_map(fields, spelling, &["layers", "tile", "tile_size"])?;
+        let tile: TerrainTile = crate::request::from_field_map(tile, spelling, &[], &[])?;
+        let request = crate::request::from_field_map(fields, spelling, &["layers", "tile", "tile_size"], &FILE_FIELDS)?;
         Ok((request, tile))
     }
 

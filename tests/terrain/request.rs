@@ -23,6 +23,9 @@ fn fields_are_read_strictly_and_named_as_the_front_end_spells_them() {
     for listed in ["layers=", "tile=", "tile_size=", "erode_iterations="] {
         assert!(unknown.contains(listed), "{listed} missing from: {unknown}");
     }
+    // A field refused here (dual's steps folder, a file the command line writes) is not
+    // offered as an option.
+    assert!(!unknown.contains("steps="), "{unknown}");
     let typed = message(r#"{"size": "large"}"#);
     assert!(typed.contains(": size=: invalid type"), "{typed}");
     let file = message(r#"{"preview": "x.png"}"#);
