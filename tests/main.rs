@@ -7,6 +7,7 @@ mod common;
 mod detail;
 mod determinism;
 mod ffi;
+mod front_ends;
 mod hierarchy;
 mod io;
 mod noise;
