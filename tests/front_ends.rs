@@ -92,4 +92,11 @@ fn the_cpp_option_structs_name_their_requests_fields() {
         &["fix_threshold_degrees", "keep_vertices", "progress"],
         &[],
     );
+    assert_mirrors(
+        "HierarchySettings",
+        members("pipeline.hpp", "HierarchySettings"),
+        fields::<HierarchyRequest>(),
+        &[],
+        &[],
+    );
 }

@@ -157,11 +157,13 @@ mod bridge {
             keep_features: &str,
         ) -> Result<Outcome>;
         /// The mesh with a detail recipe (TOML text, see docs/recipes.md) applied through
-        /// the hierarchy, refined back to full resolution.
+        /// the hierarchy, refined back to full resolution; `hierarchy_fields` (a JSON object
+        /// of `HierarchyRequest` fields) is laid over the recipe's `[hierarchy]` table.
         fn detail(
             positions: &[f64],
             triangles: &[u32],
             recipe_toml: &str,
+            hierarchy_fields: &str,
             no_self_intersections: bool,
         ) -> Result<Outcome>;
 

@@ -62,6 +62,7 @@ pub fn detail(
     positions: &[f64],
     triangles: &[u32],
     recipe_toml: &str,
+    hierarchy_fields: &str,
     no_self_intersections: bool,
 ) -> Result<Outcome, String> {
     guarded(|| {
@@ -73,9 +74,11 @@ pub fn detail(
                 None => format!("recipe: {message}"),
             })
         })?;
-        // The recipe's whole [hierarchy] table, through the one function every front end
-        // applies it with (#36: only target_vertices was read here).
-        let simplify = HierarchyRequest::default().options_over(
+        // The caller's settings over the recipe's whole [hierarchy] table, through the one
+        // function every front end applies it with (#36: only target_vertices was read
+        // here; #38: the settings one by one, as the command line's flags).
+        let over: HierarchyRequest = asperity::request::from_fields(hierarchy_fields, Spelling::Member)?;
+        let simplify = over.options_over(
             &recipe.hierarchy,
             mesh.vertex_count(),
             false,

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,7 @@
 
 #include "asperity/analysis.hpp"
 #include "asperity/errors.hpp"
+#include "asperity/fields.hpp"
 #include "asperity/hierarchy.hpp"
 #include "asperity/mesh_arrays.hpp"
 #include "asperity/noise.hpp"
@@ -109,15 +111,49 @@ double hausdorff(const MeshA& reference, const MeshB& other) {
   return impl::call([&] { return ffi::hausdorff(impl::slice(p), impl::slice(t), impl::slice(q), impl::slice(u)); });
 }
 
+/// Settings laid over a detail recipe's `[hierarchy]` table, each only where set (the
+/// command line's `detail` flags, Python's `detail` keywords); the same keys as the table.
+struct HierarchySettings {
+  /// A vertex count ("377") or a share of the input's ("5%").
+  std::optional<std::string> target_vertices;
+  /// Stop after this many levels.
+  std::optional<std::uint64_t> levels;
+  /// Never remove a vertex whose error exceeds this share of the bounding-box diagonal.
+  std::optional<double> max_error;
+  /// "none", "corners", "strong" or "all".
+  std::optional<std::string> keep_features;
+  /// "along-lines" or "keep".
+  std::optional<std::string> feature_vertices;
+  /// Weights of the removal and swap errors in E(v) (eq. 4.1).
+  std::optional<double> removal_weight;
+  std::optional<double> swap_weight;
+  /// Leave out the clusters whose new faces would cut the surface.
+  std::optional<bool> intersection_guard;
+};
+
 /// Applies a detail recipe (TOML text; see docs/recipes.md) to `mesh` in place; a recipe
 /// with a `[color]` table also requests and sets the mesh's vertex colours. As on the
 /// command line and in Python, self-intersections the detail makes are resolved unless
-/// `no_self_intersections` is false (`--allow-self-intersections`).
+/// `no_self_intersections` is false (`--allow-self-intersections`). `settings` replace the
+/// recipe's `[hierarchy]` keys they set.
+template <class Mesh>
+Report detail(Mesh& mesh, const std::string& recipe_toml, const HierarchySettings& settings,
+              bool no_self_intersections = true) {
+  impl::Fields f;
+  f.add("target_vertices", settings.target_vertices).add("levels", settings.levels).add("max_error", settings.max_error);
+  f.add("keep_features", settings.keep_features).add("feature_vertices", settings.feature_vertices);
+  f.add("removal_weight", settings.removal_weight).add("swap_weight", settings.swap_weight);
+  f.add("intersection_guard", settings.intersection_guard);
+  const std::string fields = f.json();
+  return impl::run_in_place(mesh, [&](auto positions, auto triangles) {
+    return ffi::detail(positions, triangles, recipe_toml, fields, no_self_intersections);
+  });
+}
+
+/// `detail` with the recipe's `[hierarchy]` table as it is.
 template <class Mesh>
 Report detail(Mesh& mesh, const std::string& recipe_toml, bool no_self_intersections = true) {
-  return impl::run_in_place(mesh, [&](auto positions, auto triangles) {
-    return ffi::detail(positions, triangles, recipe_toml, no_self_intersections);
-  });
+  return detail(mesh, recipe_toml, HierarchySettings{}, no_self_intersections);
 }
 
 /// asperity's version.

@@ -465,6 +465,26 @@ static void recipe_hierarchy_table(const Mesh& input) {
   } catch (const asperity::InputError& e) {
     std::cout << "[hierarchy] keep_features refused: " << e.what() << "\n";
   }
+  // #38: settings laid over the table one by one, as the command line's flags.
+  asperity::HierarchySettings three;
+  three.levels = 3;
+  Mesh over = input;
+  r = asperity::detail(over, "[hierarchy]\nlevels = 2\n", three);
+  std::cout << "detail with [hierarchy] levels = 2 under levels = 3: " << r.levels << " levels\n";
+  expect(r.levels == 3, "a setting replaces the table's key");
+  Mesh unset = input;
+  r = asperity::detail(unset, "[hierarchy]\nlevels = 2\n", asperity::HierarchySettings{});
+  expect(r.levels == 2, "unset settings leave the table's keys");
+  asperity::HierarchySettings wrong;
+  wrong.keep_features = "most";
+  Mesh refused = input;
+  try {
+    asperity::detail(refused, "", wrong);
+    expect(false, "a bad keep_features setting is refused");
+  } catch (const asperity::InputError& e) {
+    std::cout << "keep_features setting refused: " << e.what() << "\n";
+    expect(std::string(e.what()).find("keep_features") != std::string::npos, "the refusal names the setting");
+  }
 }
 
 int main(int argc, char** argv) {
