@@ -30,7 +30,7 @@ pub struct PreviewSampler {
 }
 
 impl PreviewSampler {
-    /// A sampler of `rect` at the smallest stride that fits [`STREAMED_PREVIEW_SIDE`].
+    /// A sampler of `rect` at the smallest stride that fits 1024 pixels a side.
     pub fn new(rect: Rect) -> Self {
         let side = rect.width().max(rect.height());
         let stride = side.div_ceil(STREAMED_PREVIEW_SIDE).max(1) as u64;
@@ -58,7 +58,7 @@ const PREVIEW_MAX_SIDE: usize = 8193;
 /// A hillshaded colour map of the heights on `rect`, one pixel per grid point.
 ///
 /// # Errors
-/// [`Error::InvalidInput`] for a region over [`PREVIEW_MAX_SIDE`] a side; the generator's
+/// [`Error::InvalidInput`] for a region over 8193 points a side; the generator's
 /// errors.
 pub fn preview(params: &TerrainParams, rect: Rect) -> Result<Picture> {
     if rect.width() > PREVIEW_MAX_SIDE || rect.height() > PREVIEW_MAX_SIDE {
