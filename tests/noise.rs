@@ -632,3 +632,37 @@ fn single_precision_batches_equal_its_scalars_and_differ_from_f64() {
     assert!(NoiseField::new(&spec).is_err(), "a gain whose square overflows f32");
     assert!(NoiseField::new(&NoiseSpec { precision: Precision::F64, ..spec }).is_ok());
 }
+
+/// Largest change between consecutive samples of `value` at `steps` points 10⁻³ apart,
+/// counting those above 0.05 (a continuous field of slope ~0.4 per unit changes by ~4·10⁻⁴).
+fn jumps(steps: usize, value: impl Fn(usize) -> f64) -> usize {
+    let mut previous = value(0);
+    (1..steps)
+        .filter(|&k| {
+            let v = value(k);
+            let jump = (v - previous).abs() > 0.05;
+            previous = v;
+            jump
+        })
+        .count()
+}
+
+/// Phasor noise is continuous away from the isolated zeros of its complex sum: its kernels
+/// fall to zero at their truncation radius. With the plain truncated Gaussian (5 % of the
+/// peak at the radius) the phase jumped wherever a kernel left the support and the sum was
+/// small: arcs where the stripes break off (4 jumps here in the plane and 13 on the
+/// sphere; none now).
+#[test]
+fn phasor_noise_has_no_jumps_where_kernels_end() {
+    let phasor = asperity::noise::Phasor::new(GaborParams::default(), Profile::Sine, 7).unwrap();
+    let plane = jumps(100_000, |k| phasor.sample2(k as f64 * 1e-3, 11.1));
+    assert_eq!(plane, 0, "phasor noise jumps {plane} times along a line of the plane");
+    let reference = DVec3::new(1.0, 2.0, 3.0).normalize();
+    let on_sphere = jumps(100_000, |k| {
+        let angle = k as f64 * 1e-3 / 20.0;
+        let n = DVec3::new(angle.cos() * 0.8, angle.sin() * 0.8, 0.6);
+        let tangent = (reference - n * n.dot(reference)).normalize();
+        phasor.sample3(n * 20.0, Frame { tangent, bitangent: n.cross(tangent) })
+    });
+    assert_eq!(on_sphere, 0, "phasor noise jumps {on_sphere} times along a circle on a sphere");
+}

@@ -298,7 +298,7 @@ impl Gabor {
     }
 
     /// The complex 2D sum at (x, y) (Tricard et al. 2019, eq. 3): each impulse's kernel with
-    /// the cosine replaced by e^(i 2π F0 d·(p − pᵢ)); its real part is the Gabor sum. Its
+    /// the cosine replaced by e^(i 2π F0 d·(p − pᵢ)), its envelope [`phase_envelope`]. Its
     /// argument is phasor noise's phase.
     pub(super) fn complex2(&self, x: f64, y: f64) -> (f64, f64) {
         let (cx, cy) = (self.cell_of(x), self.cell_of(y));
@@ -313,7 +313,7 @@ impl Gabor {
                     let (ddx, ddy) = (x - i.x, y - i.y);
                     let r2 = ddx * ddx + ddy * ddy;
                     if r2 < r2_max {
-                        let envelope = i.weight * (-self.gauss * r2).exp();
+                        let envelope = i.weight * phase_envelope(self.gauss, r2);
                         let (sin, cos) = (i.fx * ddx + i.fy * ddy).sin_cos();
                         re += envelope * cos;
                         im += envelope * sin;
@@ -324,12 +324,12 @@ impl Gabor {
         (re, im)
     }
 
-    /// The complex sum at a surface point (as [`Gabor::sample3`] for its real part).
+    /// The complex sum at a surface point (as [`Gabor::complex2`], over [`Gabor::sample3`]'s impulses).
     pub(super) fn complex3(&self, p: DVec3, frame: Frame) -> (f64, f64) {
         let two_pi_f0 = TAU * self.params.f0;
         let (mut re, mut im) = (0.0, 0.0);
         self.for_each_impulse3(p, frame, |weight, r2, d, dir| {
-            let envelope = weight * (-self.gauss * r2).exp();
+            let envelope = weight * phase_envelope(self.gauss, r2);
             let (sin, cos) = (two_pi_f0 * d.dot(dir)).sin_cos();
             re += envelope * cos;
             im += envelope * sin;
@@ -540,6 +540,19 @@ fn anisotropic_window_sum(
         }
     }
     (lanes[0] + lanes[1]) + (lanes[2] + lanes[3])
+}
+
+/// The Gaussian envelope of a kernel in phasor noise's complex sum, lowered by its value
+/// at the truncation radius (e^(−g R²) = [`TRUNCATION`]) so that it falls to zero there.
+/// Gabor noise keeps the plain truncated Gaussian (Lagae et al. 2009): a kernel leaving
+/// the support changes its value by at most 5 % of one kernel's peak. The phase of the sum
+/// amplifies such a step by 1/|G|, and |G| is small wherever impulses cancel: with the
+/// plain Gaussian, 688 of 8·10⁶ steps of 10⁻³ along lines jumped by more than 0.05 of
+/// phasor noise's range of 2 (up to 1.5: arcs where the stripes break off); with this
+/// envelope the sum, and so the phase away from its isolated zeros, is continuous.
+#[inline(always)]
+fn phase_envelope(g: f64, r2: f64) -> f64 {
+    (-g * r2).exp() - TRUNCATION
 }
 
 /// e^x for x in [−ln 20, 0] (the truncated kernel's range), to about 1e-7 relative:
