@@ -97,6 +97,11 @@ pub fn layer_path(output: &Path, layer: ErosionLayer) -> PathBuf {
     output.with_file_name(name)
 }
 
+/// The mosaic of `layer`'s tiles, in the plan's folder: `mosaic.LAYER.vrt`.
+fn layer_mosaic(layer: ErosionLayer) -> String {
+    format!("mosaic.{}.vrt", layer.name())
+}
+
 /// For headerless tiles (RAW16, F32): each tile's descriptor beside it in `dir`, which
 /// the mosaic names ([`source_of`]).
 fn write_raw_descriptors(dir: &Path, tiles: &[MosaicTile], format: StreamFormat) -> Result<()> {
@@ -146,8 +151,7 @@ impl Plan {
                 }
             })
             .collect();
-        let layer_mosaics =
-            setup.layers.iter().map(|l| (l.name().to_string(), format!("mosaic.{}.vrt", l.name()))).collect();
+        let layer_mosaics = setup.layers.iter().map(|&l| (l.name().to_string(), layer_mosaic(l))).collect();
         Ok(Plan {
             version: PLAN_VERSION,
             fingerprint: plan_fingerprint(parameters, setup.extent, tile_size, format)?,
@@ -181,7 +185,7 @@ impl Plan {
             .map(|t| MosaicTile { file: t.output.clone(), x: t.rect[0], y: t.rect[1], columns: side, rows: side })
             .collect();
         let mosaics = std::iter::once((None, self.mosaic.clone()))
-            .chain(setup.layers.iter().map(|&l| (Some(l), format!("mosaic.{}.vrt", l.name()))));
+            .chain(setup.layers.iter().map(|&l| (Some(l), layer_mosaic(l))));
         for (layer, name) in mosaics {
             let tiles: Vec<MosaicTile> = match layer {
                 None => heights.clone(),

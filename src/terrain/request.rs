@@ -297,6 +297,14 @@ pub struct TerrainTarget {
     pub sidecar: bool,
 }
 
+impl TerrainTarget {
+    /// Rows per streamed band for a region `width` points wide: `band`, or as many as
+    /// [`super::stream::default_band`] gives; `None` when the terrain is written whole.
+    pub fn streamed_band(&self, width: usize) -> Option<usize> {
+        self.stream.then(|| self.band.unwrap_or_else(|| super::stream::default_band(width)))
+    }
+}
+
 /// An output's kind, as far as the rules tell them apart.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum TerrainOutput {
@@ -772,8 +780,8 @@ impl TerrainLayout {
         let TerrainLayout { params, rect, extent, hurst, layers, max_height, range } = self;
         let whole_mesh = target.output == TerrainOutput::Mesh && !target.stream;
         let halo = 2 * params.erosion_halo();
-        let band = target.band.unwrap_or_else(|| super::stream::default_band(rect.width())).max(1);
-        let rows_at_once = if target.stream { band.min(rect.height()) } else { rect.height() };
+        let rows_at_once =
+            target.streamed_band(rect.width()).map_or(rect.height(), |band| band.max(1).min(rect.height()));
         let bytes_per_point = if whole_mesh { MESH_BYTES_PER_POINT } else { HEIGHTS_BYTES_PER_POINT };
         let smoothing = if params.method == Method::Smooth || params.erosion.is_some() || params.hydraulic.is_some() {
             2

@@ -15,7 +15,7 @@ use crate::request::Spelling;
 use crate::terrain::files::TerrainFiles;
 use crate::terrain::plan::layer_path;
 use crate::terrain::preview::{PreviewSampler, preview};
-use crate::terrain::stream::{StreamFormat, default_band};
+use crate::terrain::stream::StreamFormat;
 use crate::terrain::{TerrainMethod, TerrainOutput, TerrainRequest, TerrainSetup, TerrainTarget, presets};
 
 /// The subcommand's flags (`TerrainArgs`).
@@ -255,7 +255,7 @@ impl Setup {
                 output.display()
             )));
         }
-        let band = job.stream.then(|| job.band.unwrap_or_else(|| default_band(terrain.rect.width())));
+        let band = target.streamed_band(terrain.rect.width());
         let files = TerrainFiles { output, format, whole_mesh, sidecar, band, plan: job.plan.clone() };
         Ok(Setup { terrain, files })
     }

@@ -72,7 +72,7 @@ pub(super) fn run(args: PlanArgs, ctx: crate::cli::Context) -> Result<()> {
                 args.tile_size,
                 setup.extent,
                 manifest.display(),
-                args.output.join("mosaic.vrt").display(),
+                args.output.join(&plan.mosaic).display(),
                 crate::cli::millis(start),
                 args.output.display(),
                 count - 1,
@@ -81,7 +81,7 @@ pub(super) fn run(args: PlanArgs, ctx: crate::cli::Context) -> Result<()> {
         },
         || {
             serde_json::json!({
-                "plan": manifest, "mosaic": args.output.join("mosaic.vrt"), "tiles": count,
+                "plan": manifest, "mosaic": args.output.join(&plan.mosaic), "tiles": count,
                 "layer_mosaics": plan.layer_mosaics,
                 "tiles_per_side": tiles, "tile_size": args.tile_size, "size": setup.extent, "format": format,
                 "fingerprint": plan.fingerprint,
