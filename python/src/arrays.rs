@@ -111,3 +111,9 @@ pub fn colors_array(py: Python<'_>, colors: Vec<Rgb>) -> Bound<'_, PyArray2<u8>>
     let flat: Vec<u8> = colors.into_iter().flatten().collect();
     PyArray2::from_owned_array(py, Array2::from_shape_vec((n, 3), flat).expect("n × 3"))
 }
+
+/// A terrain's heights as a (rows, columns) float64 array taking over their buffer.
+pub fn heights_array(py: Python<'_>, field: asperity::terrain::Heightfield) -> Bound<'_, PyArray2<f64>> {
+    let shape = (field.rect.height(), field.rect.width());
+    PyArray2::from_owned_array(py, Array2::from_shape_vec(shape, field.heights).expect("rows × columns"))
+}

@@ -18,7 +18,7 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use arrays::{mesh_of, points_of, positions_array, triangles_array, vectors_array};
+use arrays::{heights_array, mesh_of, points_of, positions_array, triangles_array, vectors_array};
 use asperity::detail::DetailOptions;
 use asperity::hierarchy::HierarchyRequest;
 use asperity::mesh::Mesh;
@@ -517,9 +517,7 @@ fn compare(
 fn terrain<'py>(py: Python<'py>, fields: &str, progress: Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let (request, tile) = TerrainRequest::from_fields(fields, Spelling::Keyword).map_err(to_py)?;
     let field = run(py, Progress::of(&progress)?, move || request.heights(tile, Spelling::Keyword))?;
-    let shape = (field.rect.height(), field.rect.width());
-    let array = numpy::ndarray::Array2::from_shape_vec(shape, field.heights).expect("rows × columns");
-    Ok(PyArray2::from_owned_array(py, array))
+    Ok(heights_array(py, field))
 }
 
 /// `asperity terrain --erode hydraulic --layers …`'s heights and layers as rows × columns
@@ -534,15 +532,9 @@ fn terrain_layers<'py>(
     let (request, tile) = TerrainRequest::from_fields(fields, Spelling::Keyword).map_err(to_py)?;
     let (heights, layers) =
         run(py, Progress::of(&progress)?, move || request.heights_and_layers(tile, Spelling::Keyword))?;
-    let array = |field: asperity::terrain::Heightfield| {
-        let shape = (field.rect.height(), field.rect.width());
-        PyArray2::from_owned_array(
-            py,
-            numpy::ndarray::Array2::from_shape_vec(shape, field.heights).expect("rows × columns"),
-        )
-    };
-    let layers = layers.into_iter().map(|(layer, field)| (layer.name().to_string(), array(field))).collect();
-    Ok((array(heights), layers))
+    let layers =
+        layers.into_iter().map(|(layer, field)| (layer.name().to_string(), heights_array(py, field))).collect();
+    Ok((heights_array(py, heights), layers))
 }
 
 /// `asperity terrain`'s mesh (a heightfield's, or the dual method's surface): positions,
