@@ -40,7 +40,7 @@ pub struct FloraRequest {
     #[cfg_attr(feature = "cli", arg(long, default_value_t = 0))]
     pub seed: u64,
     /// Vertices around each branch ring (3 to 64).
-    #[cfg_attr(feature = "cli", arg(long, default_value_t = 8))]
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = FloraRequest::default().sides))]
     pub sides: u32,
 }
 
