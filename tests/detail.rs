@@ -450,6 +450,22 @@ fn recipe_mistakes_name_the_line_and_write_nothing() {
         ),
         ("[[step]]\nop = \"noise\"\nnoise = { kind = \"marble\", stripes = 0.0 }\n", "stripes must be a positive"),
         (
+            "[[step]]\nop = \"noise\"\nnoise = { kind = \"fbm\", orientation = [0.0, 0.0, 1.0] }\n",
+            "orientation applies only to kind = \"gabor\"",
+        ),
+        (
+            "[[step]]\nop = \"noise\"\nnoise = { kind = \"fbm\", follow_diffusion = false }\n",
+            "follow_diffusion applies only to kind = \"gabor\"",
+        ),
+        (
+            "[[step]]\nop = \"noise\"\nnoise = { kind = \"phasor\", orientation = [0.0, 0.0, 1.0], follow_diffusion = true }\n",
+            "give one",
+        ),
+        (
+            "[[step]]\nop = \"noise\"\nnoise = { kind = \"phasor\", orientation = [0.0, 0.0, 0.0] }\n",
+            "non-zero finite 3D direction",
+        ),
+        (
             "[[step]]\nop = \"noise\"\nsmooth = { iterations = 3 }\n",
             "the smooth table does not apply to op = \"noise\"",
         ),
@@ -546,7 +562,7 @@ fn surface_gabor_noise_has_no_seam_at_the_equator() {
             kind: asperity::noise::NoiseKind::Gabor,
             amplitude: 0.02,
             isotropic,
-            follow_diffusion: false,
+            follow_diffusion: Some(false),
             attenuate: Attenuate::None,
             ..Default::default()
         };
@@ -844,6 +860,14 @@ fn every_gabor_and_phasor_parameter_changes_a_step_as_the_thesis_defines_it() {
             (r0 > 2.0 && r1 < 0.5) || (r0 < 0.5 && r1 > 2.0),
             "{kind}: ω0 0 gives {ax}/{ay} sign changes along x/y, π/2 {bx}/{by}"
         );
+        // An orientation turns the kernels' frame: at ω0 = 0 they oscillate along its
+        // projection on the surface.
+        let (ox, oy) = crossings(&displacement(&format!("{base}, omega = 0.0, orientation = [1.0, 0.0, 0.0]")));
+        let (px, py) = crossings(&displacement(&format!("{base}, omega = 0.0, orientation = [0.0, 1.0, 0.0]")));
+        assert!(
+            ox > 2.0 * oy && py > 2.0 * px,
+            "{kind}: orientation x gives {ox}/{oy} sign changes along x/y, orientation y {px}/{py}"
+        );
         // A larger a is a narrower kernel: a wider band of frequencies, so more sign changes.
         let (wx, wy) = crossings(&displacement(&format!("{base}, a = 0.2")));
         assert!(wx + wy > (x1 + y1) * 1.1, "{kind}: a 0.2 gives {} sign changes against {}", wx + wy, x1 + y1);
@@ -1121,6 +1145,7 @@ fn no_operator_or_noise_parameter_is_without_effect() {
         // clamp fades to their mean. One octave against two shows the parameter acting.
         (noise("kind = \"wood\", frequency = 0.25, octaves = 1"), noise("kind = \"wood\", frequency = 0.25, octaves = 2")),
         (noise("kind = \"gabor\""), noise("kind = \"gabor\", follow_diffusion = false")),
+        (noise("kind = \"phasor\", follow_diffusion = false"), noise("kind = \"phasor\", orientation = [0.0, 0.0, 1.0]")),
         (noise("kind = \"phasor\""), noise("kind = \"phasor\", profile = \"square\"")),
         (two_steps("kind = \"fbm\""), two_steps("kind = \"fbm\", accumulate = true")),
         (around("rings = [{ influence = 0.5 }]"), around("rings = [{ influence = 0.9 }]")),

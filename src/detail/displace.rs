@@ -14,8 +14,8 @@ use super::recipe::{Attenuation, Direction, NoiseParams, OperatorKind};
 use crate::error::Result;
 use crate::noise::hash::{Stream, derive_seed, hash_coords};
 use crate::noise::{
-    Fractal, FractalKind, Frame, GaborParams, NoiseField, NoiseKind, NoiseSpec, Precision, ScaledPerlin, WOOD_RING_FALL,
-    fill_parallel, wood_ring, wood_ring_falling_over,
+    Fractal, FractalKind, Frame, GaborParams, NoiseField, NoiseKind, NoiseSpec, Precision, ScaledPerlin,
+    WOOD_RING_FALL, fill_parallel, wood_ring, wood_ring_falling_over,
 };
 
 /// The Gabor frequency F0 at which a step's `frequency` is its cycles per bounding-box
@@ -196,11 +196,18 @@ fn fractal_kind(kind: NoiseKind) -> FractalKind {
 /// parallel to the reference direction (any continuous tangent field on a sphere has such
 /// points), and an oblique reference keeps them off axis-aligned surfaces.
 pub fn tangent_frame(normal: DVec3, diffusion: Option<DVec3>, follow: bool) -> Frame {
+    tangent_frame_toward(normal, diffusion.filter(|_| follow), REFERENCE_DIRECTION)
+}
+
+/// [`tangent_frame`] with the diffusion direction where given, else `reference` (a recipe's
+/// `orientation`) projected on the tangent plane; where that vanishes too (the normal along
+/// it: a crown), any tangent.
+pub fn tangent_frame_toward(normal: DVec3, diffusion: Option<DVec3>, reference: DVec3) -> Frame {
     let n = if normal.length_squared() > 0.0 { normal } else { DVec3::Z };
     let project = |d: DVec3| (d - n * n.dot(d)).normalize_or_zero();
-    let tangent = match diffusion.filter(|_| follow).map(project) {
+    let tangent = match diffusion.map(project) {
         Some(t) if t != DVec3::ZERO => t,
-        _ => match project(REFERENCE_DIRECTION) {
+        _ => match project(reference) {
             t if t != DVec3::ZERO => t,
             _ => n.any_orthonormal_vector(),
         },
@@ -255,12 +262,11 @@ pub fn noise_displacements(
     }
     let ring_noise = ring_fields(params, modulate, view.level, view.depth, frame, seed)?;
     let dirs = directions(view, params.direction)?;
-    let diffusion =
-        if params.kind.is_spectral() && params.follow_diffusion {
-            Some(view.analysis()?.oriented_diffusion(&view.adjacency))
-        } else {
-            None
-        };
+    let diffusion = if params.kind.is_spectral() && params.follows_diffusion() {
+        Some(view.analysis()?.oriented_diffusion(&view.adjacency))
+    } else {
+        None
+    };
     let amplitude = params.amplitude * frame.diagonal;
     let edge = view.mean_edge_length();
     let positions = &view.mesh.positions;
@@ -285,9 +291,14 @@ pub fn noise_displacements(
         let value = match &batched {
             Some(noise) => field.clamped(noise[i], positions[v], edge),
             None => {
-                let tangent = tangent_frame(view.normals[v], diffusion.as_ref().map(|d| d[v]), params.follow_diffusion);
+                let tangent = tangent_frame_toward(
+                    view.normals[v],
+                    diffusion.as_ref().map(|d| d[v]),
+                    params.orientation.map_or(REFERENCE_DIRECTION, DVec3::from),
+                );
                 let u = if shift != 0.0 { centre_shift(seed, view.ids[centre]) } else { 0.0 };
-                field.clamped(field.at_shifted(positions[v], tangent, shift * u), positions[v], edge) * (1.0 + shift * u)
+                field.clamped(field.at_shifted(positions[v], tangent, shift * u), positions[v], edge)
+                    * (1.0 + shift * u)
             }
         };
         let influence = if ring == 0 { 1.0 } else { params.rings[ring - 1].influence };

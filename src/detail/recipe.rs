@@ -450,8 +450,13 @@ pub struct NoiseParams {
     pub isotropic: bool,
     /// Phasor noise's profile (sine, square, sawtooth).
     pub profile: crate::noise::Profile,
-    /// Orient Gabor by the diffusion direction (else by a fixed tangent frame).
-    pub follow_diffusion: bool,
+    /// Orient Gabor and phasor kernels by the diffusion direction (else by a fixed 3D
+    /// direction projected on the tangent plane). Unset: true, unless `orientation` is given.
+    pub follow_diffusion: Option<bool>,
+    /// The 3D direction whose projection on each tangent plane orients Gabor and phasor
+    /// kernels in place of the diffusion direction (Lagae et al. 2009, §5): with ω0 = π/2
+    /// phasor stripes run along it, as combed hair runs from a crown down the z axis.
+    pub orientation: Option<[f64; 3]>,
     /// Displacement direction.
     pub direction: Direction,
     /// Divide by a level number l (eq. 4.5; l = 1 at the input level, growing coarser):
@@ -491,7 +496,8 @@ impl Default for NoiseParams {
             impulses: 64.0,
             isotropic: false,
             profile: crate::noise::Profile::Sine,
-            follow_diffusion: true,
+            follow_diffusion: None,
+            orientation: None,
             direction: Direction::Normal,
             attenuate: Attenuate::Step,
             modulate: None,
@@ -505,6 +511,12 @@ impl Default for NoiseParams {
 }
 
 impl NoiseParams {
+    /// Whether the kernels follow the diffusion direction: as asked, else unless an
+    /// orientation is given.
+    pub fn follows_diffusion(&self) -> bool {
+        self.follow_diffusion.unwrap_or(self.orientation.is_none())
+    }
+
     /// A parameter of another kind than `kind`'s would be ignored: it is refused (a value
     /// differing from the default counts as given).
     fn check_kind_parameters(&self) -> std::result::Result<(), String> {
@@ -518,12 +530,23 @@ impl NoiseParams {
             ("impulses", self.impulses != d.impulses),
             ("isotropic", self.isotropic),
             ("rings' k, a and f0", ring_gabor),
+            ("follow_diffusion", self.follow_diffusion.is_some()),
+            ("orientation", self.orientation.is_some()),
         ];
         let kind = format!("{:?}", self.kind).to_lowercase();
         if !self.kind.is_spectral()
-            && let Some((name, _)) = gabor_only.iter().find(|(_, given)| *given) {
-                return Err(format!("noise {name} applies only to kind = \"gabor\" or \"phasor\", not to \"{kind}\""));
+            && let Some((name, _)) = gabor_only.iter().find(|(_, given)| *given)
+        {
+            return Err(format!("noise {name} applies only to kind = \"gabor\" or \"phasor\", not to \"{kind}\""));
+        }
+        if let Some(o) = self.orientation {
+            if self.follow_diffusion == Some(true) {
+                return Err("noise orientation and follow_diffusion = true both orient the kernels: give one".into());
             }
+            if !o.iter().all(|c| c.is_finite()) || o == [0.0; 3] {
+                return Err(format!("noise orientation must be a non-zero finite 3D direction, not {o:?}"));
+            }
+        }
         if self.kind != NoiseKind::Phasor && self.profile != d.profile {
             return Err(format!("noise profile applies only to kind = \"phasor\", not to \"{kind}\""));
         }
@@ -631,7 +654,8 @@ impl Recipe {
 
     fn check(&self) -> std::result::Result<(), String> {
         for (i, step) in self.steps.iter().enumerate() {
-            step.check().map_err(|m| format!("step {} ({:?}): {m}", i + 1, step.op).to_lowercase())?;
+            let op = format!("{:?}", step.op).to_lowercase();
+            step.check().map_err(|m| format!("step {} ({op}): {m}", i + 1))?;
         }
         self.color.as_ref().map_or(Ok(()), ColorSection::check)
     }
@@ -644,14 +668,20 @@ impl Step {
         use OperatorKind as Op;
         let op = self.op;
         let tables = [
-            ("noise", self.noise != NoiseParams::default(), matches!(op, Op::Noise | Op::Variation | Op::Feature | Op::Organic)),
+            (
+                "noise",
+                self.noise != NoiseParams::default(),
+                matches!(op, Op::Noise | Op::Variation | Op::Feature | Op::Organic),
+            ),
             ("geometric", self.geometric != GeometricParams::default(), matches!(op, Op::Taper | Op::Twist)),
             ("smooth", self.smooth != SmoothParams::default(), op == Op::Smooth),
             ("subdivide", self.subdivide != SubdivideParams::default(), op == Op::Subdivide),
             ("organic", self.organic != OrganicParams::default(), op == Op::Organic),
         ];
         match tables.iter().find(|(_, given, read)| *given && !read) {
-            Some((name, _, _)) => Err(format!("the {name} table does not apply to op = \"{}\"", format!("{op:?}").to_lowercase())),
+            Some((name, _, _)) => {
+                Err(format!("the {name} table does not apply to op = \"{}\"", format!("{op:?}").to_lowercase()))
+            }
             None => Ok(()),
         }
     }
@@ -693,9 +723,10 @@ impl Step {
             ));
         }
         if let Some(s) = &self.select.sphere
-            && (s.radius.is_nan() || s.radius <= 0.0) {
-                return Err("sphere radius must be positive".into());
-            }
+            && (s.radius.is_nan() || s.radius <= 0.0)
+        {
+            return Err("sphere radius must be positive".into());
+        }
         Ok(())
     }
 }
