@@ -296,7 +296,7 @@ impl Star<'_> {
         let m = ears.current.len();
         let (prev, apex, next) = (ears.current[(i + m - 1) % m], ears.current[i], ears.current[(i + 1) % m]);
         if self.line.is_some_and(|(ends, _)| ends.contains(&apex))
-            || self.rings.has_edge(ring[prev], ring[next])
+            || !self.rings.may_join(ring[prev], ring[next])
             || !self.rings.may_lose_neighbour(ring[apex], ears.gain[apex])
             || orient(flat[prev], flat[apex], flat[next]) <= 0.0
             || orient(DVec2::ZERO, flat[prev], flat[next]) <= 0.0
@@ -393,7 +393,7 @@ impl Star<'_> {
         for k in 0..2 {
             let c = [current[k], current[k + 1], current[(k + 2) % 4], current[(k + 3) % 4]];
             if self.line.is_some_and(|([a, b], _)| [a.min(b), a.max(b)] != [c[0].min(c[2]), c[0].max(c[2])])
-                || rings.has_edge(ring[c[0]], ring[c[2]])
+                || !rings.may_join(ring[c[0]], ring[c[2]])
                 || !self.rings.may_lose_neighbour(ring[c[1]], gain[c[1]])
                 || !self.rings.may_lose_neighbour(ring[c[3]], gain[c[3]])
                 || orient(flat[c[0]], flat[c[1]], flat[c[2]]) <= 0.0
@@ -476,7 +476,7 @@ impl Star<'_> {
         let (ring, flat, p, rings) = (&self.ring, &self.flat, &self.points, self.rings);
         let c = [ears.current[0], ears.current[1], ears.current[2]];
         let pv = self.pv();
-        if rings.has_edge(ring[c[0]], ring[c[2]])
+        if !rings.may_join(ring[c[0]], ring[c[2]])
             || !self.rings.may_lose_neighbour(ring[c[1]], ears.gain[c[1]])
             || orient(flat[c[0]], flat[c[1]], flat[c[2]]) <= 0.0
             || is_sliver(p[c[0]], p[c[1]], p[c[2]])

@@ -19,6 +19,7 @@ mod guard;
 mod intersections;
 mod lines;
 mod param;
+pub mod partition;
 mod plan;
 mod record;
 mod refine;
@@ -39,11 +40,11 @@ pub use compare_request::CompareRequest;
 pub use give_way::{TargetReport, topological_floor};
 pub use intersections::added_triangle_intersections;
 pub use param::ParamPoint;
-pub use report::BuildReport;
 pub use refine::{LevelMesh, LevelReport, Refiner, connectivity_match};
+pub use report::BuildReport;
+pub use request::HierarchyRequest;
 pub use rings::{RingVec, Rings};
 pub use simplify::{build, build_with_openmesh_replay};
-pub use request::HierarchyRequest;
 pub use target::VertexTarget;
 pub use wedges::Wedges;
 
@@ -103,6 +104,9 @@ pub struct SimplifyOptions {
     pub feature_vertices: FeatureVertices,
     /// Vertices the user marked as unremovable.
     pub keep_vertices: Vec<u32>,
+    /// The border of a part built apart (#40, [`partition`]): kept, and no two of them
+    /// joined by a new edge, so that parts built apart join into a manifold.
+    pub border_vertices: Vec<u32>,
     /// Weight of the removal error in E(v) (eq. 4.1).
     pub removal_weight: f64,
     /// Weight of the swap error in E(v) (eq. 4.1).
@@ -125,6 +129,7 @@ impl Default for SimplifyOptions {
             keep_features: KeepFeatures::Strong,
             feature_vertices: FeatureVertices::AlongLines,
             keep_vertices: Vec::new(),
+            border_vertices: Vec::new(),
             removal_weight: 0.75,
             swap_weight: 0.25,
             fix_threshold_degrees: 90.0,

@@ -67,7 +67,8 @@ impl ClusterPlan {
 }
 
 /// Whether `plan`, made on an earlier state of the rings, can still be carried out: the
-/// vertex has the same ring, no flip or weld would create an edge that now exists, and no
+/// vertex has the same ring, no flip or weld would create an edge that now exists (or join
+/// two fenced vertices, [`Rings::fence`]), and no
 /// ring vertex would drop below degree 3 (the topological conditions of [`super::cluster::plan_cluster`];
 /// its geometric ones depend on positions only). Used when a level drops some of its plans
 /// and replays the others.
@@ -80,7 +81,7 @@ pub fn plan_still_applies(plan: &ClusterPlan, rings: &Rings) -> bool {
     let drops_too_low = |id: u32, gain: &[i64]| !rings.may_lose_neighbour(id, gain[slot(id)]);
     let (ears, weld) = plan.triangles.split_at(plan.flips.len());
     for &[prev, apex, next] in ears {
-        if rings.has_edge(prev, next) || drops_too_low(apex, &gain) {
+        if !rings.may_join(prev, next) || drops_too_low(apex, &gain) {
             return false;
         }
         gain[slot(apex)] -= 1;
@@ -88,10 +89,10 @@ pub fn plan_still_applies(plan: &ClusterPlan, rings: &Rings) -> bool {
         gain[slot(next)] += 1;
     }
     if let [[c0, c1, c2]] = *weld {
-        return !(rings.has_edge(c0, c2) || drops_too_low(c1, &gain));
+        return rings.may_join(c0, c2) && !drops_too_low(c1, &gain);
     }
     let ([c0, c1, c2], [_, _, c3]) = (weld[0], weld[1]);
-    !(rings.has_edge(c0, c2) || drops_too_low(c1, &gain) || drops_too_low(c3, &gain))
+    rings.may_join(c0, c2) && !drops_too_low(c1, &gain) && !drops_too_low(c3, &gain)
 }
 
 /// Carries out `plan` on the rings: its spoke flips, then its weld.

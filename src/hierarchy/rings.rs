@@ -30,6 +30,8 @@ pub struct Rings {
     rings: Vec<Ring>,
     boundary: Vec<bool>,
     journal: Option<Journal>,
+    /// Vertices no new edge may join two of (a part's border, #40); empty: none.
+    fenced: Vec<bool>,
 }
 
 /// The rings as they were before their first edit since the checkpoint.
@@ -55,7 +57,7 @@ impl Rings {
             rings[v as usize] = Ring::from_slice(csr.row(i));
             boundary[v as usize] = b;
         }
-        Ok(Rings { rings, boundary, journal: None })
+        Ok(Rings { rings, boundary, journal: None, fenced: Vec::new() })
     }
 
     /// Number of vertex slots.
@@ -128,6 +130,26 @@ impl Rings {
         self.ring(a).contains(&b)
     }
 
+    /// Fences `vertices`: no flip or weld may join two of them by an edge they do not
+    /// have. A part built apart (#40) fences its border, whose edges in the other parts it
+    /// cannot see, so that the parts' levels join into a manifold.
+    pub fn fence(&mut self, vertices: &[u32]) {
+        if vertices.is_empty() {
+            return;
+        }
+        self.fenced = vec![false; self.rings.len()];
+        for &v in vertices {
+            self.fenced[v as usize] = true;
+        }
+    }
+
+    /// Whether a flip or weld may make the edge a–b: it does not exist, and a and b are not
+    /// both fenced.
+    pub fn may_join(&self, a: u32, b: u32) -> bool {
+        let both_fenced = !self.fenced.is_empty() && self.fenced[a as usize] && self.fenced[b as usize];
+        !both_fenced && !self.has_edge(a, b)
+    }
+
     /// The third vertex `c` of the face (a, b, c) left of a → b, if there is one.
     pub fn left_of(&self, a: u32, b: u32) -> Option<u32> {
         let ring = self.ring(a);
@@ -161,10 +183,11 @@ impl Rings {
 
     fn edit(&mut self, v: u32) -> &mut Ring {
         if let Some(journal) = &mut self.journal
-            && !journal.touched[v as usize] {
-                journal.touched[v as usize] = true;
-                journal.saved.push((v, self.rings[v as usize].clone()));
-            }
+            && !journal.touched[v as usize]
+        {
+            journal.touched[v as usize] = true;
+            journal.saved.push((v, self.rings[v as usize].clone()));
+        }
         &mut self.rings[v as usize]
     }
 

@@ -94,7 +94,8 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
     };
     let referenced = used_vertices(n, &mesh.triangles);
     let live: Vec<u32> = (0..n as u32).filter(|&v| referenced[v as usize]).collect();
-    let rings = Rings::fetch(&store, &live, n)?;
+    let mut rings = Rings::fetch(&store, &live, n)?;
+    rings.fence(&options.border_vertices);
     let recorder = Recorder::new(&mesh.positions, &mesh.triangles, replay.then_some(store), options.record_levels);
     lap(&mut clock, &mut stages.prepare);
 
@@ -572,7 +573,7 @@ fn features_and_kept(mesh: &Mesh, options: &SimplifyOptions, seams: &[[u32; 2]])
     // What never gives way to the target: texture seams, the user's marks, and the
     // feature vertices `--feature-vertices keep` asks to keep.
     let mut fixed: Vec<bool> = (0..n as u32).map(|v| lines.is_on_seam(v) || (!along && feature[v as usize])).collect();
-    for &v in &options.keep_vertices {
+    for &v in options.keep_vertices.iter().chain(&options.border_vertices) {
         let slot = kept
             .get_mut(v as usize)
             .ok_or_else(|| Error::InvalidInput(format!("vertex {v} marked to keep is out of range ({n} vertices)")))?;

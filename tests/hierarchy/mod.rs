@@ -2,6 +2,7 @@
 //! the vertex target and what gives way, region refinement.
 
 mod build;
+mod partition;
 mod quality;
 mod region;
 mod targets;

@@ -1,0 +1,207 @@
+//! Partitioned builds (#40): a mesh cut into spatially compact parts of near-equal face
+//! count, each simplified apart with its border fenced, and the parts' base domains joined
+//! into one mesh that a build continues.
+//!
+//! The cut follows the Morton (Z-order) curve of the face centroids (Morton 1966), the
+//! space-filling-curve partitioning of Pilkington & Baden 1996 ("Dynamic partitioning of
+//! non-uniform structured workloads with spacefilling curves"): faces sorted by the
+//! curve's key in the unit frame, then cut into runs of equal length. The curve keeps
+//! neighbouring faces together, so a run is compact and its border short.
+//!
+//! A part's border vertices (on faces of another part too) are kept by its build and
+//! fenced ([`super::SimplifyOptions::border_vertices`]): no flip or weld joins two of them
+//! by a new edge, since the part cannot see the edges the other parts hold between them.
+//! Every other vertex of a part has its whole star in the part, so the part's levels are
+//! levels of the whole mesh, and the parts' bases join edge to edge along their unchanged
+//! borders into a manifold ([`join_bases`]).
+
+use rayon::prelude::*;
+
+use super::LevelMesh;
+use crate::error::{Error, Result};
+use crate::mesh::{Mesh, UnitFrame, split_non_manifold_fans};
+use glam::DVec3;
+
+/// Which part each face of a mesh belongs to, and which vertices lie on a border between
+/// parts.
+#[derive(Debug, Clone)]
+pub struct Partition {
+    owner: Vec<u32>,
+    parts: usize,
+    border: Vec<bool>,
+}
+
+impl Partition {
+    /// Cuts `mesh` into `parts` runs of the Morton curve of its face centroids, of face
+    /// counts differing by at most one.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for no part, more parts than faces, or a mesh whose box
+    /// [`UnitFrame`] refuses.
+    pub fn of(mesh: &Mesh, parts: usize) -> Result<Partition> {
+        let faces = mesh.face_count();
+        if parts == 0 || parts > faces {
+            return Err(Error::InvalidInput(format!("{parts} parts of a mesh of {faces} faces: give 1 to {faces}")));
+        }
+        mesh.check()?;
+        let unit = UnitFrame::of(mesh)?;
+        let mut keys: Vec<(u64, u32)> = mesh
+            .triangles
+            .par_iter()
+            .enumerate()
+            .map(|(f, t)| {
+                let centroid = t.iter().map(|&v| unit.to_unit(mesh.positions[v as usize])).sum::<DVec3>() / 3.0;
+                (morton_key(centroid + DVec3::splat(0.5)), f as u32)
+            })
+            .collect();
+        keys.par_sort_unstable();
+        let mut owner = vec![0u32; faces];
+        for (i, &(_, f)) in keys.iter().enumerate() {
+            owner[f as usize] = (i * parts / faces) as u32;
+        }
+        Partition::with_owners(mesh, owner, parts)
+    }
+
+    /// The partition giving face f to part `owner[f]` (any cut: components, materials, a
+    /// caller's own).
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for an owner list of another length than the faces', or a
+    /// part number of `parts` or more.
+    pub fn with_owners(mesh: &Mesh, owner: Vec<u32>, parts: usize) -> Result<Partition> {
+        if owner.len() != mesh.face_count() {
+            return Err(Error::InvalidInput(format!("{} owners for {} faces", owner.len(), mesh.face_count())));
+        }
+        if let Some(f) = owner.iter().position(|&o| o as usize >= parts) {
+            return Err(Error::InvalidInput(format!("face {f} is given part {} of {parts}", owner[f])));
+        }
+        mesh.check()?;
+        let mut first = vec![u32::MAX; mesh.vertex_count()];
+        let mut border = vec![false; mesh.vertex_count()];
+        for (t, &part) in mesh.triangles.iter().zip(&owner) {
+            for &v in t {
+                match first[v as usize] {
+                    u32::MAX => first[v as usize] = part,
+                    p if p != part => border[v as usize] = true,
+                    _ => {}
+                }
+            }
+        }
+        Ok(Partition { owner, parts, border })
+    }
+
+    /// Number of parts.
+    pub fn parts(&self) -> usize {
+        self.parts
+    }
+
+    /// The part of face `f`.
+    pub fn owner(&self, f: usize) -> u32 {
+        self.owner[f]
+    }
+
+    /// Whether input vertex `v` lies on faces of two parts or more.
+    pub fn is_border(&self, v: u32) -> bool {
+        self.border[v as usize]
+    }
+
+    /// Number of border vertices.
+    pub fn border_count(&self) -> usize {
+        self.border.iter().filter(|&&b| b).count()
+    }
+
+    /// Part `k` of `mesh` as a mesh of its own: its faces, the vertices they use (renumbered
+    /// in order of first use), a vertex where the part's faces meet only at that vertex
+    /// split into one copy per fan (a run of the curve may pinch there; every copy is a
+    /// border vertex), and which of its vertices are border vertices.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for a part number out of range.
+    pub fn part(&self, mesh: &Mesh, k: usize) -> Result<Part> {
+        if k >= self.parts {
+            return Err(Error::InvalidInput(format!("part {k} of {} (0..{})", self.parts, self.parts - 1)));
+        }
+        let mut local = vec![u32::MAX; mesh.vertex_count()];
+        let mut ids: Vec<u32> = Vec::new();
+        let mut triangles = Vec::new();
+        for (t, _) in mesh.triangles.iter().zip(&self.owner).filter(|(_, o)| **o as usize == k) {
+            triangles.push(t.map(|v| {
+                if local[v as usize] == u32::MAX {
+                    local[v as usize] = ids.len() as u32;
+                    ids.push(v);
+                }
+                local[v as usize]
+            }));
+        }
+        let positions = ids.iter().map(|&v| mesh.positions[v as usize]).collect();
+        let mut part = Mesh::new(positions, triangles);
+        // The input ids ride along as a scalar, which the split copies to each copy.
+        part.scalars.insert(INPUT_ID.to_string(), ids.iter().map(|&v| f64::from(v)).collect());
+        split_non_manifold_fans(&mut part);
+        let ids: Vec<u32> =
+            part.scalars.remove(INPUT_ID).expect("the ids' scalar").into_iter().map(|v| v as u32).collect();
+        let border = (0..ids.len() as u32).filter(|&v| self.border[ids[v as usize] as usize]).collect();
+        Ok(Part { mesh: part, ids, border })
+    }
+}
+
+/// The scalar that carries input ids through a part's fan split.
+const INPUT_ID: &str = "\u{0}asperity-input-id";
+
+/// One part of a [`Partition`] as a mesh of its own.
+#[derive(Debug, Clone)]
+pub struct Part {
+    /// The part's faces over its own vertices.
+    pub mesh: Mesh,
+    /// The input id of each of the part's vertices.
+    pub ids: Vec<u32>,
+    /// The part's vertices on its border (to fence in its build).
+    pub border: Vec<u32>,
+}
+
+impl Part {
+    /// `triangles` over the part's vertices (its base domain's) in input ids.
+    pub fn input_triangles(&self, triangles: &[[u32; 3]]) -> Vec<[u32; 3]> {
+        triangles.iter().map(|t| t.map(|v| self.ids[v as usize])).collect()
+    }
+}
+
+/// The parts' base domains (faces in input ids) joined into one mesh of the vertices they
+/// use, in input id order: with every part's border fenced, a manifold wherever the input
+/// was one.
+pub fn join_bases(positions: &[DVec3], bases: &[Vec<[u32; 3]>]) -> LevelMesh {
+    let triangles: Vec<[u32; 3]> = bases.iter().flatten().copied().collect();
+    LevelMesh::compact(positions, &triangles)
+}
+
+/// The Morton key of a point of the unit cube: its coordinates' 21 bits interleaved.
+fn morton_key(p: DVec3) -> u64 {
+    let bits = |c: f64| spread((c.clamp(0.0, 1.0) * f64::from((1u32 << 21) - 1)) as u64);
+    bits(p.x) | bits(p.y) << 1 | bits(p.z) << 2
+}
+
+/// The low 21 bits of `x`, two zero bits after each.
+fn spread(x: u64) -> u64 {
+    let mut x = x & 0x1f_ffff;
+    x = (x | x << 32) & 0x001f_0000_0000_ffff;
+    x = (x | x << 16) & 0x001f_0000_ff00_00ff;
+    x = (x | x << 8) & 0x100f_00f0_0f00_f00f;
+    x = (x | x << 4) & 0x10c3_0c30_c30c_30c3;
+    (x | x << 2) & 0x1249_2492_4924_9249
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn morton_keys_interleave_the_coordinates_bits() {
+        assert_eq!(spread(0b1011), 0b001_000_001_001);
+        let top = f64::from((1u32 << 21) - 1);
+        let key = |x: f64, y: f64, z: f64| morton_key(DVec3::new(x, y, z) / top);
+        assert_eq!(key(1.0, 0.0, 0.0), 0b001);
+        assert_eq!(key(0.0, 1.0, 0.0), 0b010);
+        assert_eq!(key(0.0, 0.0, 1.0), 0b100);
+        assert_eq!(key(3.0, 0.0, 1.0), 0b001_101);
+    }
+}
