@@ -1,15 +1,12 @@
 //! #40's partitioned build against the one-piece build, side by side in one run: the
-//! displaced 1.31M-triangle sphere and the bunny scan cut into K = 8 parts along the
-//! Morton curve (`hierarchy::partition`), each part simplified in a thread of its own to
-//! its border plus 4 % of its inside with its border fenced, the parts' bases joined and
-//! simplified on to 1 % of the input's vertices; the one-piece build goes there directly.
-//! Printed: Hausdorff of both (to the input, % of its diagonal) and their ratio (target
-//! ≤ 1.1), the wall times and their ratio (target ≤ 0.6 on 2 threads) and each stage's
-//! time.
+//! displaced 1.31M-triangle sphere and the bunny scan to 1 % of their vertices by
+//! `hierarchy::partition::build_partitioned` with K = 8 parts (parts along the Morton
+//! curve, built in parallel with their borders fenced, their bases joined and the build
+//! continued) and by the one-piece build. Printed: Hausdorff of both (to the input, % of
+//! its diagonal) and their ratio (target ≤ 1.1), the wall times and their ratio (target
+//! ≤ 0.6 on 2 threads).
 //!
-//! Not measured yet (#40 continues): the composed parametrization and records (the result
-//! is a base domain, not yet a hierarchy `refine` takes), parts as separate processes and
-//! their peaks (in one process, freed memory of earlier stages hides a stage's own), 50M
+//! Not measured yet (#40 continues): parts as separate processes and their peaks, 50M
 //! triangles.
 //!
 //! `cargo bench --bench hierarchy_scale` (`-- --quick`: the 327k-triangle sphere).
@@ -18,19 +15,14 @@ use std::time::Instant;
 
 use asperity::Mesh;
 use asperity::hierarchy::compare::relative_hausdorff;
-use asperity::hierarchy::partition::{Partition, join_bases};
+use asperity::hierarchy::partition::{Partition, build_partitioned};
 use asperity::hierarchy::{KeepFeatures, SimplifyOptions, build};
-use asperity::mesh::ValidationReport;
 use asperity::mesh::primitives::icosphere;
 use asperity::noise::{Frame, NoiseField, NoiseKind, NoiseSpec};
 use glam::DVec3;
-use rayon::prelude::*;
 
 /// Parts of the partitioned build.
 const PARTS: usize = 8;
-
-/// Share of a part's inside vertices its build keeps, before the joined build.
-const PART_SHARE: f64 = 0.04;
 
 /// The bench's displaced icosphere (as `benches/hierarchy.rs` makes it).
 fn displaced_sphere(level: u32) -> Mesh {
@@ -80,38 +72,17 @@ fn compare(name: &str, mesh: &Mesh) {
     drop(one);
 
     let start = Instant::now();
-    let partition = Partition::of(mesh, PARTS).expect("partition");
-    let cut_s = start.elapsed().as_secs_f64();
-    let part_goal = |part: &asperity::hierarchy::partition::Part| {
-        let inside = part.mesh.vertex_count() - part.border.len();
-        (part.border.len() + ((inside as f64 * PART_SHARE) as usize).max(1)).min(part.mesh.vertex_count())
-    };
-    let bases: Vec<Vec<[u32; 3]>> = (0..PARTS)
-        .into_par_iter()
-        .map(|k| {
-            let part = partition.part(mesh, k).expect("part");
-            let h = build(&part.mesh, &options(part_goal(&part), part.border.clone())).expect("part build");
-            part.input_triangles(&h.base_triangles)
-        })
-        .collect();
-    let parts_s = start.elapsed().as_secs_f64() - cut_s;
-    let joined = join_bases(&mesh.positions, &bases);
-    let report = ValidationReport::of(&joined.mesh);
-    assert!(report.is_manifold(), "{name}: the joined bases are not a manifold: {report:?}");
-    let start = Instant::now();
-    let continued = build(&joined.mesh, &options(target, Vec::new())).expect("joined build");
-    let join_s = start.elapsed().as_secs_f64();
-    let parted_h = relative_hausdorff(mesh, &continued.base_mesh().mesh).expect("hausdorff");
-
-    let parted_s = cut_s + parts_s + join_s;
+    let parted = build_partitioned(mesh, PARTS, &options(target, Vec::new())).expect("partitioned build");
+    let parted_s = start.elapsed().as_secs_f64();
+    let parted_h = relative_hausdorff(mesh, &parted.base_mesh().mesh).expect("hausdorff");
+    let border = Partition::of(mesh, PARTS).expect("partition").border_count();
     println!("  one piece: {one_vertices} vertices in {one_s:.2} s, hausdorff {:.4} %", one_h * 100.0);
     println!(
-        "  partitioned: {} vertices in {parted_s:.2} s (cut {cut_s:.2} s, {PARTS} parts as threads {parts_s:.2} s, joined bases {} vertices built on in {join_s:.2} s), hausdorff {:.4} %; {} border vertices ({:.1} %)",
-        continued.base_vertex_count(),
-        joined.mesh.vertex_count(),
+        "  partitioned: {} vertices in {parted_s:.2} s ({} levels, the parts' and the joined bases'), hausdorff {:.4} %; {border} border vertices ({:.1} %)",
+        parted.base_vertex_count(),
+        parted.steps(),
         parted_h * 100.0,
-        partition.border_count(),
-        100.0 * partition.border_count() as f64 / mesh.vertex_count() as f64
+        100.0 * border as f64 / mesh.vertex_count() as f64
     );
     println!(
         "  #40: hausdorff partitioned / one piece {:.3}x (target <= 1.1x); wall time {:.2}x on {} threads (target <= 0.6x)",

@@ -70,6 +70,16 @@ impl ParamBuckets {
         self.points[vertex as usize] = Some(point);
     }
 
+    /// Puts each vertex with a point in `seeds` there (a hierarchy continued from removals
+    /// made before: a partitioned build's parts, #40).
+    pub fn seed(&mut self, seeds: &[Option<ParamPoint>], positions: &[DVec3]) {
+        for (v, point) in seeds.iter().enumerate() {
+            if let Some(point) = *point {
+                self.insert(v as u32, point, distance_to(positions, v as u32, point.face));
+            }
+        }
+    }
+
     /// Calls `f` with the vertices parametrized onto `face` (any rotation) that lie farthest
     /// from it (at most [`WORST`]) and their points.
     pub fn for_each_farthest_on(&self, face: [u32; 3], mut f: impl FnMut(u32, &ParamPoint)) {

@@ -15,14 +15,14 @@ use super::cluster::{ClusterRules, LevelGeometry, plan_cluster};
 use super::give_way::{GiveWay, Rung, topological_floor};
 use super::guard::guard_plans;
 use super::lines::FeatureLines;
-use super::param::ParamBuckets;
+use super::param::{ParamBuckets, ParamPoint};
 use super::plan::{ClusterPlan, apply_plan, plan_still_applies};
 use super::record::{Recorded, Recorder};
 use super::rings::Rings;
 use super::sliver_budget::SliverBudget;
 use super::store::exported_triangles;
 use super::wedges::Wedges;
-use super::{BuildStages, FeatureVertices, Hierarchy, KeepFeatures, SimplifyOptions, used_vertices};
+use super::{BuildStages, FeatureVertices, Hierarchy, KeepFeatures, Removal, SimplifyOptions, used_vertices};
 use crate::analysis::{
     FaceGeometry, FeatureClass, FeatureOptions, classify_at_two_scales, voting_tensors, wide_voting_tensors,
 };
@@ -38,7 +38,39 @@ use glam::DVec3;
 /// [`Error::InvalidInput`] for an inconsistent mesh or options; [`Error::Topology`] for a
 /// non-manifold mesh; [`Error::Native`] if OpenMesh or CGAL refuse it.
 pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
-    build_with(mesh, options, cfg!(debug_assertions))
+    build_with(mesh, options, cfg!(debug_assertions), None)
+}
+
+/// [`build`] continuing a hierarchy whose removed vertices lie on `mesh`'s faces: the
+/// vertices with a point in `seeds` are on no face of `mesh` and are carried, as MAPS
+/// carries the build's own removed vertices, to the base domain; every cluster's error
+/// measures them too, and the quadrics are those of `input` (the mesh the earlier
+/// `removals` simplified, over the same vertices) accumulated along those removals. What a
+/// partitioned build (#40) continues its joined parts with.
+///
+/// # Errors
+/// As [`build`]; [`Error::InvalidInput`] for seeds of another length than the vertices or
+/// a seed on a vertex of a face.
+pub(super) fn build_seeded(
+    mesh: &Mesh,
+    options: &SimplifyOptions,
+    seeds: &[Option<ParamPoint>],
+    input: &Mesh,
+    removals: &[Removal],
+) -> Result<Hierarchy> {
+    build_with(mesh, options, cfg!(debug_assertions), Some(Continuation { seeds, input, removals }))
+}
+
+/// What a continued build ([`build_seeded`]) starts from: the removed vertices' points on
+/// the mesh, and the input those removals simplified, whose faces give the vertices'
+/// quadrics (the mesh's coarse faces would give planes the removed vertices left).
+#[derive(Clone, Copy)]
+struct Continuation<'a> {
+    seeds: &'a [Option<ParamPoint>],
+    input: &'a Mesh,
+    /// The earlier removals, in order: their quadrics are accumulated as a build
+    /// accumulates its own.
+    removals: &'a [Removal],
 }
 
 /// [`build`], with every level's plans also carried out on an OpenMesh store (flips and
@@ -50,14 +82,20 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
 /// As [`build`]; [`Error::Internal`] if OpenMesh refuses a planned operation or ends with
 /// other faces than the rings.
 pub fn build_with_openmesh_replay(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
-    build_with(mesh, options, true)
+    build_with(mesh, options, true, None)
 }
 
 /// Peak bytes of a build (and its refinement) per input triangle, rounded up from the
 /// measured 336–374 (`cargo bench --bench hierarchy`, #35).
 pub const BUILD_BYTES_PER_TRIANGLE: u64 = 400;
 
-fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hierarchy> {
+fn build_with(
+    mesh: &Mesh,
+    options: &SimplifyOptions,
+    replay: bool,
+    continuing: Option<Continuation<'_>>,
+) -> Result<Hierarchy> {
+    let seeds = continuing.map(|c| c.seeds);
     let started = Instant::now();
     let mut stages = BuildStages::default();
     let mut clock = Instant::now();
@@ -76,11 +114,29 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
     let unit = UnitFrame::of(mesh)?;
     let working = unit.apply(mesh);
     let (prepared, (store, quadrics)) = rayon::join(
-        || prepare_input(mesh),
-        || rayon::join(|| HalfEdgeMesh::from_mesh(mesh), || ffi::vertex_quadrics(&working, 100.0)),
+        || prepare_input(mesh, seeds),
+        || {
+            rayon::join(
+                || HalfEdgeMesh::from_mesh(mesh),
+                || match continuing {
+                    Some(c) => ffi::vertex_quadrics(&unit.apply(c.input), 100.0),
+                    None => ffi::vertex_quadrics(&working, 100.0),
+                },
+            )
+        },
     );
     prepared?;
-    let (store, quadrics) = (store?, quadrics?);
+    let (store, mut quadrics) = (store?, quadrics?);
+    if let Some(c) = continuing {
+        // The earlier removals' quadrics, shared by their diagonals' ends as
+        // `Planner::apply_level` shares them.
+        for r in c.removals {
+            let q = quadrics[r.vertex as usize];
+            for end in r.diagonal {
+                quadrics[end as usize].add_scaled(&q, 0.5);
+            }
+        }
+    }
     let n = mesh.vertex_count();
     // Texture seams and material borders: lines of the build, and what each level's
     // faces take their UVs by (found once for both).
@@ -97,6 +153,10 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
     let mut rings = Rings::fetch(&store, &live, n)?;
     rings.fence(&options.border_vertices);
     let recorder = Recorder::new(&mesh.positions, &mesh.triangles, replay.then_some(store), options.record_levels);
+    let mut params = ParamBuckets::new(n);
+    if let Some(seeds) = seeds {
+        params.seed(seeds, &working_positions);
+    }
     lap(&mut clock, &mut stages.prepare);
 
     let mut planner = Planner {
@@ -111,7 +171,7 @@ fn build_with(mesh: &Mesh, options: &SimplifyOptions, replay: bool) -> Result<Hi
         live,
         locked: vec![false; n],
         lines,
-        params: ParamBuckets::new(n),
+        params,
         slivers: SliverBudget::new(&working_positions, &mesh.triangles),
     };
     // Planning runs here; the record (the removal records, and the OpenMesh replay when
@@ -493,7 +553,7 @@ fn lap(clock: &mut Instant, stage: &mut f64) {
 /// mesh without degenerate faces or unreferenced vertices (polygons are triangulated by the
 /// readers; [`crate::mesh::repair`] fixes the rest); degree-4 clusters are then made by
 /// flips during simplification. [`build`] has run `Mesh::check` (indices in range) first.
-fn prepare_input(mesh: &Mesh) -> Result<()> {
+fn prepare_input(mesh: &Mesh, seeds: Option<&[Option<ParamPoint>]>) -> Result<()> {
     if mesh.face_count() == 0 {
         return Err(Error::InvalidInput("the mesh has no faces to simplify".into()));
     }
@@ -523,8 +583,18 @@ fn prepare_input(mesh: &Mesh) -> Result<()> {
             faces,
         );
     }
+    let used = used_vertices(mesh.vertex_count(), &mesh.triangles);
+    if let Some(seeds) = seeds {
+        if seeds.len() != mesh.vertex_count() {
+            return Err(Error::InvalidInput(format!("{} seeds for {} vertices", seeds.len(), mesh.vertex_count())));
+        }
+        if let Some(v) = (0..seeds.len()).find(|&v| seeds[v].is_some() == used[v]) {
+            let what = if used[v] { "a vertex of a face has a seed" } else { "a vertex on no face has no seed" };
+            return Err(Error::InvalidInput(format!("{what}: vertex {v}")));
+        }
+        return Ok(());
+    }
     if report.unreferenced_vertices > 0 {
-        let used = used_vertices(mesh.vertex_count(), &mesh.triangles);
         let first = used.iter().position(|u| !u).expect("an unreferenced vertex");
         return refuse(
             format!("{} vertex/vertices belong to no face, first vertex {first}", report.unreferenced_vertices),

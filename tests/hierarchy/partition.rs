@@ -1,8 +1,8 @@
 //! Partitioned builds (#40): parts along the Morton curve, fenced borders, and the parts'
 //! bases joined into a manifold that a build continues to the target.
 
-use asperity::hierarchy::partition::{Partition, join_bases};
-use asperity::hierarchy::{KeepFeatures, SimplifyOptions, build};
+use asperity::hierarchy::partition::{Partition, build_partitioned, join_bases};
+use asperity::hierarchy::{KeepFeatures, Refiner, SimplifyOptions, build, connectivity_match, face_key};
 use asperity::mesh::primitives::{grid, icosphere, torus};
 use asperity::mesh::{Mesh, ValidationReport};
 use asperity::noise::{Frame, NoiseField, NoiseKind, NoiseSpec};
@@ -144,4 +144,41 @@ fn fenced_parts_join_into_a_manifold_that_a_build_continues_to_the_target() {
         let h = build(&joined.mesh, &to(target, Vec::new())).unwrap();
         assert_eq!(h.base_vertex_count(), target, "{name}");
     }
+}
+
+#[test]
+fn a_partitioned_build_is_one_hierarchy_whose_refinement_restores_the_input() {
+    // The parts' levels, then the continuation's: one hierarchy of the input, reaching the
+    // target, every removed vertex parametrized on the base domain, and refinement back to
+    // the input's every face at its own positions.
+    for (name, mesh, parts) in [("bunny00", shared("bunny00.off"), 6), ("torus", torus(1.0, 0.35, 96, 40), 5)] {
+        let target = mesh.vertex_count() / 100;
+        let h = build_partitioned(&mesh, parts, &to(target, Vec::new())).unwrap();
+        assert_eq!(h.base_vertex_count(), target, "{name}");
+        assert!(h.target.reached, "{name}");
+        assert!(h.step_starts.windows(2).all(|w| w[0] <= w[1]) && *h.step_starts.last().unwrap() == h.removals.len());
+        let removed = h.removals.len();
+        assert_eq!(removed, mesh.vertex_count() - target, "{name}: every vertex but the base's removed once");
+        let points = h.base_parametrization();
+        assert!(points.iter().all(Option::is_some), "{name}: a vertex without a base point");
+        // Every removed vertex's point lies on a face of the base domain, close to it.
+        let base: std::collections::HashSet<[u32; 3]> = h.base_triangles.iter().map(|&t| face_key(t)).collect();
+        for (v, point) in h.params.iter().enumerate() {
+            if let Some(p) = point {
+                assert!(base.contains(&face_key(p.face)), "{name}: vertex {v} on {:?}, no base face", p.face);
+            }
+        }
+        let mut refiner = Refiner::new(&h).unwrap();
+        refiner.refine_all().unwrap();
+        let out = refiner.mesh().unwrap();
+        assert_eq!(out.ids, (0..mesh.vertex_count() as u32).collect::<Vec<_>>(), "{name}");
+        assert_eq!(out.mesh.positions, mesh.positions, "{name}");
+        assert_eq!(connectivity_match(&mesh.triangles, &out.triangles_in_ids()), 1.0, "{name}: round trip");
+    }
+    // What this first version refuses, by name.
+    let mesh = torus(1.0, 0.35, 48, 24);
+    let e = build_partitioned(&mesh, 4, &SimplifyOptions { levels: Some(3), ..Default::default() }).unwrap_err();
+    assert!(e.to_string().contains("needs a vertex target"), "{e}");
+    let e = build_partitioned(&mesh, 4, &SimplifyOptions { levels: Some(3), ..to(100, Vec::new()) }).unwrap_err();
+    assert!(e.to_string().contains("no level limit"), "{e}");
 }
