@@ -8,6 +8,7 @@ use clap::Args;
 use serde_json::json;
 
 use crate::error::Result;
+use crate::hierarchy::partition::build_partitioned;
 use crate::hierarchy::{BuildReport, Hierarchy, HierarchyRequest, LevelMesh, build};
 use crate::io::glb::{GlbPart, write_glb_parts};
 use crate::io::{self, WriteOptions};
@@ -35,6 +36,11 @@ pub struct SimplifyArgs {
     /// and level as vertex properties.
     #[arg(long)]
     param_out: Option<PathBuf>,
+    /// Build in K parts along the Morton curve of the faces, in parallel, their borders
+    /// fenced, then continue on their joined bases to the target (#40; needs
+    /// --target-vertices; levels are not recorded, so not with --levels-out or --lod-out).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    chunks: Option<u32>,
     /// Allow an output to overwrite the input.
     #[arg(long)]
     force: bool,
@@ -60,12 +66,18 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
         super::require_extension(p, &["glb"])?;
         super::guard_overwrite(&args.input, p, args.force)?;
     }
+    if args.chunks.is_some() {
+        check_chunks(&args)?;
+    }
     let input = super::input::read_input(&args.input, args.repair, ctx)?;
     let mesh = &input.read.mesh;
     let record = args.levels_out.is_some() || args.lod_out.is_some();
     let options = args.hierarchy.options(mesh.vertex_count(), record, Spelling::Flag)?;
     let hierarchy = ctx
-        .spin("simplify", "building the 4-k hierarchy", || build(mesh, &options))
+        .spin("simplify", "building the 4-k hierarchy", || match args.chunks {
+            Some(parts) => build_partitioned(mesh, parts as usize, &options),
+            None => build(mesh, &options),
+        })
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;
     let mut base = hierarchy.with_attributes(hierarchy.base_mesh())?.mesh;
     crate::io::obj::relocate_material_libraries(&mut base, &args.input, &args.output);
@@ -93,6 +105,21 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
         for line in report.target_lines() {
             println!("{line}");
         }
+    }
+    Ok(())
+}
+
+/// What `--chunks` does not take yet, refused by flag before the input is read.
+fn check_chunks(args: &SimplifyArgs) -> Result<()> {
+    let refuse = |msg: &str| Err(crate::Error::InvalidInput(msg.to_string()));
+    if args.hierarchy.target_vertices.is_none() {
+        return refuse("--chunks needs --target-vertices");
+    }
+    if args.hierarchy.levels.is_some() {
+        return refuse("--chunks does not take --levels yet");
+    }
+    if args.levels_out.is_some() || args.lod_out.is_some() {
+        return refuse("--chunks records no levels yet: drop --levels-out and --lod-out");
     }
     Ok(())
 }

@@ -248,6 +248,7 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     let sf = ["simplify", &fandisk, "-o", "s.ply", "--target-vertices", "400"];
     add("simplify", "--keep-features", &sf, &["--keep-features", "none"]);
     add("simplify", "--feature-vertices", &sf, &["--feature-vertices", "keep"]);
+    add("simplify", "--chunks", &sf, &["--chunks", "4"]);
     // terrain
     let t = ["terrain", "--size", "33", "-o", "t.ply"];
     add("terrain", "--method", &t, &["--method", "smooth"]);

@@ -522,6 +522,47 @@ fn simplify_writes_the_base_levels_and_parametrization_and_reports_json() {
 }
 
 #[test]
+fn simplify_in_chunks_reaches_the_target_alike_at_any_thread_count() {
+    // #40: --chunks K builds K parts in parallel and continues on their joined bases; the
+    // base domain is the same bytes on one thread and on all.
+    let tmp = temp_dir();
+    let input = shared_meshes().join("bunny00.off");
+    let run_with = |threads: &str, out: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_asperity"))
+            .args(["--json", "simplify", input.to_str().unwrap(), "--target-vertices", "1%", "--chunks", "6"])
+            .args(["--keep-features", "none", "-o", out, "--param-out", &format!("param-{out}")])
+            .env("RAYON_NUM_THREADS", threads)
+            .current_dir(tmp.path())
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let json = run_with("1", "one.ply");
+    run_with("2", "two.ply");
+    assert_eq!(json["output_vertices"].as_u64(), Some(377), "{json}");
+    assert_eq!(json["target"]["reached"].as_bool(), Some(true), "{json}");
+    assert!((0.0..0.02).contains(&json["hausdorff"].as_f64().unwrap()), "{json}");
+    for (a, b) in [("one.ply", "two.ply"), ("param-one.ply", "param-two.ply")] {
+        let read = |f: &str| std::fs::read(tmp.path().join(f)).unwrap();
+        assert!(read(a) == read(b), "{a} and {b} differ");
+    }
+    let refused = [
+        (&["--levels", "3"][..], "--chunks needs --target-vertices"),
+        (&["--target-vertices", "100", "--levels-out", "d"][..], "drop --levels-out"),
+        (&["--target-vertices", "100", "--levels", "3"][..], "does not take --levels"),
+    ];
+    for (extra, phrase) in refused {
+        let mut args = vec!["simplify", input.to_str().unwrap(), "--chunks", "4", "-o", "x.ply"];
+        args.extend_from_slice(extra);
+        assert_usage_error(&asperity(&args, tmp.path()), &[phrase], &[]);
+        assert!(!tmp.path().join("x.ply").exists());
+    }
+    let zero = asperity(&["simplify", input.to_str().unwrap(), "--chunks", "0", "-o", "x.ply"], tmp.path());
+    assert_eq!(zero.status.code(), Some(2));
+}
+
+#[test]
 fn simplify_without_the_intersection_guard_is_asked_for_by_name() {
     let tmp = temp_dir();
     let input = tmp.path().join("pancake.off");
