@@ -16,28 +16,12 @@ use std::time::Instant;
 use asperity::Mesh;
 use asperity::hierarchy::compare::compare;
 use asperity::hierarchy::{KeepFeatures, Refiner, SimplifyOptions, build};
-use asperity::mesh::primitives::icosphere;
-use asperity::noise::{Frame, NoiseField, NoiseKind, NoiseSpec};
-use glam::DVec3;
-
-/// An icosphere with fBm relief along the normals: curved everywhere, no symmetry to
-/// exploit, every vertex removable.
-fn displaced_sphere(level: u32) -> Mesh {
-    let mut mesh = icosphere(1.0, level);
-    let field = NoiseField::new(&NoiseSpec { kind: NoiseKind::Fbm, seed: 7, ..NoiseSpec::default() }).expect("fbm");
-    let frame = Frame { tangent: DVec3::X, bitangent: DVec3::Y };
-    for p in &mut mesh.positions {
-        let n = p.normalize();
-        *p = n * (1.0 + 0.08 * field.sample3(n * 4.0, frame));
-    }
-    mesh
-}
 
 fn main() {
     // As the asperity binary does: large freed buffers go back to the OS.
     asperity::memory::return_large_buffers_to_the_os();
     let quick = std::env::args().any(|a| a == "--quick");
-    let mesh = displaced_sphere(if quick { 7 } else { 8 });
+    let mesh = common::displaced_sphere(if quick { 7 } else { 8 });
     let target = mesh.vertex_count() / 100;
     println!("mesh: {} vertices, {} tris; target {} vertices", mesh.vertex_count(), mesh.face_count(), target);
     let before = common::peak_rss_kib().unwrap_or(0);

@@ -11,30 +11,17 @@
 //!
 //! `cargo bench --bench hierarchy_scale` (`-- --quick`: the 327k-triangle sphere).
 
+mod common;
+
 use std::time::Instant;
 
 use asperity::Mesh;
 use asperity::hierarchy::compare::relative_hausdorff;
 use asperity::hierarchy::partition::{Partition, build_partitioned};
 use asperity::hierarchy::{KeepFeatures, SimplifyOptions, build};
-use asperity::mesh::primitives::icosphere;
-use asperity::noise::{Frame, NoiseField, NoiseKind, NoiseSpec};
-use glam::DVec3;
 
 /// Parts of the partitioned build.
 const PARTS: usize = 8;
-
-/// The bench's displaced icosphere (as `benches/hierarchy.rs` makes it).
-fn displaced_sphere(level: u32) -> Mesh {
-    let mut mesh = icosphere(1.0, level);
-    let field = NoiseField::new(&NoiseSpec { kind: NoiseKind::Fbm, seed: 7, ..NoiseSpec::default() }).expect("fbm");
-    let frame = Frame { tangent: DVec3::X, bitangent: DVec3::Y };
-    for p in &mut mesh.positions {
-        let n = p.normalize();
-        *p = n * (1.0 + 0.08 * field.sample3(n * 4.0, frame));
-    }
-    mesh
-}
 
 fn options(target: usize, border: Vec<u32>) -> SimplifyOptions {
     SimplifyOptions {
@@ -52,7 +39,9 @@ fn main() {
     let scan = asperity::io::read(&shared)
         .unwrap_or_else(|e| panic!("the bunny scan belongs at {}: {e}", shared.display()))
         .mesh;
-    for (name, mesh) in [("displaced sphere", displaced_sphere(if quick { 7 } else { 8 })), ("bunny00 scan", scan)] {
+    for (name, mesh) in
+        [("displaced sphere", common::displaced_sphere(if quick { 7 } else { 8 })), ("bunny00 scan", scan)]
+    {
         compare(name, &mesh);
     }
 }
