@@ -203,6 +203,9 @@ pub fn build_partitioned(mesh: &Mesh, parts: usize, options: &SimplifyOptions) -
         return Err(Error::InvalidInput("a partitioned build does not carry UVs or materials yet".into()));
     }
     options.check()?;
+    mesh.check()?;
+    // The input's faults are named as a one-piece build names them, not as a part's.
+    super::simplify::prepare_input(mesh, None)?;
     let partition = Partition::of(mesh, parts)?;
     let keep_share = (PART_HEADROOM * target as f64 / mesh.vertex_count().max(1) as f64).min(1.0);
     let built: Vec<(Part, Hierarchy)> = (0..parts)

@@ -553,7 +553,7 @@ fn lap(clock: &mut Instant, stage: &mut f64) {
 /// mesh without degenerate faces or unreferenced vertices (polygons are triangulated by the
 /// readers; [`crate::mesh::repair`] fixes the rest); degree-4 clusters are then made by
 /// flips during simplification. [`build`] has run `Mesh::check` (indices in range) first.
-fn prepare_input(mesh: &Mesh, seeds: Option<&[Option<ParamPoint>]>) -> Result<()> {
+pub(super) fn prepare_input(mesh: &Mesh, seeds: Option<&[Option<ParamPoint>]>) -> Result<()> {
     if mesh.face_count() == 0 {
         return Err(Error::InvalidInput("the mesh has no faces to simplify".into()));
     }

@@ -175,7 +175,12 @@ fn a_partitioned_build_is_one_hierarchy_whose_refinement_restores_the_input() {
         assert_eq!(out.mesh.positions, mesh.positions, "{name}");
         assert_eq!(connectivity_match(&mesh.triangles, &out.triangles_in_ids()), 1.0, "{name}: round trip");
     }
-    // What this first version refuses, by name.
+    // What this first version refuses, by name, and a faulty input as a one-piece build
+    // names it.
+    let mut stray = torus(1.0, 0.35, 48, 24);
+    stray.positions.push(DVec3::ZERO);
+    let e = build_partitioned(&stray, 4, &to(100, Vec::new())).unwrap_err().to_string();
+    assert!(e.contains("belong to no face, first vertex 1152"), "{e}");
     let mesh = torus(1.0, 0.35, 48, 24);
     let e = build_partitioned(&mesh, 4, &SimplifyOptions { levels: Some(3), ..Default::default() }).unwrap_err();
     assert!(e.to_string().contains("needs a vertex target"), "{e}");
