@@ -208,11 +208,11 @@ pub fn build_partitioned(mesh: &Mesh, parts: usize, options: &SimplifyOptions) -
     super::simplify::prepare_input(mesh, None)?;
     let partition = Partition::of(mesh, parts)?;
     let keep_share = (PART_HEADROOM * target as f64 / mesh.vertex_count().max(1) as f64).min(1.0);
+    let marked: std::collections::HashSet<u32> = options.keep_vertices.iter().copied().collect();
     let built: Vec<(Part, Hierarchy)> = (0..parts)
         .into_par_iter()
         .map(|k| {
             let part = partition.part(mesh, k)?;
-            let marked: std::collections::HashSet<u32> = options.keep_vertices.iter().copied().collect();
             let keep_vertices: Vec<u32> =
                 (0..part.ids.len() as u32).filter(|&v| marked.contains(&part.ids[v as usize])).collect();
             let inside = part.mesh.vertex_count() - part.border.len();
