@@ -113,15 +113,14 @@ fn build_with(
     // the hierarchy keeps the input's own positions.
     let unit = UnitFrame::of(mesh)?;
     let working = unit.apply(mesh);
+    // A continued build reads the input's quadrics and feature classes (same vertices).
+    let input_working = continuing.map(|c| unit.apply(c.input));
     let (prepared, (store, quadrics)) = rayon::join(
         || prepare_input(mesh, seeds),
         || {
             rayon::join(
                 || HalfEdgeMesh::from_mesh(mesh),
-                || match continuing {
-                    Some(c) => ffi::vertex_quadrics(&unit.apply(c.input), 100.0),
-                    None => ffi::vertex_quadrics(&working, 100.0),
-                },
+                || ffi::vertex_quadrics(input_working.as_ref().unwrap_or(&working), 100.0),
             )
         },
     );
@@ -141,7 +140,7 @@ fn build_with(
     // Texture seams and material borders: lines of the build, and what each level's
     // faces take their UVs by (found once for both).
     let seams = crate::mesh::uv::seam_edges(mesh);
-    let Features { feature, kept, lines, give_way } = features_and_kept(&working, options, &seams)?;
+    let Features { feature, kept, lines, give_way } = features_and_kept(&working, input_working.as_ref().unwrap_or(&working), options, &seams)?;
     let wedges = Wedges::of(mesh, &seams);
     // Planning needs only the working positions; the copy's faces go now.
     let working_positions = {
@@ -608,22 +607,30 @@ pub(super) fn prepare_input(mesh: &Mesh, seeds: Option<&[Option<ParamPoint>]>) -
 /// lines, the boundary loops and the texture `seams`, and the vertices kept until the
 /// give-way ladder releases them (see `give_way`):
 /// corners, the feature, boundary and seam vertices not on a line (every one with
-/// [`FeatureVertices::Keep`]) and those the user marked.
-fn features_and_kept(mesh: &Mesh, options: &SimplifyOptions, seams: &[[u32; 2]]) -> Result<Features> {
+/// [`FeatureVertices::Keep`]) and those the user marked. The classes are found on
+/// `classified` (the mesh itself, or the input a continued build's mesh simplifies: its
+/// coarser faces would make more features), the lines on `mesh`'s edges.
+fn features_and_kept(
+    mesh: &Mesh,
+    classified: &Mesh,
+    options: &SimplifyOptions,
+    seams: &[[u32; 2]],
+) -> Result<Features> {
     let n = mesh.vertex_count();
     let mut feature = vec![false; n];
     let mut corner = vec![false; n];
     let mut strength = vec![0.0; n];
     let mut direction: Vec<Option<DVec3>> = vec![None; n];
     if options.keep_features != KeepFeatures::None {
-        let adjacency = Adjacency::of(mesh);
-        let geometry = FaceGeometry::of(mesh);
-        let tensors = voting_tensors(mesh, &adjacency, &geometry);
-        let wide = wide_voting_tensors(mesh, &adjacency, &geometry);
+        let adjacency = Adjacency::of(classified);
+        let geometry = FaceGeometry::of(classified);
+        let tensors = voting_tensors(classified, &adjacency, &geometry);
+        let wide = wide_voting_tensors(classified, &adjacency, &geometry);
         for (v, t) in tensors.iter().enumerate() {
             strength[v] = t.strength().min(wide[v].strength());
         }
-        let classes = classify_at_two_scales(&mesh.positions, &adjacency, &tensors, &wide, &Default::default());
+        let classes =
+            classify_at_two_scales(&classified.positions, &adjacency, &tensors, &wide, &Default::default());
         for (v, class) in classes.into_iter().enumerate() {
             feature[v] = match options.keep_features {
                 KeepFeatures::None => false,
