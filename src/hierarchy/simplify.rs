@@ -140,7 +140,8 @@ fn build_with(
     // Texture seams and material borders: lines of the build, and what each level's
     // faces take their UVs by (found once for both).
     let seams = crate::mesh::uv::seam_edges(mesh);
-    let Features { feature, kept, lines, give_way } = features_and_kept(&working, input_working.as_ref().unwrap_or(&working), options, &seams)?;
+    let Features { feature, kept, lines, give_way } =
+        features_and_kept(&working, input_working.as_ref().unwrap_or(&working), options, &seams)?;
     let wedges = Wedges::of(mesh, &seams);
     // Planning needs only the working positions; the copy's faces go now.
     let working_positions = {
@@ -629,8 +630,7 @@ fn features_and_kept(
         for (v, t) in tensors.iter().enumerate() {
             strength[v] = t.strength().min(wide[v].strength());
         }
-        let classes =
-            classify_at_two_scales(&classified.positions, &adjacency, &tensors, &wide, &Default::default());
+        let classes = classify_at_two_scales(&classified.positions, &adjacency, &tensors, &wide, &Default::default());
         for (v, class) in classes.into_iter().enumerate() {
             feature[v] = match options.keep_features {
                 KeepFeatures::None => false,
