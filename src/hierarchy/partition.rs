@@ -13,11 +13,12 @@
 //! by a new edge, since the part cannot see the edges the other parts hold between them.
 //! Every other vertex of a part has its whole star in the part, so the part's levels are
 //! levels of the whole mesh, and the parts' bases join edge to edge along their unchanged
-//! borders into a manifold ([`join_bases`]).
+//! borders into a manifold ([`build_partitioned`] continues the build on it).
 
 use rayon::prelude::*;
+use rustc_hash::FxHashMap;
 
-use super::{Hierarchy, LevelMesh, ParamPoint, Removal, SimplifyOptions};
+use super::{Hierarchy, ParamPoint, Removal, SimplifyOptions};
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, UnitFrame, split_non_manifold_fans};
 use glam::DVec3;
@@ -29,6 +30,10 @@ pub struct Partition {
     owner: Vec<u32>,
     parts: usize,
     border: Vec<bool>,
+    /// The faces grouped by part, each part's in input order:
+    /// `faces[starts[k]..starts[k + 1]]` are part k's.
+    faces: Vec<u32>,
+    starts: Vec<usize>,
 }
 
 impl Partition {
@@ -59,7 +64,7 @@ impl Partition {
         for (i, &(_, f)) in keys.iter().enumerate() {
             owner[f as usize] = (i * parts / faces) as u32;
         }
-        Partition::with_owners(mesh, owner, parts)
+        Ok(Partition::grouped(mesh, owner, parts))
     }
 
     /// The partition giving face f to part `owner[f]` (any cut: components, materials, a
@@ -76,9 +81,17 @@ impl Partition {
             return Err(Error::InvalidInput(format!("face {f} is given part {} of {parts}", owner[f])));
         }
         mesh.check()?;
+        Ok(Partition::grouped(mesh, owner, parts))
+    }
+
+    /// The partition of a checked `mesh` by checked owners: its border vertices, and its
+    /// faces grouped by part (a counting sort, so a part's faces keep their input order).
+    fn grouped(mesh: &Mesh, owner: Vec<u32>, parts: usize) -> Partition {
         let mut first = vec![u32::MAX; mesh.vertex_count()];
         let mut border = vec![false; mesh.vertex_count()];
+        let mut starts = vec![0usize; parts + 1];
         for (t, &part) in mesh.triangles.iter().zip(&owner) {
+            starts[part as usize + 1] += 1;
             for &v in t {
                 match first[v as usize] {
                     u32::MAX => first[v as usize] = part,
@@ -87,7 +100,16 @@ impl Partition {
                 }
             }
         }
-        Ok(Partition { owner, parts, border })
+        for k in 0..parts {
+            starts[k + 1] += starts[k];
+        }
+        let mut next = starts[..parts].to_vec();
+        let mut faces = vec![0u32; owner.len()];
+        for (f, &part) in owner.iter().enumerate() {
+            faces[next[part as usize]] = f as u32;
+            next[part as usize] += 1;
+        }
+        Partition { owner, parts, border, faces, starts }
     }
 
     /// Number of parts.
@@ -121,16 +143,19 @@ impl Partition {
         if k >= self.parts {
             return Err(Error::InvalidInput(format!("part {k} of {} (0..{})", self.parts, self.parts - 1)));
         }
-        let mut local = vec![u32::MAX; mesh.vertex_count()];
+        // Local ids from a map the part's size: parts built side by side each touch only
+        // their own faces and vertices.
+        let own = &self.faces[self.starts[k]..self.starts[k + 1]];
+        let mut local: FxHashMap<u32, u32> = FxHashMap::default();
+        local.reserve(own.len());
         let mut ids: Vec<u32> = Vec::new();
-        let mut triangles = Vec::new();
-        for (t, _) in mesh.triangles.iter().zip(&self.owner).filter(|(_, o)| **o as usize == k) {
-            triangles.push(t.map(|v| {
-                if local[v as usize] == u32::MAX {
-                    local[v as usize] = ids.len() as u32;
+        let mut triangles = Vec::with_capacity(own.len());
+        for &f in own {
+            triangles.push(mesh.triangles[f as usize].map(|v| {
+                *local.entry(v).or_insert_with(|| {
                     ids.push(v);
-                }
-                local[v as usize]
+                    ids.len() as u32 - 1
+                })
             }));
         }
         let positions = ids.iter().map(|&v| mesh.positions[v as usize]).collect();
@@ -297,14 +322,6 @@ impl Records {
             });
         }
     }
-}
-
-/// The parts' base domains (faces in input ids) joined into one mesh of the vertices they
-/// use, in input id order: with every part's border fenced, a manifold wherever the input
-/// was one.
-pub fn join_bases(positions: &[DVec3], bases: &[Vec<[u32; 3]>]) -> LevelMesh {
-    let triangles: Vec<[u32; 3]> = bases.iter().flatten().copied().collect();
-    LevelMesh::compact(positions, &triangles)
 }
 
 /// The Morton key of a point of the unit cube: its coordinates' 21 bits interleaved.

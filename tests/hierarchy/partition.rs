@@ -1,8 +1,8 @@
 //! Partitioned builds (#40): parts along the Morton curve, fenced borders, and the parts'
 //! bases joined into a manifold that a build continues to the target.
 
-use asperity::hierarchy::partition::{Partition, build_partitioned, join_bases};
-use asperity::hierarchy::{KeepFeatures, Refiner, SimplifyOptions, build, connectivity_match, face_key};
+use asperity::hierarchy::partition::{Partition, build_partitioned};
+use asperity::hierarchy::{KeepFeatures, LevelMesh, Refiner, SimplifyOptions, build, connectivity_match, face_key};
 use asperity::mesh::primitives::{grid, icosphere, torus};
 use asperity::mesh::{Mesh, ValidationReport};
 use asperity::noise::{Frame, NoiseField, NoiseKind, NoiseSpec};
@@ -130,7 +130,7 @@ fn fenced_parts_join_into_a_manifold_that_a_build_continues_to_the_target() {
                 part.input_triangles(&h.base_triangles)
             })
             .collect();
-        let joined = join_bases(&mesh.positions, &bases);
+        let joined = LevelMesh::compact(&mesh.positions, &bases.concat());
         let report = ValidationReport::of(&joined.mesh);
         assert!(report.is_manifold() && report.inconsistently_oriented_edges == 0, "{name}: joined bases {report:?}");
         assert_eq!(report.genus, input.genus, "{name}: genus");
