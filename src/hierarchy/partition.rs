@@ -257,7 +257,8 @@ pub fn build_partitioned(mesh: &Mesh, parts: usize, options: &SimplifyOptions) -
     let steps = built.iter().map(|(_, h)| h.steps()).max().unwrap_or(0);
     for step in 0..steps {
         for (part, h) in built.iter().filter(|(_, h)| step < h.steps()) {
-            records.push(&h.removals[h.step_starts[step]..h.step_starts[step + 1]], &h.restore, &part.ids, step);
+            let removals = &h.removals[h.step_starts[step]..h.step_starts[step + 1]];
+            records.push(removals, &h.restore, |v| part.ids[v as usize], step);
         }
         records.step_starts.push(records.removals.len());
     }
@@ -274,10 +275,9 @@ pub fn build_partitioned(mesh: &Mesh, parts: usize, options: &SimplifyOptions) -
     }
     let joined = Mesh::new(mesh.positions.clone(), joined);
     let continued = super::simplify::build_seeded(&joined, options, &seeds, mesh, &records.removals)?;
-    let identity: Vec<u32> = (0..n as u32).collect();
     for step in 0..continued.steps() {
         let removals = &continued.removals[continued.step_starts[step]..continued.step_starts[step + 1]];
-        records.push(removals, &continued.restore, &identity, steps + step);
+        records.push(removals, &continued.restore, |v| v, steps + step);
         records.step_starts.push(records.removals.len());
     }
     Ok(Hierarchy {
@@ -306,9 +306,8 @@ impl Default for Records {
 
 impl Records {
     /// Appends `removals` (with their link edges in `restore`) of a build over vertices
-    /// whose input ids are `ids`, as removals of `step`.
-    fn push(&mut self, removals: &[Removal], restore: &[[u32; 2]], ids: &[u32], step: usize) {
-        let id = |v: u32| ids[v as usize];
+    /// whose input ids `id` gives, as removals of `step`.
+    fn push(&mut self, removals: &[Removal], restore: &[[u32; 2]], id: impl Fn(u32) -> u32 + Copy, step: usize) {
         for r in removals {
             let start = self.restore.len() as u32;
             self.restore.extend(restore[r.restore[0] as usize..r.restore[1] as usize].iter().map(|e| e.map(id)));
