@@ -15,6 +15,7 @@ pub mod render;
 mod report;
 pub mod scene;
 pub mod simplify;
+mod simplify_plan;
 pub mod terrain;
 
 use std::path::PathBuf;
@@ -338,4 +339,23 @@ pub(crate) fn require_extension(output: &std::path::Path, extensions: &[&str]) -
     }
     let list: Vec<String> = extensions.iter().map(|e| format!(".{e}")).collect();
     Err(Error::InvalidInput(format!("{}: the output must end in {}", output.display(), list.join(" or "))))
+}
+
+/// A planned job's index (`what`: "tile", "chunk"): its flag `--WHAT-index`, else
+/// $JOB_COMPLETION_INDEX (Kubernetes Indexed Jobs), else $SLURM_ARRAY_TASK_ID (Slurm job
+/// arrays).
+fn job_index(flag: Option<u64>, what: &str) -> Result<u64> {
+    if let Some(k) = flag {
+        return Ok(k);
+    }
+    for variable in ["JOB_COMPLETION_INDEX", "SLURM_ARRAY_TASK_ID"] {
+        if let Ok(value) = std::env::var(variable) {
+            return value.trim().parse().map_err(|_| {
+                Error::InvalidInput(format!("${variable} is {value:?}: a {what} index must be a whole number from 0"))
+            });
+        }
+    }
+    Err(Error::InvalidInput(format!(
+        "--plan needs a {what} index: --{what}-index K, $JOB_COMPLETION_INDEX (Kubernetes) or $SLURM_ARRAY_TASK_ID (Slurm)"
+    )))
 }

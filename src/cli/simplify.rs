@@ -1,10 +1,12 @@
 //! `asperity simplify IN (--target-vertices V | --levels L | --max-error E) -o BASE`: the 4-k
-//! hierarchy's base domain, optionally every level and the parametrization.
+//! hierarchy's base domain, optionally every level and the parametrization; with
+//! `simplify plan`, `--plan DIR --chunk-index K` and `simplify merge`, a partitioned build
+//! whose chunks job runners run (`cli::simplify_plan`).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use clap::Args;
+use clap::{Args, Subcommand};
 use serde_json::json;
 
 use crate::error::Result;
@@ -17,12 +19,16 @@ use crate::request::Spelling;
 
 /// The subcommand's flags (`SimplifyArgs`).
 #[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
 pub struct SimplifyArgs {
+    #[command(subcommand)]
+    command: Option<SimplifyCommand>,
     /// Input mesh.
-    input: PathBuf,
+    #[arg(required_unless_present = "plan")]
+    input: Option<PathBuf>,
     /// Base domain output (format by extension).
-    #[arg(short, long)]
-    output: PathBuf,
+    #[arg(short, long, required_unless_present = "plan")]
+    output: Option<PathBuf>,
     #[command(flatten)]
     hierarchy: HierarchyRequest,
     /// Write every level as DIR/level_NN.ply (00 = base domain).
@@ -46,30 +52,70 @@ pub struct SimplifyArgs {
     force: bool,
     #[command(flatten)]
     repair: super::input::RepairArg,
+    /// Build one chunk of the plan in DIR (made by `asperity simplify plan`): the chunk
+    /// given by --chunk-index, else $JOB_COMPLETION_INDEX (Kubernetes Indexed Jobs), else
+    /// $SLURM_ARRAY_TASK_ID (Slurm job arrays). A chunk already complete is skipped.
+    #[arg(
+        long,
+        value_name = "DIR",
+        conflicts_with_all = [
+            "input", "output", "target_vertices", "levels", "max_error", "keep_features", "feature_vertices",
+            "removal_weight", "swap_weight", "intersection_guard", "levels_out", "lod_out", "param_out", "chunks",
+            "force", "repair"
+        ]
+    )]
+    plan: Option<PathBuf>,
+    /// The plan's chunk to build, 0-based (with --plan; wins over the job runners'
+    /// variables).
+    #[arg(long, requires = "plan")]
+    chunk_index: Option<u64>,
+}
+
+#[derive(Debug, Subcommand)]
+enum SimplifyCommand {
+    /// Cut a mesh into chunks for a job runner: writes DIR/plan.json (every chunk's index,
+    /// files and command) and DIR/chunks/ (each chunk's part); build each chunk with
+    /// `asperity simplify --plan DIR --chunk-index K`, then join them with `asperity
+    /// simplify merge DIR -o BASE`.
+    Plan(Box<super::simplify_plan::PlanArgs>),
+    /// Join the built chunks of the plan in DIR and continue the build to the plan's
+    /// target: writes what `simplify` writes (base domain, --param-out).
+    Merge(super::simplify_plan::MergeArgs),
 }
 
 /// Runs the subcommand.
 pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
+    match args.command {
+        Some(SimplifyCommand::Plan(plan)) => return super::simplify_plan::plan(*plan, ctx),
+        Some(SimplifyCommand::Merge(merge)) => return super::simplify_plan::merge(merge, ctx),
+        None => {}
+    }
+    if let Some(dir) = &args.plan {
+        return super::simplify_plan::run_chunk(dir, args.chunk_index, ctx);
+    }
     let start = Instant::now();
-    io::Format::from_path(&args.output)?;
-    super::guard_overwrite(&args.input, &args.output, args.force)?;
-    let mut outputs = vec![("-o", args.output.as_path())];
+    let (Some(input_path), Some(output)) = (args.input.as_deref(), args.output.as_deref()) else {
+        return Err(crate::Error::InvalidInput("simplify needs an input mesh and -o".into()));
+    };
+    io::Format::from_path(output)?;
+    super::guard_overwrite(input_path, output, args.force)?;
+    let mut outputs = vec![("-o", output)];
     outputs.extend(args.param_out.as_deref().map(|p| ("--param-out", p)));
     outputs.extend(args.lod_out.as_deref().map(|p| ("--lod-out", p)));
     outputs.extend(args.levels_out.as_deref().map(|p| ("--levels-out", p)));
     super::distinct_outputs(&outputs)?;
     if let Some(p) = &args.param_out {
         io::Format::from_path(p)?;
-        super::guard_overwrite(&args.input, p, args.force)?;
+        super::guard_overwrite(input_path, p, args.force)?;
     }
     if let Some(p) = &args.lod_out {
         super::require_extension(p, &["glb"])?;
-        super::guard_overwrite(&args.input, p, args.force)?;
+        super::guard_overwrite(input_path, p, args.force)?;
     }
     if args.chunks.is_some() {
         check_chunks(&args)?;
     }
-    let input = super::input::read_input(&args.input, args.repair, ctx)?;
+    let input = super::input::read_input(input_path, args.repair, ctx)?;
     let mesh = &input.read.mesh;
     let record = args.levels_out.is_some() || args.lod_out.is_some();
     let options = args.hierarchy.options(mesh.vertex_count(), record, Spelling::Flag)?;
@@ -78,26 +124,52 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
             Some(parts) => build_partitioned(mesh, parts as usize, &options),
             None => build(mesh, &options),
         })
-        .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;
+        .map_err(|e| super::input::after_repair(e, args.repair).about_file(input_path))?;
+    let written =
+        Written { input: input_path, output, param_out: args.param_out.as_deref(), repair: input.repair_json() };
+    write_results(mesh, &hierarchy, &written, start, ctx, || {
+        if let Some(dir) = &args.levels_out {
+            write_levels(&hierarchy, input_path, dir)?;
+        }
+        if let Some(p) = &args.lod_out {
+            write_lods(&hierarchy, p)?;
+        }
+        Ok(())
+    })
+}
+
+/// Where a build's results go and what its report says of its input.
+pub(super) struct Written<'a> {
+    pub input: &'a Path,
+    pub output: &'a Path,
+    pub param_out: Option<&'a Path>,
+    pub repair: serde_json::Value,
+}
+
+/// Writes the base domain, then what `more` writes (levels), the parametrization when
+/// asked, and the report.
+pub(super) fn write_results(
+    mesh: &Mesh,
+    hierarchy: &Hierarchy,
+    written: &Written<'_>,
+    start: Instant,
+    ctx: super::Context,
+    more: impl FnOnce() -> Result<()>,
+) -> Result<()> {
     let mut base = hierarchy.with_attributes(hierarchy.base_mesh())?.mesh;
-    crate::io::obj::relocate_material_libraries(&mut base, &args.input, &args.output);
-    io::write(&base, &args.output, WriteOptions::default())?;
-    if let Some(dir) = &args.levels_out {
-        write_levels(&hierarchy, &args.input, dir)?;
+    crate::io::obj::relocate_material_libraries(&mut base, written.input, written.output);
+    io::write(&base, written.output, WriteOptions::default())?;
+    more()?;
+    if let Some(p) = written.param_out {
+        io::write(&parametrization_mesh(mesh, hierarchy), p, WriteOptions::default())?;
     }
-    if let Some(p) = &args.lod_out {
-        write_lods(&hierarchy, p)?;
-    }
-    if let Some(p) = &args.param_out {
-        io::write(&parametrization_mesh(mesh, &hierarchy), p, WriteOptions::default())?;
-    }
-    let report = BuildReport::of(mesh, &hierarchy, &base)?;
+    let report = BuildReport::of(mesh, hierarchy, &base)?;
     if ctx.json {
         let mut json = serde_json::to_value(&report).expect("report serialises");
         let fields = json.as_object_mut().expect("a struct serialises to an object");
-        fields.insert("input".into(), json!(args.input.display().to_string()));
-        fields.insert("output".into(), json!(args.output.display().to_string()));
-        fields.insert("repair".into(), input.repair_json());
+        fields.insert("input".into(), json!(written.input.display().to_string()));
+        fields.insert("output".into(), json!(written.output.display().to_string()));
+        fields.insert("repair".into(), written.repair.clone());
         fields.insert("total_seconds".into(), json!(start.elapsed().as_secs_f64()));
         println!("{}", serde_json::to_string_pretty(&json).expect("report serialises"));
     } else if !ctx.quiet {
@@ -181,4 +253,23 @@ fn parametrization_mesh(mesh: &Mesh, hierarchy: &Hierarchy) -> Mesh {
         out.scalars.insert(format!("bary{i}"), column(&|p| p.point.bary[i]));
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Args as _;
+
+    /// `--plan DIR` takes every setting from the plan: each other simplify flag is refused
+    /// beside it (so one added to `simplify` must be added to --plan's conflicts).
+    #[test]
+    fn every_other_simplify_flag_conflicts_with_plan() {
+        let mut command = super::SimplifyArgs::augment_args(clap::Command::new("simplify"));
+        command.build();
+        let plan = command.get_arguments().find(|a| a.get_id() == "plan").expect("--plan").clone();
+        let conflicts: Vec<String> =
+            command.get_arg_conflicts_with(&plan).iter().map(|a| a.get_id().to_string()).collect();
+        for arg in command.get_arguments().filter(|a| !["plan", "chunk_index", "help"].contains(&a.get_id().as_str())) {
+            assert!(conflicts.contains(&arg.get_id().to_string()), "--{} does not conflict with --plan", arg.get_id());
+        }
+    }
 }

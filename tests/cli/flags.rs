@@ -23,7 +23,7 @@ struct Case {
 }
 
 /// Flags whose effect is not in the output, with the test that checks what they do.
-const EXEMPT: [(&str, &str, &str); 7] = [
+const EXEMPT: [(&str, &str, &str); 13] = [
     (
         "render",
         "--texture",
@@ -43,6 +43,32 @@ const EXEMPT: [(&str, &str, &str); 7] = [
     ),
     ("terrain", "--tile-index", "`terrain_scale::the_tile_index_comes_from_the_flag_then_kubernetes_then_slurm`"),
     ("terrain plan", "--tile-size", "required: every plan names it"),
+    (
+        "simplify",
+        "--plan",
+        "builds a plan's chunk: `simplify_plan::chunks_run_as_processes_in_any_order_give_the_threaded_build`",
+    ),
+    (
+        "simplify",
+        "--chunk-index",
+        "`simplify_plan::chunks_run_as_processes_in_any_order_give_the_threaded_build` (and the job runners' variables)",
+    ),
+    ("simplify plan", "--chunks", "required: every plan names it"),
+    (
+        "simplify merge",
+        "--param-out",
+        "needs built chunks: `simplify_plan::chunks_run_as_processes_in_any_order_give_the_threaded_build`",
+    ),
+    (
+        "simplify merge",
+        "--force",
+        "needs built chunks: `simplify_plan::chunks_run_as_processes_in_any_order_give_the_threaded_build`",
+    ),
+    (
+        "simplify merge",
+        "--input",
+        "needs built chunks: `simplify_plan::chunks_run_as_processes_in_any_order_give_the_threaded_build`",
+    ),
 ];
 
 fn owned(args: &[&str]) -> Vec<String> {
@@ -249,6 +275,16 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     add("simplify", "--keep-features", &sf, &["--keep-features", "none"]);
     add("simplify", "--feature-vertices", &sf, &["--feature-vertices", "keep"]);
     add("simplify", "--chunks", &sf, &["--chunks", "4"]);
+    // simplify plan: each build setting is the plan's (plan.json records it; what a chunk
+    // makes of it is simplify's case), --target-vertices is what makes a plan.
+    let sp = ["simplify", "plan", &fandisk, "--chunks", "2", "-o", "p", "--target-vertices", "400"];
+    add("simplify plan", "--levels", &sp, &["--levels", "2"]);
+    add("simplify plan", "--max-error", &sp, &["--max-error", "0.001"]);
+    add("simplify plan", "--removal-weight", &sp, &["--removal-weight", "0.1"]);
+    add("simplify plan", "--swap-weight", &sp, &["--swap-weight", "3"]);
+    add("simplify plan", "--no-intersection-guard", &sp, &["--no-intersection-guard"]);
+    add("simplify plan", "--keep-features", &sp, &["--keep-features", "none"]);
+    add("simplify plan", "--feature-vertices", &sp, &["--feature-vertices", "keep"]);
     // terrain
     let t = ["terrain", "--size", "33", "-o", "t.ply"];
     add("terrain", "--method", &t, &["--method", "smooth"]);
@@ -376,6 +412,7 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
         // The picture of a repaired mesh can look the same: the report says what changed.
         ("render", owned(&["render", &broken, "-o", "r.png", "--size", "64,48", "--json"])),
         ("simplify", owned(&["simplify", &broken, "-o", "s.ply"])),
+        ("simplify plan", owned(&["simplify", "plan", &broken, "--chunks", "1", "--target-vertices", "4", "-o", "p"])),
     ] {
         fixes(sub, "--repair", base);
     }
@@ -391,6 +428,14 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     ] {
         fixes(sub, "--force", base);
     }
+    let plan = ["simplify", "plan", &fandisk, "--chunks", "2", "-o", "p", "--target-vertices", "400"];
+    cases.push(Case {
+        sub: "simplify plan",
+        flag: "--target-vertices",
+        base: owned(&plan[..7]),
+        with: owned(&plan),
+        may_fix: true,
+    });
     cases
 }
 

@@ -4,4 +4,5 @@
 mod flags;
 mod interrupt;
 mod readme;
+mod simplify_plan;
 mod usage;

@@ -58,7 +58,7 @@ fn readme_console_examples_print_what_the_commands_print() {
     for example in examples {
         let mut args = example.args.clone();
         for i in 1..args.len() {
-            if args[i - 1] == "-o" || args[i - 1] == "--plan" {
+            if args[i - 1] == "-o" || args[i - 1] == "--plan" || (args[i - 1] == "merge" && i == 2) {
                 args[i] = tmp.path().join(&args[i]).display().to_string();
             }
         }

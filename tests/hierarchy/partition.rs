@@ -193,3 +193,71 @@ fn a_partitioned_build_is_one_hierarchy_whose_refinement_restores_the_input() {
     let e = build_partitioned(&mesh, 4, &SimplifyOptions { levels: Some(3), ..to(100, Vec::new()) }).unwrap_err();
     assert!(e.to_string().contains("no level limit"), "{e}");
 }
+
+#[test]
+fn a_part_and_its_build_read_back_from_their_files_bit_for_bit() {
+    // Parts built in other processes (#40): a part's file reads back as the part, a
+    // build's as the build, and the builds joined from files are the threaded build's.
+    use asperity::hierarchy::partition::files::{read_build, read_part, write_build, write_part};
+    use asperity::hierarchy::partition::{build_part, join_parts};
+    let tmp = crate::common::temp_dir();
+    let mesh = torus(1.0, 0.35, 72, 30);
+    let options = to(60, Vec::new());
+    let partition = Partition::of(&mesh, 3).unwrap();
+    let mut builds = Vec::new();
+    for k in 0..3 {
+        let part = partition.part(&mesh, k).unwrap();
+        let (part_file, build_file) = (tmp.path().join(format!("{k}.part")), tmp.path().join(format!("{k}.built")));
+        write_part(&part, &part_file).unwrap();
+        let read = read_part(&part_file, mesh.vertex_count()).unwrap();
+        assert_eq!(
+            (&read.mesh.positions, &read.mesh.triangles, &read.ids, &read.border),
+            (&part.mesh.positions, &part.mesh.triangles, &part.ids, &part.border)
+        );
+        let built = build_part(&read, &options, mesh.vertex_count()).unwrap();
+        write_build(&built, &build_file).unwrap();
+        assert_eq!(read_build(&build_file, mesh.vertex_count()).unwrap(), built, "part {k}");
+        builds.push(built);
+    }
+    let joined = join_parts(&mesh, &builds, &options, std::time::Instant::now()).unwrap();
+    let threaded = build_partitioned(&mesh, 3, &options).unwrap();
+    assert_eq!(joined.base_triangles, threaded.base_triangles);
+    assert_eq!(joined.removals, threaded.removals);
+    assert_eq!(joined.params, threaded.params);
+}
+
+#[test]
+fn a_broken_part_file_is_refused_by_name_and_byte() {
+    use asperity::hierarchy::partition::build_part;
+    use asperity::hierarchy::partition::files::{read_build, read_part, write_build, write_part};
+    let tmp = crate::common::temp_dir();
+    let mesh = torus(1.0, 0.35, 48, 24);
+    let part = Partition::of(&mesh, 2).unwrap().part(&mesh, 1).unwrap();
+    let (part_file, build_file) = (tmp.path().join("p.part"), tmp.path().join("p.built"));
+    write_part(&part, &part_file).unwrap();
+    write_build(&build_part(&part, &to(50, Vec::new()), mesh.vertex_count()).unwrap(), &build_file).unwrap();
+    let good = std::fs::read(&build_file).unwrap();
+    let broken = tmp.path().join("broken.built");
+    let refused = |bytes: &[u8], phrase: &str| {
+        std::fs::write(&broken, bytes).unwrap();
+        let e = read_build(&broken, mesh.vertex_count()).unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        let text = e.to_string();
+        assert!(text.contains("broken.built: byte ") && text.contains(phrase), "{text}");
+    };
+    refused(&good[..good.len() / 2], "hash does not match");
+    let mut flipped = good.clone();
+    flipped[40] ^= 1;
+    refused(&flipped, "hash does not match");
+    refused(b"", "not a part's build");
+    refused(&std::fs::read(&part_file).unwrap(), "not a part's build");
+    // A file whose hash matches but whose ids do not fit the input: refused, not a panic.
+    assert!(read_build(&build_file, 10).unwrap_err().to_string().contains("out of range"));
+    assert!(read_part(&part_file, 10).unwrap_err().to_string().contains("out of range"));
+    // Counts larger than the file are refused before anything is allocated.
+    let mut huge = b"asperity-built1\n".to_vec();
+    huge.extend(u64::MAX.to_le_bytes());
+    let hash = huge.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
+    huge.extend(hash.to_le_bytes());
+    refused(&huge, "elements of 12 bytes");
+}

@@ -91,28 +91,10 @@ pub(super) fn run(args: PlanArgs, ctx: crate::cli::Context) -> Result<()> {
     Ok(())
 }
 
-/// The tile index: `--tile-index`, else $JOB_COMPLETION_INDEX, else $SLURM_ARRAY_TASK_ID.
-fn tile_index(flag: Option<u64>) -> Result<u64> {
-    if let Some(k) = flag {
-        return Ok(k);
-    }
-    for variable in ["JOB_COMPLETION_INDEX", "SLURM_ARRAY_TASK_ID"] {
-        if let Ok(value) = std::env::var(variable) {
-            return value.trim().parse().map_err(|_| {
-                Error::InvalidInput(format!("${variable} is {value:?}: a tile index must be a whole number from 0"))
-            });
-        }
-    }
-    Err(Error::InvalidInput(
-        "--plan needs a tile index: --tile-index K, $JOB_COMPLETION_INDEX (Kubernetes) or $SLURM_ARRAY_TASK_ID (Slurm)"
-            .into(),
-    ))
-}
-
 /// `asperity terrain --plan DIR`: makes one tile of the plan, unless it is complete.
 pub(super) fn run_tile(dir: &Path, flag: Option<u64>, ctx: crate::cli::Context) -> Result<()> {
     let plan = Plan::read(dir)?;
-    let index = tile_index(flag)?;
+    let index = crate::cli::job_index(flag, "tile")?;
     let (tile, fingerprint) = plan.tile(index, dir)?;
     let output = dir.join(&tile.output);
     if tile_complete(&output, &fingerprint) {

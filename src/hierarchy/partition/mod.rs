@@ -14,11 +14,19 @@
 //! Every other vertex of a part has its whole star in the part, so the part's levels are
 //! levels of the whole mesh, and the parts' bases join edge to edge along their unchanged
 //! borders into a manifold ([`build_partitioned`] continues the build on it).
+//!
+//! A part can be built in another process ([`PartBuild`], [`files`]): `asperity simplify
+//! plan` writes the parts, job runners build them, `asperity simplify merge` joins them.
+
+mod build;
+pub mod files;
+pub mod plan;
+
+pub use build::{PartBuild, build_part, build_partitioned, join_parts, part_goal};
 
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
-use super::{Hierarchy, ParamPoint, Removal, SimplifyOptions};
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, UnitFrame, split_non_manifold_fans};
 use glam::DVec3;
@@ -188,138 +196,6 @@ impl Part {
     /// `triangles` over the part's vertices (its base domain's) in input ids.
     pub fn input_triangles(&self, triangles: &[[u32; 3]]) -> Vec<[u32; 3]> {
         triangles.iter().map(|t| t.map(|v| self.ids[v as usize])).collect()
-    }
-}
-
-/// How much of a part's inside its build keeps, as a multiple of the share of the input
-/// the target keeps (at most all of it): the joined build then chooses among 4 times the
-/// vertices it keeps, across the borders the parts could not simplify over.
-const PART_HEADROOM: f64 = 4.0;
-
-/// A partitioned build (#40): `mesh` cut into `parts` ([`Partition::of`]), each part
-/// built in parallel with its border fenced down to its border plus four (`PART_HEADROOM`)
-/// times the target's share of its inside, the parts' bases joined, and the build
-/// continued on the joined mesh to `options`' target with the parts' removed vertices
-/// carried on it (MAPS). The parts' levels, in step order, then the continuation's make
-/// one hierarchy of `mesh`: its base domain, removal records and parametrization are
-/// those of a one-piece build, so refinement restores the input exactly. Its `seconds` are
-/// the whole build's; its `stages`, `target` report and kept vertices the continuation's.
-///
-/// Limits of this first version: a vertex target is needed (levels and error bounds
-/// alone are refused), levels are not recorded, UVs and materials are refused, and a
-/// part's intersection guard sees only its own faces.
-///
-/// # Errors
-/// [`Error::InvalidInput`] for the limits above and as [`Partition::of`]; as
-/// [`super::build`] for each part and the continuation.
-pub fn build_partitioned(mesh: &Mesh, parts: usize, options: &SimplifyOptions) -> Result<Hierarchy> {
-    let started = std::time::Instant::now();
-    let target = options.target_vertices.ok_or_else(|| {
-        Error::InvalidInput(
-            "a partitioned build needs a vertex target (levels or an error bound alone are not supported yet)".into(),
-        )
-    })?;
-    if options.levels.is_some() || options.record_levels || !options.border_vertices.is_empty() {
-        return Err(Error::InvalidInput(
-            "a partitioned build takes no level limit, records no levels and fences its own borders".into(),
-        ));
-    }
-    if mesh.uvs.is_some() || mesh.materials.is_some() {
-        return Err(Error::InvalidInput("a partitioned build does not carry UVs or materials yet".into()));
-    }
-    options.check()?;
-    mesh.check()?;
-    // The input's faults are named as a one-piece build names them, not as a part's.
-    super::simplify::prepare_input(mesh, None)?;
-    let partition = Partition::of(mesh, parts)?;
-    let keep_share = (PART_HEADROOM * target as f64 / mesh.vertex_count().max(1) as f64).min(1.0);
-    let marked: std::collections::HashSet<u32> = options.keep_vertices.iter().copied().collect();
-    let built: Vec<(Part, Hierarchy)> = (0..parts)
-        .into_par_iter()
-        .map(|k| {
-            let part = partition.part(mesh, k)?;
-            let keep_vertices: Vec<u32> =
-                (0..part.ids.len() as u32).filter(|&v| marked.contains(&part.ids[v as usize])).collect();
-            let inside = part.mesh.vertex_count() - part.border.len();
-            let goal = part.border.len() + ((inside as f64 * keep_share).ceil() as usize).max(1);
-            let part_options = SimplifyOptions {
-                target_vertices: Some(goal.min(part.mesh.vertex_count())),
-                keep_vertices,
-                border_vertices: part.border.clone(),
-                ..options.clone()
-            };
-            let hierarchy = super::build(&part.mesh, &part_options)?;
-            Ok((part, hierarchy))
-        })
-        .collect::<Result<_>>()?;
-    let n = mesh.vertex_count();
-    let mut records = Records::default();
-    let steps = built.iter().map(|(_, h)| h.steps()).max().unwrap_or(0);
-    for step in 0..steps {
-        for (part, h) in built.iter().filter(|(_, h)| step < h.steps()) {
-            let removals = &h.removals[h.step_starts[step]..h.step_starts[step + 1]];
-            records.push(removals, &h.restore, |v| part.ids[v as usize], step);
-        }
-        records.step_starts.push(records.removals.len());
-    }
-    let mut seeds: Vec<Option<ParamPoint>> = vec![None; n];
-    let mut joined = Vec::new();
-    for (part, h) in &built {
-        for (v, point) in h.params.iter().enumerate() {
-            if let Some(p) = point {
-                seeds[part.ids[v] as usize] =
-                    Some(ParamPoint { face: p.face.map(|w| part.ids[w as usize]), bary: p.bary });
-            }
-        }
-        joined.extend(part.input_triangles(&h.base_triangles));
-    }
-    let joined = Mesh::new(mesh.positions.clone(), joined);
-    let continued = super::simplify::build_seeded(&joined, options, &seeds, mesh, &records.removals)?;
-    for step in 0..continued.steps() {
-        let removals = &continued.removals[continued.step_starts[step]..continued.step_starts[step + 1]];
-        records.push(removals, &continued.restore, |v| v, steps + step);
-        records.step_starts.push(records.removals.len());
-    }
-    Ok(Hierarchy {
-        positions: mesh.positions.clone(),
-        input_triangles: mesh.triangles.clone(),
-        removals: records.removals,
-        restore: records.restore,
-        step_starts: records.step_starts,
-        seconds: started.elapsed().as_secs_f64(),
-        ..continued
-    })
-}
-
-/// Removal records gathered from several builds into one hierarchy's.
-struct Records {
-    removals: Vec<Removal>,
-    restore: Vec<[u32; 2]>,
-    step_starts: Vec<usize>,
-}
-
-impl Default for Records {
-    fn default() -> Self {
-        Records { removals: Vec::new(), restore: Vec::new(), step_starts: vec![0] }
-    }
-}
-
-impl Records {
-    /// Appends `removals` (with their link edges in `restore`) of a build over vertices
-    /// whose input ids `id` gives, as removals of `step`.
-    fn push(&mut self, removals: &[Removal], restore: &[[u32; 2]], id: impl Fn(u32) -> u32 + Copy, step: usize) {
-        for r in removals {
-            let start = self.restore.len() as u32;
-            self.restore.extend(restore[r.restore[0] as usize..r.restore[1] as usize].iter().map(|e| e.map(id)));
-            self.removals.push(Removal {
-                vertex: id(r.vertex),
-                step: step as u32,
-                local: ParamPoint { face: r.local.face.map(id), bary: r.local.bary },
-                diagonal: r.diagonal.map(id),
-                restore: [start, self.restore.len() as u32],
-                ..*r
-            });
-        }
     }
 }
 

@@ -1,0 +1,208 @@
+//! A partitioned build's stages: each part built with its border fenced ([`build_part`],
+//! in any process), then the parts' bases joined and the build continued on them
+//! ([`join_parts`]); [`build_partitioned`] runs both in one process, the parts in
+//! parallel.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use super::{Part, Partition};
+use crate::error::{Error, Result};
+use crate::hierarchy::{Hierarchy, ParamPoint, Removal, SimplifyOptions};
+use crate::mesh::Mesh;
+
+/// How much of a part's inside its build keeps, as a multiple of the share of the input
+/// the target keeps (at most all of it): the joined build then chooses among 4 times the
+/// vertices it keeps, across the borders the parts could not simplify over.
+const PART_HEADROOM: f64 = 4.0;
+
+/// What a part's build hands to the join, in input vertex ids: its base domain, its
+/// removals by its own steps, and where its removed vertices lie on its base.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PartBuild {
+    /// The part's base domain.
+    pub base_triangles: Vec<[u32; 3]>,
+    /// Its removals in order (`step` counts the part's own steps).
+    pub removals: Vec<Removal>,
+    /// The link edges the removals' refinement flips (see [`Removal::restore`]).
+    pub restore: Vec<[u32; 2]>,
+    /// `removals[step_starts[s]..step_starts[s + 1]]` were removed by the part's step s.
+    pub step_starts: Vec<usize>,
+    /// Each removed vertex's point on the part's base domain.
+    pub seeds: Vec<(u32, ParamPoint)>,
+}
+
+impl PartBuild {
+    /// The part's steps.
+    pub fn steps(&self) -> usize {
+        self.step_starts.len().saturating_sub(1)
+    }
+}
+
+/// The vertices a part's build keeps: its border, and `PART_HEADROOM` times the share of
+/// the input's `input_vertices` that the `target` keeps of its inside (at least one).
+pub fn part_goal(part: &Part, target: usize, input_vertices: usize) -> usize {
+    let keep_share = (PART_HEADROOM * target as f64 / input_vertices.max(1) as f64).min(1.0);
+    let inside = part.mesh.vertex_count() - part.border.len();
+    let goal = part.border.len() + ((inside as f64 * keep_share).ceil() as usize).max(1);
+    goal.min(part.mesh.vertex_count())
+}
+
+/// Builds `part` of an input of `input_vertices` vertices with its border fenced, to its
+/// [`part_goal`] for `options`' vertex target (the input's vertices it marks kept are kept).
+///
+/// # Errors
+/// [`Error::InvalidInput`] without a vertex target; as [`crate::hierarchy::build`].
+pub fn build_part(part: &Part, options: &SimplifyOptions, input_vertices: usize) -> Result<PartBuild> {
+    let target = options.target_vertices.ok_or_else(needs_target)?;
+    let marked: std::collections::HashSet<u32> = options.keep_vertices.iter().copied().collect();
+    let keep_vertices = (0..part.ids.len() as u32).filter(|&v| marked.contains(&part.ids[v as usize])).collect();
+    let part_options = SimplifyOptions {
+        target_vertices: Some(part_goal(part, target, input_vertices)),
+        keep_vertices,
+        border_vertices: part.border.clone(),
+        ..options.clone()
+    };
+    let h = crate::hierarchy::build(&part.mesh, &part_options)?;
+    let id = |v: u32| part.ids[v as usize];
+    let mut records = Records::default();
+    for step in 0..h.steps() {
+        records.push(&h.removals[h.step_starts[step]..h.step_starts[step + 1]], &h.restore, id, step);
+        records.step_starts.push(records.removals.len());
+    }
+    let seeds = (0..h.params.len())
+        .filter_map(|v| h.params[v].map(|p| (id(v as u32), ParamPoint { face: p.face.map(id), bary: p.bary })))
+        .collect();
+    Ok(PartBuild {
+        base_triangles: part.input_triangles(&h.base_triangles),
+        removals: records.removals,
+        restore: records.restore,
+        step_starts: records.step_starts,
+        seeds,
+    })
+}
+
+/// Joins the parts' bases of `mesh` and continues the build on them to `options`' target
+/// with the parts' removed vertices carried on it (MAPS). The parts' levels, in step order
+/// (the parts' removals of one step are independent: they lie in different parts), then
+/// the continuation's make one hierarchy of `mesh`: its base domain, removal records and
+/// parametrization are those of a one-piece build, so refinement restores the input
+/// exactly. Its `seconds` count from `started`; its `stages`, `target` report and kept
+/// vertices are the continuation's.
+///
+/// # Errors
+/// As [`crate::hierarchy::build`] for the continuation ([`Error::InvalidInput`] for parts
+/// whose seeds do not cover the vertices their bases left).
+pub fn join_parts(mesh: &Mesh, parts: &[PartBuild], options: &SimplifyOptions, started: Instant) -> Result<Hierarchy> {
+    let mut records = Records::default();
+    let steps = parts.iter().map(PartBuild::steps).max().unwrap_or(0);
+    for step in 0..steps {
+        for part in parts.iter().filter(|p| step < p.steps()) {
+            let removals = &part.removals[part.step_starts[step]..part.step_starts[step + 1]];
+            records.push(removals, &part.restore, |v| v, step);
+        }
+        records.step_starts.push(records.removals.len());
+    }
+    let mut seeds: Vec<Option<ParamPoint>> = vec![None; mesh.vertex_count()];
+    for &(v, point) in parts.iter().flat_map(|p| &p.seeds) {
+        seeds[v as usize] = Some(point);
+    }
+    let joined = parts.iter().flat_map(|p| p.base_triangles.iter().copied()).collect();
+    let joined = Mesh::new(mesh.positions.clone(), joined);
+    let continued = crate::hierarchy::simplify::build_seeded(&joined, options, &seeds, mesh, &records.removals)?;
+    for step in 0..continued.steps() {
+        let removals = &continued.removals[continued.step_starts[step]..continued.step_starts[step + 1]];
+        records.push(removals, &continued.restore, |v| v, steps + step);
+        records.step_starts.push(records.removals.len());
+    }
+    Ok(Hierarchy {
+        positions: mesh.positions.clone(),
+        input_triangles: mesh.triangles.clone(),
+        removals: records.removals,
+        restore: records.restore,
+        step_starts: records.step_starts,
+        seconds: started.elapsed().as_secs_f64(),
+        ..continued
+    })
+}
+
+/// A partitioned build (#40) in one process: `mesh` cut into `parts` ([`Partition::of`]),
+/// each part built in parallel ([`build_part`]) and the parts joined ([`join_parts`]).
+///
+/// Limits of this first version: a vertex target is needed (levels and error bounds
+/// alone are refused), levels are not recorded, UVs and materials are refused, and a
+/// part's intersection guard sees only its own faces.
+///
+/// # Errors
+/// [`Error::InvalidInput`] for the limits above and as
+/// [`Partition::of`]; as [`crate::hierarchy::build`] for each part and the continuation.
+pub fn build_partitioned(mesh: &Mesh, parts: usize, options: &SimplifyOptions) -> Result<Hierarchy> {
+    let started = Instant::now();
+    check_partitioned(mesh, options)?;
+    let partition = Partition::of(mesh, parts)?;
+    let built: Vec<PartBuild> = (0..parts)
+        .into_par_iter()
+        .map(|k| build_part(&partition.part(mesh, k)?, options, mesh.vertex_count()))
+        .collect::<Result<_>>()?;
+    join_parts(mesh, &built, options, started)
+}
+
+/// Refuses what a partitioned build of `mesh` does not take yet, and names the input's
+/// faults as a one-piece build names them (not as a part's).
+///
+/// # Errors
+/// [`Error::InvalidInput`] without a vertex target, with a level limit, recorded levels or
+/// fenced vertices, for UVs or materials; as [`crate::hierarchy::build`]'s validation.
+pub fn check_partitioned(mesh: &Mesh, options: &SimplifyOptions) -> Result<()> {
+    options.target_vertices.ok_or_else(needs_target)?;
+    if options.levels.is_some() || options.record_levels || !options.border_vertices.is_empty() {
+        return Err(Error::InvalidInput(
+            "a partitioned build takes no level limit, records no levels and fences its own borders".into(),
+        ));
+    }
+    if mesh.uvs.is_some() || mesh.materials.is_some() {
+        return Err(Error::InvalidInput("a partitioned build does not carry UVs or materials yet".into()));
+    }
+    options.check()?;
+    mesh.check()?;
+    crate::hierarchy::simplify::prepare_input(mesh, None)
+}
+
+fn needs_target() -> Error {
+    Error::InvalidInput(
+        "a partitioned build needs a vertex target (levels or an error bound alone are not supported yet)".into(),
+    )
+}
+
+/// Removal records gathered from several builds into one hierarchy's.
+struct Records {
+    removals: Vec<Removal>,
+    restore: Vec<[u32; 2]>,
+    step_starts: Vec<usize>,
+}
+
+impl Default for Records {
+    fn default() -> Self {
+        Records { removals: Vec::new(), restore: Vec::new(), step_starts: vec![0] }
+    }
+}
+
+impl Records {
+    /// Appends `removals` (with their link edges in `restore`) of a build over vertices
+    /// whose input ids `id` gives, as removals of `step`.
+    fn push(&mut self, removals: &[Removal], restore: &[[u32; 2]], id: impl Fn(u32) -> u32 + Copy, step: usize) {
+        for r in removals {
+            let start = self.restore.len() as u32;
+            self.restore.extend(restore[r.restore[0] as usize..r.restore[1] as usize].iter().map(|e| e.map(id)));
+            self.removals.push(Removal {
+                vertex: id(r.vertex),
+                step: step as u32,
+                local: ParamPoint { face: r.local.face.map(id), bary: r.local.bary },
+                diagonal: r.diagonal.map(id),
+                restore: [start, self.restore.len() as u32],
+                ..*r
+            });
+        }
+    }
+}

@@ -1,0 +1,267 @@
+//! A part and a part's build as files, for builds whose parts run as separate processes
+//! (`asperity simplify plan`, `--plan DIR --chunk-index K`, `merge`).
+//!
+//! Layout (little-endian): a 16-byte tag naming the kind and layout version, the arrays
+//! each as a u64 count and its elements, then an FNV-1a 64 hash of every byte before it.
+//! Positions are f64, so a part read back is the part written, bit for bit, and a build
+//! in another process gives the bytes a thread gives. A file cut short, changed or of
+//! another kind is refused by name and byte before anything is allocated from its counts.
+
+use std::path::Path;
+
+use glam::DVec3;
+
+use super::{Part, PartBuild};
+use crate::error::{Error, Location, Result};
+use crate::hierarchy::{ParamPoint, Removal};
+use crate::mesh::Mesh;
+
+/// The tag of a part's mesh file (layout 1).
+const PART_TAG: &[u8; 16] = b"asperity-part-1\n";
+/// The tag of a part's build file (layout 1).
+const BUILD_TAG: &[u8; 16] = b"asperity-built1\n";
+
+/// FNV-1a, 64 bits.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3))
+}
+
+/// Writes `part` to `path` (atomically: a reader never sees half a file).
+///
+/// # Errors
+/// [`Error::Io`] naming the file.
+pub fn write_part(part: &Part, path: &Path) -> Result<()> {
+    let mut out = Out::new(PART_TAG);
+    out.array(&part.mesh.positions, |o, p| p.to_array().into_iter().for_each(|c| o.f64(c)));
+    out.array(&part.mesh.triangles, |o, t| t.iter().for_each(|&v| o.u32(v)));
+    out.array(&part.ids, |o, &v| o.u32(v));
+    out.array(&part.border, |o, &v| o.u32(v));
+    out.write(path).map(|_| ())
+}
+
+/// Reads a part written by [`write_part`], its input ids checked against the input's
+/// `input_vertices`.
+///
+/// # Errors
+/// [`Error::Io`] naming the file; [`Error::Parse`] naming the file and byte for another
+/// kind of file, one cut short or changed, or an index out of range.
+pub fn read_part(path: &Path, input_vertices: usize) -> Result<Part> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let mut r = In::new(&bytes, path, PART_TAG)?;
+    let positions = r.array(24, |r| Ok(DVec3::new(r.f64()?, r.f64()?, r.f64()?)))?;
+    let n = positions.len();
+    let triangles = r.array(12, |r| Ok([r.index(n)?, r.index(n)?, r.index(n)?]))?;
+    let ids = r.array(4, |r| r.index(input_vertices))?;
+    if ids.len() != n {
+        return Err(r.fault(&format!("{} input ids for {n} vertices", ids.len())));
+    }
+    let border = r.array(4, |r| r.index(n))?;
+    r.end()?;
+    Ok(Part { mesh: Mesh::new(positions, triangles), ids, border })
+}
+
+/// Writes a part's build to `path` (atomically); returns the file's size in bytes.
+///
+/// # Errors
+/// [`Error::Io`] naming the file.
+pub fn write_build(build: &PartBuild, path: &Path) -> Result<u64> {
+    let mut out = Out::new(BUILD_TAG);
+    out.array(&build.base_triangles, |o, t| t.iter().for_each(|&v| o.u32(v)));
+    out.array(&build.removals, |o, r| {
+        [r.vertex, r.step, r.degree, u32::from(r.boundary)].into_iter().for_each(|v| o.u32(v));
+        o.point(&r.local);
+        r.diagonal.into_iter().chain(r.restore).for_each(|v| o.u32(v));
+    });
+    out.array(&build.restore, |o, e| e.iter().for_each(|&v| o.u32(v)));
+    out.array(&build.step_starts, |o, &s| o.u64(s as u64));
+    out.array(&build.seeds, |o, (v, p)| {
+        o.u32(*v);
+        o.point(p);
+    });
+    out.write(path)
+}
+
+/// Reads a part's build written by [`write_build`], every vertex id checked against the
+/// input's `input_vertices` and every range against its arrays.
+///
+/// # Errors
+/// As [`read_part`].
+pub fn read_build(path: &Path, input_vertices: usize) -> Result<PartBuild> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let mut r = In::new(&bytes, path, BUILD_TAG)?;
+    let n = input_vertices;
+    let base_triangles = r.array(12, |r| Ok([r.index(n)?, r.index(n)?, r.index(n)?]))?;
+    let removals = r.array(4 * 4 + POINT_BYTES + 4 * 4, |r| {
+        let [vertex, step, degree, boundary] = [r.index(n)?, r.u32()?, r.u32()?, r.index(2)?];
+        let local = r.point(n)?;
+        let diagonal = [r.index(n)?, r.index(n)?];
+        let restore = [r.u32()?, r.u32()?];
+        Ok(Removal { vertex, step, degree, boundary: boundary == 1, local, diagonal, restore })
+    })?;
+    let restore = r.array(8, |r| Ok([r.index(n)?, r.index(n)?]))?;
+    if let Some(k) = removals.iter().position(|x| x.restore[0] > x.restore[1] || x.restore[1] as usize > restore.len())
+    {
+        return Err(r.fault(&format!("removal {k}'s link edges lie outside the {} recorded", restore.len())));
+    }
+    let step_starts = r.array(8, |r| r.offset(removals.len() + 1))?;
+    if step_starts.first() != Some(&0)
+        || step_starts.last() != Some(&removals.len())
+        || step_starts.windows(2).any(|w| w[0] > w[1])
+    {
+        return Err(r.fault("the steps do not cover the removals in order"));
+    }
+    let seeds = r.array(4 + POINT_BYTES, |r| Ok((r.index(n)?, r.point(n)?)))?;
+    r.end()?;
+    Ok(PartBuild { base_triangles, removals, restore, step_starts, seeds })
+}
+
+/// A [`ParamPoint`]'s bytes: three u32 and three f64.
+const POINT_BYTES: usize = 12 + 24;
+
+/// A file being written.
+struct Out {
+    bytes: Vec<u8>,
+}
+
+impl Out {
+    fn new(tag: &[u8; 16]) -> Self {
+        Out { bytes: tag.to_vec() }
+    }
+
+    fn u32(&mut self, v: u32) {
+        self.bytes.extend(v.to_le_bytes());
+    }
+
+    fn u64(&mut self, v: u64) {
+        self.bytes.extend(v.to_le_bytes());
+    }
+
+    fn f64(&mut self, v: f64) {
+        self.bytes.extend(v.to_le_bytes());
+    }
+
+    fn point(&mut self, p: &ParamPoint) {
+        p.face.iter().for_each(|&v| self.u32(v));
+        p.bary.iter().for_each(|&b| self.f64(b));
+    }
+
+    fn array<T>(&mut self, items: &[T], mut each: impl FnMut(&mut Self, &T)) {
+        self.u64(items.len() as u64);
+        for item in items {
+            each(self, item);
+        }
+    }
+
+    /// Writes the bytes and their hash; returns the file's size.
+    fn write(mut self, path: &Path) -> Result<u64> {
+        let hash = fnv1a(&self.bytes);
+        self.u64(hash);
+        crate::io::write_atomically(path, |w| w.write_all(&self.bytes))?;
+        Ok(self.bytes.len() as u64)
+    }
+}
+
+/// A file being read: its bytes up to the hash (checked first) and the read position.
+struct In<'a> {
+    bytes: &'a [u8],
+    at: usize,
+    path: &'a Path,
+}
+
+impl<'a> In<'a> {
+    fn new(bytes: &'a [u8], path: &'a Path, tag: &[u8; 16]) -> Result<Self> {
+        let fault = |at: usize, msg: &str| Error::parse(path, Location::Byte(at as u64), msg);
+        if bytes.len() < 16 || &bytes[..16] != tag {
+            let kind = if tag == PART_TAG { "a part of a partitioned build" } else { "a part's build" };
+            return Err(fault(0, &format!("not {kind} (asperity simplify plan / --plan … --chunk-index)")));
+        }
+        let body = bytes.len().checked_sub(8).filter(|&b| b >= 16).ok_or_else(|| fault(16, "cut short"))?;
+        let stored = u64::from_le_bytes(bytes[body..].try_into().expect("8 bytes"));
+        if fnv1a(&bytes[..body]) != stored {
+            return Err(fault(body, "its hash does not match its bytes (cut short or changed: run its chunk again)"));
+        }
+        Ok(In { bytes: &bytes[..body], at: 16, path })
+    }
+
+    fn fault(&self, msg: &str) -> Error {
+        Error::parse(self.path, Location::Byte(self.at as u64), msg)
+    }
+
+    fn take<const N: usize>(&mut self) -> Result<[u8; N]> {
+        let end = self.at + N;
+        let bytes = self.bytes.get(self.at..end).ok_or_else(|| self.fault("cut short"))?;
+        self.at = end;
+        Ok(bytes.try_into().expect("N bytes"))
+    }
+
+    fn u32(&mut self) -> Result<u32> {
+        self.take().map(u32::from_le_bytes)
+    }
+
+    fn u64(&mut self) -> Result<u64> {
+        self.take().map(u64::from_le_bytes)
+    }
+
+    fn f64(&mut self) -> Result<f64> {
+        let at = self.at;
+        let v = self.take().map(f64::from_le_bytes)?;
+        if !v.is_finite() {
+            self.at = at;
+            return Err(self.fault("a coordinate that is not a finite number"));
+        }
+        Ok(v)
+    }
+
+    /// A u32 index below `n`.
+    fn index(&mut self, n: usize) -> Result<u32> {
+        let at = self.at;
+        let v = self.u32()?;
+        self.below(u64::from(v), n, at)?;
+        Ok(v)
+    }
+
+    /// A u64 offset below `n`.
+    fn offset(&mut self, n: usize) -> Result<usize> {
+        let at = self.at;
+        let v = self.u64()?;
+        self.below(v, n, at)?;
+        Ok(v as usize)
+    }
+
+    fn below(&mut self, v: u64, n: usize, at: usize) -> Result<()> {
+        if v >= n as u64 {
+            self.at = at;
+            return Err(self.fault(&format!("index {v} out of range (below {n})")));
+        }
+        Ok(())
+    }
+
+    fn point(&mut self, n: usize) -> Result<ParamPoint> {
+        Ok(ParamPoint {
+            face: [self.index(n)?, self.index(n)?, self.index(n)?],
+            bary: [self.f64()?, self.f64()?, self.f64()?],
+        })
+    }
+
+    /// An array of elements of `size` bytes: its count is checked against the bytes left
+    /// before anything is allocated.
+    fn array<T>(&mut self, size: usize, mut each: impl FnMut(&mut Self) -> Result<T>) -> Result<Vec<T>> {
+        let count = self.u64()?;
+        let left = (self.bytes.len() - self.at) as u64;
+        if count.checked_mul(size as u64).is_none_or(|b| b > left) {
+            return Err(self.fault(&format!("{count} elements of {size} bytes, {left} bytes left")));
+        }
+        let mut items = Vec::with_capacity(count as usize);
+        for _ in 0..count {
+            items.push(each(self)?);
+        }
+        Ok(items)
+    }
+
+    fn end(&self) -> Result<()> {
+        if self.at != self.bytes.len() {
+            return Err(self.fault(&format!("{} bytes after the last array", self.bytes.len() - self.at)));
+        }
+        Ok(())
+    }
+}

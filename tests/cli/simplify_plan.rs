@@ -1,0 +1,190 @@
+//! A partitioned build whose chunks job runners run (#40): `simplify plan`, `simplify
+//! --plan DIR --chunk-index K` (or the job runners' variables) and `simplify merge` give
+//! the bytes `simplify --chunks K` gives, in any order and at any thread count; a rerun
+//! skips complete chunks and builds stale or broken ones again; the walkthrough's scripts
+//! run unchanged.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use crate::common::{shared_meshes, temp_dir};
+
+fn run(args: &[&str], cwd: &Path, env: &[(&str, &str)]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_asperity")).args(args).envs(env.iter().copied()).current_dir(cwd).output().unwrap()
+}
+
+fn ok(args: &[&str], cwd: &Path, env: &[(&str, &str)]) -> String {
+    let out = run(args, cwd, env);
+    assert!(out.status.success(), "asperity {args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn refused(args: &[&str], cwd: &Path, env: &[(&str, &str)], phrases: &[&str]) {
+    let out = run(args, cwd, env);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "asperity {args:?}: {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    for p in phrases {
+        assert!(stderr.lines().next().unwrap_or("").contains(p), "asperity {args:?}: `{stderr}` lacks `{p}`");
+    }
+}
+
+fn read(dir: &Path, file: &str) -> Vec<u8> {
+    std::fs::read(dir.join(file)).unwrap_or_else(|e| panic!("{file}: {e}"))
+}
+
+const TARGET: [&str; 4] = ["--target-vertices", "1%", "--keep-features", "none"];
+
+#[test]
+fn chunks_run_as_processes_in_any_order_give_the_threaded_build() {
+    let tmp = temp_dir();
+    let dir = tmp.path();
+    let input = shared_meshes().join("bunny00.off");
+    let input = input.to_str().unwrap();
+    let mut threaded = vec!["simplify", input, "--chunks", "4", "-o", "threaded.ply", "--param-out", "threaded-p.ply"];
+    threaded.extend(TARGET);
+    ok(&threaded, dir, &[]);
+    let mut plan = vec!["simplify", "plan", input, "--chunks", "4", "-o", "plan"];
+    plan.extend(TARGET);
+    ok(&plan, dir, &[]);
+    // Merging before the chunks are built names them and the command that builds them.
+    refused(&["simplify", "merge", "plan", "-o", "m.ply"], dir, &[], &["4 of 4 chunks are not built (0, 1, 2, 3)"]);
+    // Backwards, on one thread and two, chunk 1 as Kubernetes and chunk 0 as Slurm give it.
+    ok(&["simplify", "--plan", "plan", "--chunk-index", "3"], dir, &[("RAYON_NUM_THREADS", "1")]);
+    ok(&["simplify", "--plan", "plan", "--chunk-index", "2"], dir, &[("RAYON_NUM_THREADS", "2")]);
+    ok(&["simplify", "--plan", "plan"], dir, &[("JOB_COMPLETION_INDEX", "1")]);
+    ok(&["simplify", "--plan", "plan"], dir, &[("SLURM_ARRAY_TASK_ID", "0")]);
+    ok(&["simplify", "merge", "plan", "-o", "merged.ply", "--param-out", "merged-p.ply"], dir, &[]);
+    assert!(read(dir, "merged.ply") == read(dir, "threaded.ply"), "the merged base differs from the threaded one");
+    assert!(read(dir, "merged-p.ply") == read(dir, "threaded-p.ply"), "the merged parametrization differs");
+    // A complete chunk is skipped; a chunk cut short is built again.
+    let json = ok(&["--json", "simplify", "--plan", "plan", "--chunk-index", "2"], dir, &[]);
+    assert!(json.contains("\"skipped\": true"), "{json}");
+    let built = dir.join("plan/chunks/chunk-0003.built");
+    let bytes = std::fs::read(&built).unwrap();
+    std::fs::write(&built, &bytes[..bytes.len() / 2]).unwrap();
+    refused(&["simplify", "merge", "plan", "-o", "m.ply"], dir, &[], &["1 of 4 chunks are not built (3)"]);
+    assert!(!dir.join("m.ply").exists(), "a refused merge left its output");
+    let json = ok(&["--json", "simplify", "--plan", "plan", "--chunk-index", "3"], dir, &[]);
+    assert!(json.contains("\"skipped\": false"), "{json}");
+    assert!(std::fs::read(&built).unwrap() == bytes);
+    // A chunk changed behind its sidecar's back (same size) is refused by the merge by
+    // file and byte.
+    let mut flipped = bytes.clone();
+    flipped[100] ^= 1;
+    std::fs::write(&built, &flipped).unwrap();
+    refused(
+        &["simplify", "merge", "plan", "-o", "m.ply"],
+        dir,
+        &[],
+        &["chunk-0003.built: byte", "hash does not match"],
+    );
+    std::fs::write(&built, &bytes).unwrap();
+    // Planned again with another target, every chunk is stale.
+    let mut again = vec!["simplify", "plan", input, "--chunks", "4", "-o", "plan", "--target-vertices", "2%"];
+    again.extend(&TARGET[2..]);
+    ok(&again, dir, &[]);
+    refused(&["simplify", "merge", "plan", "-o", "m.ply"], dir, &[], &["4 of 4 chunks are not built"]);
+    // The merge's input must be the mesh the plan cut; a copy elsewhere is found by --input.
+    for k in 0..4 {
+        ok(&["simplify", "--plan", "plan", "--chunk-index", &k.to_string(), "-q"], dir, &[]);
+    }
+    let other = shared_meshes().join("fandisk.off");
+    let merge_other = ["simplify", "merge", "plan", "--input", other.to_str().unwrap(), "-o", "m.ply"];
+    refused(&merge_other, dir, &[], &["not the mesh this plan cut"]);
+    std::fs::copy(shared_meshes().join("bunny00.off"), dir.join("moved.off")).unwrap();
+    ok(&["simplify", "merge", "plan", "--input", "moved.off", "-o", "moved.ply"], dir, &[]);
+    let over = ["simplify", "merge", "plan", "--input", "moved.off", "-o", "moved.off"];
+    refused(&over, dir, &[], &["is both input and output; pass --force"]);
+    ok(&[&over[..], &["--force"]].concat(), dir, &[]);
+}
+
+#[test]
+fn a_plan_refuses_what_its_chunks_would_refuse() {
+    let tmp = temp_dir();
+    let dir = tmp.path();
+    let input = shared_meshes().join("eight.off");
+    let input = input.to_str().unwrap();
+    refused(&["simplify", "plan", input, "--chunks", "2", "-o", "p"], dir, &[], &["needs --target-vertices"]);
+    let levels = ["simplify", "plan", input, "--chunks", "2", "--target-vertices", "50", "--levels", "2", "-o", "p"];
+    refused(&levels, dir, &[], &["--levels"]);
+    let too_many = ["simplify", "plan", input, "--chunks", "100000", "--target-vertices", "50", "-o", "p"];
+    refused(&too_many, dir, &[], &["100000 parts"]);
+    assert!(!dir.join("p").exists(), "a refused plan left its folder");
+    ok(&["simplify", "plan", input, "--chunks", "2", "--target-vertices", "50", "-o", "p"], dir, &[]);
+    // --plan takes every setting from the plan.
+    refused(
+        &["simplify", "--plan", "p", "--chunk-index", "0", "--target-vertices", "9"],
+        dir,
+        &[],
+        &["cannot be used"],
+    );
+    refused(&["simplify", "--plan", "p", "--chunk-index", "2"], dir, &[], &["outside the plan's 2 chunks (0..1)"]);
+    refused(&["simplify", "--plan", "p"], dir, &[], &["--chunk-index K, $JOB_COMPLETION_INDEX"]);
+    refused(&["simplify", "--plan", "p"], dir, &[("SLURM_ARRAY_TASK_ID", "one")], &["$SLURM_ARRAY_TASK_ID is \"one\""]);
+    refused(&["simplify", "--plan", "nowhere", "--chunk-index", "0"], dir, &[], &["plan.json"]);
+    refused(&["simplify", "merge", "nowhere", "-o", "m.ply"], dir, &[], &["plan.json"]);
+    std::fs::write(dir.join("p/plan.json"), "{\"version\": 1}").unwrap();
+    refused(&["simplify", "merge", "p", "-o", "m.ply"], dir, &[], &["not an asperity simplify plan"]);
+}
+
+/// A folder holding `asperity` for the scripts, which find it on the PATH, and that PATH.
+fn path_with_asperity(dir: &Path) -> String {
+    let bin = dir.join("bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    std::os::unix::fs::symlink(env!("CARGO_BIN_EXE_asperity"), bin.join("asperity")).unwrap();
+    format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default())
+}
+
+fn shell(script: &str, cwd: &Path, path: &str) {
+    let out = Command::new("bash").args(["-c", script]).current_dir(cwd).env("PATH", path).output().unwrap();
+    assert!(out.status.success(), "{script}: {}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[test]
+fn the_mesh_walkthrough_runs_through_gnu_parallel_slurm_and_kubernetes_unchanged() {
+    let tmp = temp_dir();
+    let dir = tmp.path();
+    let found = std::env::var_os("PATH")
+        .and_then(|paths| std::env::split_paths(&paths).map(|p| p.join("parallel")).find(|p| p.is_file()));
+    assert!(found.is_some(), "GNU parallel is missing: scripts/install-deps.sh --test installs it (as `make test`)");
+    let path = path_with_asperity(dir);
+    let examples = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/scale-out");
+    let input = shared_meshes().join("elephant.off");
+    let input = input.to_str().unwrap();
+    ok(&["simplify", input, "--chunks", "4", "--target-vertices", "2%", "-o", "threaded.ply"], dir, &[]);
+    // GNU parallel: the three steps in one script.
+    let script = examples.join("mesh-parallel.sh");
+    shell(
+        &format!("INPUT={input} TARGET=2% CHUNKS=4 PLAN_DIR=local BASE=local.ply bash {}", script.display()),
+        dir,
+        &path,
+    );
+    assert!(read(dir, "local.ply") == read(dir, "threaded.ply"), "mesh-parallel.sh's base differs");
+    let plan =
+        |name: &str| ok(&["simplify", "plan", input, "--chunks", "4", "--target-vertices", "2%", "-o", name], dir, &[]);
+    // Slurm: the array script as sbatch would run it, task K given SLURM_ARRAY_TASK_ID=K.
+    plan("slurm");
+    let slurm = examples.join("mesh-slurm-array.sh");
+    shell(
+        &format!("seq 0 3 | parallel -j 2 'SLURM_ARRAY_TASK_ID={{}} PLAN_DIR=slurm bash {}'", slurm.display()),
+        dir,
+        &path,
+    );
+    ok(&["simplify", "merge", "slurm", "-o", "slurm.ply"], dir, &[]);
+    assert!(read(dir, "slurm.ply") == read(dir, "threaded.ply"), "the Slurm array's base differs");
+    // Kubernetes: the Indexed Job's container command, pod K given JOB_COMPLETION_INDEX=K,
+    // with the plan's volume mounted where the manifest says.
+    let manifest = std::fs::read_to_string(examples.join("mesh-kubernetes-indexed-job.yaml")).unwrap();
+    let line = manifest.lines().find(|l| l.trim_start().starts_with("command:")).expect("the Job names a command");
+    let command: Vec<String> = serde_json::from_str(line.trim_start().trim_start_matches("command:").trim()).unwrap();
+    let mount = manifest.lines().find_map(|l| l.trim().strip_prefix("mountPath:")).unwrap().trim().to_string();
+    assert!(manifest.contains("completionMode: Indexed"));
+    let planned = command.last().unwrap().replacen(&mount, "plans", 1);
+    std::fs::create_dir_all(dir.join("plans")).unwrap();
+    plan(&planned);
+    let command = [&command[..command.len() - 1], std::slice::from_ref(&planned)].concat().join(" ");
+    shell(&format!("seq 0 3 | parallel -j 2 'JOB_COMPLETION_INDEX={{}} {command}'"), dir, &path);
+    ok(&["simplify", "merge", &planned, "-o", "k8s.ply"], dir, &[]);
+    assert!(read(dir, "k8s.ply") == read(dir, "threaded.ply"), "the Indexed Job's base differs");
+}
