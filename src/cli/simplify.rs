@@ -44,7 +44,8 @@ pub struct SimplifyArgs {
     param_out: Option<PathBuf>,
     /// Build in K parts along the Morton curve of the faces, in parallel, their borders
     /// fenced, then continue on their joined bases to the target (#40; needs
-    /// --target-vertices; levels are not recorded, so not with --levels-out or --lod-out).
+    /// --target-vertices; --levels-out and --lod-out make the levels afterwards by
+    /// refinement).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     chunks: Option<u32>,
     /// Allow an output to overwrite the input.
@@ -118,13 +119,17 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
     let input = super::input::read_input(input_path, args.repair, ctx)?;
     let mesh = &input.read.mesh;
     let record = args.levels_out.is_some() || args.lod_out.is_some();
-    let options = args.hierarchy.options(mesh.vertex_count(), record, Spelling::Flag)?;
-    let hierarchy = ctx
+    // A partitioned build records no levels: they are made afterwards by refinement.
+    let options = args.hierarchy.options(mesh.vertex_count(), record && args.chunks.is_none(), Spelling::Flag)?;
+    let mut hierarchy = ctx
         .spin("simplify", "building the 4-k hierarchy", || match args.chunks {
             Some(parts) => build_partitioned(mesh, parts as usize, &options),
             None => build(mesh, &options),
         })
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(input_path))?;
+    if record && args.chunks.is_some() {
+        hierarchy.levels = ctx.spin("simplify", "making the levels", || hierarchy.levels_by_refinement())?;
+    }
     let written =
         Written { input: input_path, output, param_out: args.param_out.as_deref(), repair: input.repair_json() };
     write_results(mesh, &hierarchy, &written, start, ctx, || {
@@ -190,15 +195,12 @@ fn check_chunks(args: &SimplifyArgs) -> Result<()> {
     if args.hierarchy.levels.is_some() {
         return refuse("--chunks does not take --levels yet");
     }
-    if args.levels_out.is_some() || args.lod_out.is_some() {
-        return refuse("--chunks records no levels yet: drop --levels-out and --lod-out");
-    }
     Ok(())
 }
 
 /// Every level as DIR/level_NN.ply, or in the input's format when it carries UVs or
 /// materials (an OBJ's levels keep its `vt` and `usemtl`).
-fn write_levels(hierarchy: &Hierarchy, input: &Path, dir: &Path) -> Result<()> {
+pub(super) fn write_levels(hierarchy: &Hierarchy, input: &Path, dir: &Path) -> Result<()> {
     crate::io::create_output_dir(dir)?;
     let steps = hierarchy.steps();
     let extension = match (&hierarchy.wedges, input.extension().and_then(|e| e.to_str())) {
@@ -218,7 +220,7 @@ fn write_levels(hierarchy: &Hierarchy, input: &Path, dir: &Path) -> Result<()> {
 
 /// Every level as a node of one `.glb`, base domain (level 0) first, with `TEXCOORD_0`
 /// when the input has UVs.
-fn write_lods(hierarchy: &Hierarchy, path: &Path) -> Result<()> {
+pub(super) fn write_lods(hierarchy: &Hierarchy, path: &Path) -> Result<()> {
     let steps = hierarchy.steps();
     let levels: Vec<LevelMesh> =
         hierarchy.levels.iter().map(|l| hierarchy.with_attributes(l.clone())).collect::<Result<_>>()?;

@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use clap::Args;
 
-use super::simplify::{Written, write_results};
+use super::simplify::{Written, write_levels, write_lods, write_results};
 use crate::error::Result;
 use crate::hierarchy::HierarchyRequest;
 use crate::hierarchy::partition::plan::{ChunkRun, MeshPlan, join_plan, run_chunk as build_chunk};
@@ -46,6 +46,14 @@ pub(crate) struct MergeArgs {
     /// and level as vertex properties.
     #[arg(long)]
     param_out: Option<PathBuf>,
+    /// Write every level as DIR/level_NN.ply (00 = base domain), made by refining the
+    /// merged hierarchy.
+    #[arg(long)]
+    levels_out: Option<PathBuf>,
+    /// Write every level into one glTF binary (.glb), one node per level side by side,
+    /// base domain first, node extras naming the level.
+    #[arg(long)]
+    lod_out: Option<PathBuf>,
     /// Allow an output to overwrite the input.
     #[arg(long)]
     force: bool,
@@ -120,22 +128,39 @@ pub(super) fn merge(args: MergeArgs, ctx: super::Context) -> Result<()> {
     super::guard_overwrite(&input_path, &args.output, args.force)?;
     let mut outputs = vec![("-o", args.output.as_path())];
     outputs.extend(args.param_out.as_deref().map(|p| ("--param-out", p)));
+    outputs.extend(args.lod_out.as_deref().map(|p| ("--lod-out", p)));
+    outputs.extend(args.levels_out.as_deref().map(|p| ("--levels-out", p)));
     super::distinct_outputs(&outputs)?;
     if let Some(p) = &args.param_out {
         io::Format::from_path(p)?;
         super::guard_overwrite(&input_path, p, args.force)?;
     }
+    if let Some(p) = &args.lod_out {
+        super::require_extension(p, &["glb"])?;
+        super::guard_overwrite(&input_path, p, args.force)?;
+    }
     let repair = super::input::RepairArg { repair: plan.repair };
     let input = super::input::read_input(&input_path, repair, ctx)?;
     let mesh = &input.read.mesh;
-    let hierarchy = ctx
+    let mut hierarchy = ctx
         .spin("simplify", "joining the chunks", || join_plan(&args.plan, mesh))
         .map_err(|e| super::input::after_repair(e, repair).about_file(&input_path))?;
+    if args.levels_out.is_some() || args.lod_out.is_some() {
+        hierarchy.levels = ctx.spin("simplify", "making the levels", || hierarchy.levels_by_refinement())?;
+    }
     let written = Written {
         input: &input_path,
         output: &args.output,
         param_out: args.param_out.as_deref(),
         repair: input.repair_json(),
     };
-    write_results(mesh, &hierarchy, &written, start, ctx, || Ok(()))
+    write_results(mesh, &hierarchy, &written, start, ctx, || {
+        if let Some(dir) = &args.levels_out {
+            write_levels(&hierarchy, &input_path, dir)?;
+        }
+        if let Some(p) = &args.lod_out {
+            write_lods(&hierarchy, p)?;
+        }
+        Ok(())
+    })
 }

@@ -118,6 +118,21 @@ pub struct SimplifyOptions {
     /// Test each level as planned for self-intersections (CGAL) and leave out the clusters
     /// whose new faces would cut the surface.
     pub prevent_intersections: bool,
+    /// Faces beside the mesh that its new faces must not cut either (with
+    /// `prevent_intersections`): a part rebuilt beside the other parts' bases (#40).
+    pub obstacles: Obstacles,
+}
+
+/// Faces beside a mesh being simplified, which the intersection guard tests its levels'
+/// new faces against as it tests the mesh's own (#40: the other parts' bases, which a
+/// part built apart cannot see). A corner below the mesh's vertex count is that vertex
+/// (a vertex both share, such as a part's border vertex); corner `n + i` is `points[i]`.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Obstacles {
+    /// The corners that are not vertices of the mesh.
+    pub points: Vec<DVec3>,
+    /// The faces.
+    pub faces: Vec<[u32; 3]>,
 }
 
 impl Default for SimplifyOptions {
@@ -135,6 +150,7 @@ impl Default for SimplifyOptions {
             fix_threshold_degrees: 90.0,
             record_levels: false,
             prevent_intersections: true,
+            obstacles: Obstacles::default(),
         }
     }
 }
@@ -161,6 +177,9 @@ impl SimplifyOptions {
         let t = self.fix_threshold_degrees;
         if !(t > 0.0 && t <= 180.0) {
             return bad("fix_threshold_degrees", t, "must be above 0 and at most 180");
+        }
+        if self.obstacles.points.iter().any(|p| !p.is_finite()) {
+            return Err(crate::Error::InvalidInput("an obstacle point is not finite".into()));
         }
         Ok(())
     }

@@ -470,6 +470,27 @@ impl<'h> Refiner<'h> {
     }
 }
 
+impl Hierarchy {
+    /// Every level's mesh, finest (the input) first, as a build that records its levels
+    /// gives them, made by refining the base domain one whole level at a time: the levels
+    /// of a hierarchy whose build did not record them (a partitioned build's, #40).
+    /// Refinement replays each level's recorded welds and flips, so each level is the one
+    /// the build made (the same faces; tested against recorded levels).
+    ///
+    /// # Errors
+    /// As [`Refiner::new`] and [`Refiner::refine_level`].
+    pub fn levels_by_refinement(&self) -> Result<Vec<LevelMesh>> {
+        let mut refiner = Refiner::new(self)?;
+        let mut levels = vec![refiner.mesh()?];
+        while !refiner.is_finished() {
+            refiner.refine_level(&|_| true)?;
+            levels.push(refiner.mesh()?);
+        }
+        levels.reverse();
+        Ok(levels)
+    }
+}
+
 /// Fraction of `original`'s faces (as oriented triangles, any rotation) found in `refined`.
 pub fn connectivity_match(original: &[[u32; 3]], refined: &[[u32; 3]]) -> f64 {
     if original.is_empty() {

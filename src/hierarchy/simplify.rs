@@ -159,9 +159,19 @@ fn build_with(
     }
     lap(&mut clock, &mut stages.prepare);
 
+    // The guard decides on the input's own positions, then the obstacles' points.
+    let obstacles = &options.obstacles;
+    let corners = n + obstacles.points.len();
+    if let Some(f) = obstacles.faces.iter().position(|t| t.iter().any(|&c| c as usize >= corners)) {
+        return Err(Error::InvalidInput(format!("obstacle face {f} names a corner beyond the {corners} there are")));
+    }
+    let guard_positions: std::borrow::Cow<[DVec3]> = match obstacles.points.is_empty() {
+        true => std::borrow::Cow::Borrowed(&mesh.positions),
+        false => mesh.positions.iter().chain(&obstacles.points).copied().collect(),
+    };
     let mut planner = Planner {
         positions: &working_positions,
-        model_positions: &mesh.positions,
+        model_positions: &guard_positions,
         options,
         kept,
         give_way,
@@ -241,10 +251,11 @@ type LevelPlans = (Vec<ClusterPlan>, Option<Vec<[u32; 3]>>);
 struct Planner<'a> {
     /// Positions in the unit frame (the build's working copy).
     positions: &'a [DVec3],
-    /// The input's own positions, which every level keeps: the intersection guard decides
-    /// on them, since the unit frame's rounding can part faces that touch in the model
-    /// (#34: a Menger sponge's coplanar faces met at 21 face pairs of the result though the
-    /// guard, deciding in the unit frame, had found none).
+    /// The input's own positions, which every level keeps, then the obstacles' points
+    /// ([`SimplifyOptions::obstacles`]): the intersection guard decides on them, since the
+    /// unit frame's rounding can part faces that touch in the model (#34: a Menger
+    /// sponge's coplanar faces met at 21 face pairs of the result though the guard,
+    /// deciding in the unit frame, had found none).
     model_positions: &'a [DVec3],
     options: &'a SimplifyOptions,
     /// Vertices not removed (features not on a line, boundary junctions, user marks) until
@@ -406,7 +417,11 @@ impl Planner<'_> {
     ) -> Result<(Vec<ClusterPlan>, FxHashSet<u32>)> {
         let options = self.options;
         let geometry = level_geometry(self.positions, &self.quadrics, &self.params, &self.lines);
-        let level_faces = if options.prevent_intersections { self.rings.faces(&self.live) } else { Vec::new() };
+        // The obstacles stand beside the level's faces: new faces must not cut them either.
+        let level_faces = match options.prevent_intersections {
+            true => [self.rings.faces(&self.live), options.obstacles.faces.clone()].concat(),
+            false => Vec::new(),
+        };
         lap(clock, &mut stages.guard);
         self.rings.checkpoint();
         let mut plans = select_clusters(

@@ -42,6 +42,7 @@ fn chunks_run_as_processes_in_any_order_give_the_threaded_build() {
     let input = shared_meshes().join("bunny00.off");
     let input = input.to_str().unwrap();
     let mut threaded = vec!["simplify", input, "--chunks", "4", "-o", "threaded.ply", "--param-out", "threaded-p.ply"];
+    threaded.extend(["--levels-out", "threaded-levels", "--lod-out", "threaded.glb"]);
     threaded.extend(TARGET);
     ok(&threaded, dir, &[]);
     let mut plan = vec!["simplify", "plan", input, "--chunks", "4", "-o", "plan"];
@@ -54,9 +55,17 @@ fn chunks_run_as_processes_in_any_order_give_the_threaded_build() {
     ok(&["simplify", "--plan", "plan", "--chunk-index", "2"], dir, &[("RAYON_NUM_THREADS", "2")]);
     ok(&["simplify", "--plan", "plan"], dir, &[("JOB_COMPLETION_INDEX", "1")]);
     ok(&["simplify", "--plan", "plan"], dir, &[("SLURM_ARRAY_TASK_ID", "0")]);
-    ok(&["simplify", "merge", "plan", "-o", "merged.ply", "--param-out", "merged-p.ply"], dir, &[]);
+    let merge = ["simplify", "merge", "plan", "-o", "merged.ply", "--param-out", "merged-p.ply"];
+    ok(&[&merge[..], &["--levels-out", "merged-levels", "--lod-out", "merged.glb"]].concat(), dir, &[]);
     assert!(read(dir, "merged.ply") == read(dir, "threaded.ply"), "the merged base differs from the threaded one");
     assert!(read(dir, "merged-p.ply") == read(dir, "threaded-p.ply"), "the merged parametrization differs");
+    assert!(read(dir, "merged.glb") == read(dir, "threaded.glb"), "the merged levels' glTF differs");
+    let levels = std::fs::read_dir(dir.join("threaded-levels")).unwrap().count();
+    assert!(levels > 20, "{levels} levels");
+    for k in 0..levels {
+        let file = format!("level_{k:02}.ply");
+        assert!(read(&dir.join("merged-levels"), &file) == read(&dir.join("threaded-levels"), &file), "{file} differs");
+    }
     // A complete chunk is skipped; a chunk cut short is built again.
     let json = ok(&["--json", "simplify", "--plan", "plan", "--chunk-index", "2"], dir, &[]);
     assert!(json.contains("\"skipped\": true"), "{json}");

@@ -549,7 +549,6 @@ fn simplify_in_chunks_reaches_the_target_alike_at_any_thread_count() {
     }
     let refused = [
         (&["--levels", "3"][..], "--chunks needs --target-vertices"),
-        (&["--target-vertices", "100", "--levels-out", "d"][..], "drop --levels-out"),
         (&["--target-vertices", "100", "--levels", "3"][..], "does not take --levels"),
     ];
     for (extra, phrase) in refused {

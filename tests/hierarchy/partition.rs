@@ -219,7 +219,7 @@ fn a_part_and_its_build_read_back_from_their_files_bit_for_bit() {
         assert_eq!(read_build(&build_file, mesh.vertex_count()).unwrap(), built, "part {k}");
         builds.push(built);
     }
-    let joined = join_parts(&mesh, &builds, &options, std::time::Instant::now()).unwrap();
+    let joined = join_parts(&mesh, builds, |k| partition.part(&mesh, k), &options, std::time::Instant::now()).unwrap();
     let threaded = build_partitioned(&mesh, 3, &options).unwrap();
     assert_eq!(joined.base_triangles, threaded.base_triangles);
     assert_eq!(joined.removals, threaded.removals);
@@ -260,4 +260,67 @@ fn a_broken_part_file_is_refused_by_name_and_byte() {
     let hash = huge.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
     huge.extend(hash.to_le_bytes());
     refused(&huge, "elements of 12 bytes");
+}
+
+#[test]
+fn levels_made_by_refinement_are_the_levels_a_build_records() {
+    // A partitioned build records no levels (#40); refinement makes them. Checked against
+    // a one-piece build's recorded levels, then on a partitioned hierarchy: from the input
+    // down to the base, each a closed manifold, each coarser than the one before.
+    let mesh = torus(1.0, 0.35, 60, 24);
+    let recorded = build(&mesh, &SimplifyOptions { record_levels: true, ..to(80, Vec::new()) }).unwrap();
+    let refined = recorded.levels_by_refinement().unwrap();
+    assert_eq!(refined.len(), recorded.levels.len());
+    for (k, (a, b)) in recorded.levels.iter().zip(&refined).enumerate() {
+        assert_eq!(a.ids, b.ids, "level {k}: vertices");
+        assert_eq!(a.mesh.positions, b.mesh.positions, "level {k}");
+        assert_eq!(a.mesh.face_count(), b.mesh.face_count(), "level {k}");
+        assert_eq!(connectivity_match(&a.triangles_in_ids(), &b.triangles_in_ids()), 1.0, "level {k}: faces");
+    }
+    let parted = build_partitioned(&shared("bunny00.off"), 4, &to(377, Vec::new())).unwrap();
+    let levels = parted.levels_by_refinement().unwrap();
+    assert_eq!(levels.len(), parted.steps() + 1);
+    assert_eq!(levels[0].mesh.face_count(), parted.input_triangles.len());
+    assert_eq!(connectivity_match(&parted.input_triangles, &levels[0].triangles_in_ids()), 1.0);
+    assert_eq!(levels.last().unwrap().mesh.vertex_count(), 377);
+    for (k, pair) in levels.windows(2).enumerate() {
+        assert!(pair[1].mesh.vertex_count() < pair[0].mesh.vertex_count(), "level {k} to the next");
+        let report = ValidationReport::of(&pair[1].mesh);
+        assert!(report.is_manifold() && report.boundary_loops == 0 && report.genus == Some(0), "{report:?}");
+    }
+}
+
+#[test]
+fn parts_that_would_cut_each_other_are_built_again_beside_each_other() {
+    // A thin, bumpy pancake (an icosphere of level 5 squashed to 0.004 of its height) in
+    // two parts: its two sheets lie in different parts (the Morton curve's first cut is by
+    // height), so each part's guard sees only its own sheet, and built apart the sheets
+    // cut each other (at 12 face pairs). The partitioned build finds that in the joined
+    // bases and builds the parts again one after the other beside each other.
+    use asperity::hierarchy::partition::{PartBuild, build_part, separate_parts};
+    let mut mesh = icosphere(1.0, 5);
+    for p in &mut mesh.positions {
+        p.z = p.z * 0.004 + 0.004 * (13.0 * p.x).sin() * (11.0 * p.y).cos();
+    }
+    let options = to(20, Vec::new());
+    let partition = Partition::of(&mesh, 2).unwrap();
+    let mut builds: Vec<PartBuild> = (0..2)
+        .map(|k| build_part(&partition.part(&mesh, k).unwrap(), &options, mesh.vertex_count()).unwrap())
+        .collect();
+    let crossings = |builds: &[PartBuild]| {
+        let faces: Vec<[u32; 3]> = builds.iter().flat_map(|b| b.base_triangles.iter().copied()).collect();
+        asperity::ffi::self_intersections(&LevelMesh::compact(&mesh.positions, &faces).mesh).unwrap().len()
+    };
+    let apart = crossings(&builds);
+    assert!(apart > 0, "the sheets built apart did not cut each other: the case tests nothing");
+    let rebuilt = separate_parts(&mesh, &mut builds, |k| partition.part(&mesh, k), &options).unwrap();
+    assert_eq!(&rebuilt[..2], &[0, 1]);
+    assert_eq!(crossings(&builds), 0, "rebuilt beside each other, the sheets still cut each other ({apart} before)");
+    // The whole build: no level cuts itself (its parts' levels side by side, then the
+    // continuation's).
+    let h = build_partitioned(&mesh, 2, &options).unwrap();
+    assert!(h.target.reached, "{:?}", h.target);
+    for (k, level) in h.levels_by_refinement().unwrap().iter().enumerate() {
+        assert_eq!(asperity::ffi::self_intersections(&level.mesh).unwrap().len(), 0, "level {k} from the input");
+    }
 }

@@ -7,9 +7,12 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use glam::DVec3;
+use rustc_hash::FxHashMap;
+
 use super::{Part, Partition};
 use crate::error::{Error, Result};
-use crate::hierarchy::{Hierarchy, ParamPoint, Removal, SimplifyOptions};
+use crate::hierarchy::{Hierarchy, Obstacles, ParamPoint, Removal, SimplifyOptions};
 use crate::mesh::Mesh;
 
 /// How much of a part's inside its build keeps, as a multiple of the share of the input
@@ -55,6 +58,57 @@ pub fn part_goal(part: &Part, target: usize, input_vertices: usize) -> usize {
 /// # Errors
 /// [`Error::InvalidInput`] without a vertex target; as [`crate::hierarchy::build`].
 pub fn build_part(part: &Part, options: &SimplifyOptions, input_vertices: usize) -> Result<PartBuild> {
+    build_part_beside(part, options, input_vertices, Obstacles::default())
+}
+
+/// [`build_part`], its new faces kept from cutting `beside` (faces of the input's
+/// `positions` in input ids: the other parts' bases) as from cutting its own.
+///
+/// # Errors
+/// As [`build_part`].
+pub fn build_part_among(
+    part: &Part,
+    options: &SimplifyOptions,
+    positions: &[DVec3],
+    beside: &[[u32; 3]],
+) -> Result<PartBuild> {
+    build_part_beside(part, options, positions.len(), obstacles_for(part, positions, beside))
+}
+
+/// The faces of `beside` (input ids over `positions`) whose boxes meet `part`'s, as the
+/// part's obstacles: a corner on the part (a border vertex) is the part's vertex, any other
+/// a point of its own. A new face of the part lies within the part's box, so no other face
+/// can cut it.
+fn obstacles_for(part: &Part, positions: &[DVec3], beside: &[[u32; 3]]) -> Obstacles {
+    let (low, high) =
+        part.mesh.positions.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    let on_part: FxHashMap<u32, u32> = part.border.iter().rev().map(|&b| (part.ids[b as usize], b)).collect();
+    let n = part.mesh.vertex_count() as u32;
+    let mut obstacles = Obstacles::default();
+    let mut points: FxHashMap<u32, u32> = FxHashMap::default();
+    for t in beside {
+        let corners = t.map(|v| positions[v as usize]);
+        let (lo, hi) = (corners[0].min(corners[1]).min(corners[2]), corners[0].max(corners[1]).max(corners[2]));
+        if lo.cmpgt(high).any() || hi.cmplt(low).any() {
+            continue;
+        }
+        obstacles.faces.push(t.map(|v| match on_part.get(&v) {
+            Some(&local) => local,
+            None => *points.entry(v).or_insert_with(|| {
+                obstacles.points.push(positions[v as usize]);
+                n + obstacles.points.len() as u32 - 1
+            }),
+        }));
+    }
+    obstacles
+}
+
+fn build_part_beside(
+    part: &Part,
+    options: &SimplifyOptions,
+    input_vertices: usize,
+    obstacles: Obstacles,
+) -> Result<PartBuild> {
     let target = options.target_vertices.ok_or_else(needs_target)?;
     let marked: std::collections::HashSet<u32> = options.keep_vertices.iter().copied().collect();
     let keep_vertices = (0..part.ids.len() as u32).filter(|&v| marked.contains(&part.ids[v as usize])).collect();
@@ -62,6 +116,7 @@ pub fn build_part(part: &Part, options: &SimplifyOptions, input_vertices: usize)
         target_vertices: Some(part_goal(part, target, input_vertices)),
         keep_vertices,
         border_vertices: part.border.clone(),
+        obstacles,
         ..options.clone()
     };
     let h = crate::hierarchy::build(&part.mesh, &part_options)?;
@@ -91,10 +146,25 @@ pub fn build_part(part: &Part, options: &SimplifyOptions, input_vertices: usize)
 /// exactly. Its `seconds` count from `started`; its `stages`, `target` report and kept
 /// vertices are the continuation's.
 ///
+/// A part's intersection guard sees only its own faces, so two parts close in space can
+/// cut each other (the two sheets of a thin plate cut apart). With the guard on, parts
+/// whose bases cut another part's are built again beside the others ([`separate_parts`];
+/// `part_of(k)` gives part k).
+///
 /// # Errors
 /// As [`crate::hierarchy::build`] for the continuation ([`Error::InvalidInput`] for parts
-/// whose seeds do not cover the vertices their bases left).
-pub fn join_parts(mesh: &Mesh, parts: &[PartBuild], options: &SimplifyOptions, started: Instant) -> Result<Hierarchy> {
+/// whose seeds do not cover the vertices their bases left) and as [`separate_parts`].
+pub fn join_parts(
+    mesh: &Mesh,
+    mut parts: Vec<PartBuild>,
+    part_of: impl Fn(usize) -> Result<Part>,
+    options: &SimplifyOptions,
+    started: Instant,
+) -> Result<Hierarchy> {
+    if options.prevent_intersections {
+        separate_parts(mesh, &mut parts, part_of, options)?;
+    }
+    let parts = &parts;
     let mut records = Records::default();
     let steps = parts.iter().map(PartBuild::steps).max().unwrap_or(0);
     for step in 0..steps {
@@ -127,12 +197,78 @@ pub fn join_parts(mesh: &Mesh, parts: &[PartBuild], options: &SimplifyOptions, s
     })
 }
 
+/// Builds again, one after the other in order, each part whose base cuts another part's,
+/// beside the other parts' current bases and input faces (those whose boxes meet its own):
+/// its guard then sees faces that no longer change, and faces another part keeps. Rounds
+/// repeat while they change which faces cut each other (at most `SEPARATION_ROUNDS`);
+/// what remains is what the guards allow, crossings the input made there. Returns the
+/// parts rebuilt, in order of rebuilding.
+///
+/// # Errors
+/// As CGAL's self-intersection test, `part_of` and [`build_part_among`].
+pub fn separate_parts(
+    mesh: &Mesh,
+    parts: &mut [PartBuild],
+    part_of: impl Fn(usize) -> Result<Part>,
+    options: &SimplifyOptions,
+) -> Result<Vec<usize>> {
+    let mut rebuilt = Vec::new();
+    let mut crossing = crossing_pairs(mesh, parts)?;
+    for _ in 0..SEPARATION_ROUNDS {
+        let cutting: std::collections::BTreeSet<usize> = crossing.iter().flat_map(|p| p.map(|(k, _)| k)).collect();
+        if cutting.is_empty() {
+            break;
+        }
+        for &k in &cutting {
+            let mut beside: Vec<[u32; 3]> = Vec::new();
+            for j in (0..parts.len()).filter(|&j| j != k) {
+                let other = part_of(j)?;
+                beside.extend(other.input_triangles(&other.mesh.triangles));
+                beside.extend(&parts[j].base_triangles);
+            }
+            parts[k] = build_part_among(&part_of(k)?, options, &mesh.positions, &beside)?;
+            rebuilt.push(k);
+        }
+        let after = crossing_pairs(mesh, parts)?;
+        if after == crossing {
+            break;
+        }
+        crossing = after;
+    }
+    Ok(rebuilt)
+}
+
+/// How many rounds [`separate_parts`] makes at most: a round rebuilds every cutting part
+/// beside faces that stay, so a second is needed only where a rebuilt part kept input
+/// faces that a part not rebuilt cuts.
+const SEPARATION_ROUNDS: usize = 3;
+
+/// A face of a part's base: the part and the face's corners.
+type PartFace = (usize, [u32; 3]);
+
+/// The pairs of faces of different parts' bases that cut each other (CGAL's
+/// self-intersection test of the joined bases; pairs within one part are its own guard's
+/// business), each face as (part, its corners).
+fn crossing_pairs(mesh: &Mesh, parts: &[PartBuild]) -> Result<Vec<[PartFace; 2]>> {
+    let owner: Vec<usize> =
+        (0..parts.len()).flat_map(|k| std::iter::repeat_n(k, parts[k].base_triangles.len())).collect();
+    let faces: Vec<[u32; 3]> = parts.iter().flat_map(|p| p.base_triangles.iter().copied()).collect();
+    let joined = crate::hierarchy::LevelMesh::compact(&mesh.positions, &faces);
+    let pairs = crate::ffi::self_intersections(&joined.mesh)?;
+    Ok(pairs
+        .into_iter()
+        .map(|pair| pair.map(|f| (owner[f.0 as usize], faces[f.0 as usize])))
+        .filter(|[a, b]| a.0 != b.0)
+        .collect())
+}
+
 /// A partitioned build (#40) in one process: `mesh` cut into `parts` ([`Partition::of`]),
 /// each part built in parallel ([`build_part`]) and the parts joined ([`join_parts`]).
 ///
 /// Limits of this first version: a vertex target is needed (levels and error bounds
-/// alone are refused), levels are not recorded, UVs and materials are refused, and a
-/// part's intersection guard sees only its own faces.
+/// alone are refused), levels are not recorded (refinement makes them afterwards:
+/// [`Hierarchy::levels_by_refinement`]), UVs and materials are refused, and a part's
+/// intersection guard sees only its own faces.
 ///
 /// # Errors
 /// [`Error::InvalidInput`] for the limits above and as
@@ -145,7 +281,7 @@ pub fn build_partitioned(mesh: &Mesh, parts: usize, options: &SimplifyOptions) -
         .into_par_iter()
         .map(|k| build_part(&partition.part(mesh, k)?, options, mesh.vertex_count()))
         .collect::<Result<_>>()?;
-    join_parts(mesh, &built, options, started)
+    join_parts(mesh, built, |k| partition.part(mesh, k), options, started)
 }
 
 /// Refuses what a partitioned build of `mesh` does not take yet, and names the input's

@@ -22,7 +22,7 @@ mod build;
 pub mod files;
 pub mod plan;
 
-pub use build::{PartBuild, build_part, build_partitioned, join_parts, part_goal};
+pub use build::{PartBuild, build_part, build_part_among, build_partitioned, join_parts, part_goal, separate_parts};
 
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;

@@ -303,5 +303,6 @@ pub fn join_plan(dir: &Path, mesh: &Mesh) -> Result<Hierarchy> {
             plan.chunks[first].command.join(" ").replace(&format!("--chunk-index {first}"), "--chunk-index K")
         )));
     }
-    super::join_parts(mesh, &builds, &plan.options()?, started)
+    let part_of = |k: usize| read_part(&dir.join(&plan.chunks[k].part), plan.input_vertices);
+    super::join_parts(mesh, builds, part_of, &plan.options()?, started)
 }
