@@ -38,6 +38,7 @@ pub fn default_hierarchy_options() -> HierarchyOptions {
         swap_weight: d.swap_weight,
         fix_threshold_degrees: d.fix_threshold_degrees,
         intersection_guard: d.prevent_intersections,
+        chunks: 0,
     }
 }
 
@@ -57,6 +58,7 @@ fn simplify_options(o: &HierarchyOptions, vertices: usize) -> Result<SimplifyOpt
         removal_weight: Some(o.removal_weight),
         swap_weight: Some(o.swap_weight),
         intersection_guard: Some(o.intersection_guard),
+        chunks: (o.chunks > 0).then_some(o.chunks),
     };
     let options = SimplifyOptions {
         keep_vertices: o.keep_vertices.clone(),

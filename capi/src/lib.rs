@@ -75,6 +75,8 @@ mod bridge {
         swap_weight: f64,
         fix_threshold_degrees: f64,
         intersection_guard: bool,
+        /// Parts of a partitioned build (#40); 0: one piece.
+        chunks: usize,
     }
 
     /// The hierarchical parametrization, per input vertex: the level at which it appears

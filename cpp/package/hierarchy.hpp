@@ -47,6 +47,10 @@ struct HierarchyOptions {
   double fix_threshold_degrees;
   /// Leave out the clusters whose new faces would cut the surface.
   bool intersection_guard;
+  /// Build in this many parts along the Morton curve of the faces, in parallel, their
+  /// borders fenced, then continue on their joined bases (the command line's --chunks;
+  /// needs target_vertices, takes no levels). Empty: one piece.
+  std::optional<std::size_t> chunks;
   /// Watches the build (stage, done, total); returning false stops it with
   /// asperity::Cancelled. Empty: unwatched.
   ProgressFunction progress;
@@ -253,6 +257,7 @@ class Hierarchy {
     f.swap_weight = o.swap_weight;
     f.fix_threshold_degrees = o.fix_threshold_degrees;
     f.intersection_guard = o.intersection_guard;
+    f.chunks = o.chunks.value_or(0);
     const std::vector<double> uvs = corner_uvs(mesh, t, faces);
     const ffi::ProgressCallback progress(o.progress);
     return impl::call(progress, [&] {

@@ -129,6 +129,8 @@ struct HierarchySettings {
   std::optional<double> swap_weight;
   /// Leave out the clusters whose new faces would cut the surface.
   std::optional<bool> intersection_guard;
+  /// Build in this many parts (a partitioned build, the command line's --chunks).
+  std::optional<std::uint64_t> chunks;
 };
 
 /// Applies a detail recipe (TOML text; see docs/recipes.md) to `mesh` in place; a recipe
@@ -143,7 +145,7 @@ Report detail(Mesh& mesh, const std::string& recipe_toml, const HierarchySetting
   f.add("target_vertices", settings.target_vertices).add("levels", settings.levels).add("max_error", settings.max_error);
   f.add("keep_features", settings.keep_features).add("feature_vertices", settings.feature_vertices);
   f.add("removal_weight", settings.removal_weight).add("swap_weight", settings.swap_weight);
-  f.add("intersection_guard", settings.intersection_guard);
+  f.add("intersection_guard", settings.intersection_guard).add("chunks", settings.chunks);
   const std::string fields = f.json();
   return impl::run_in_place(mesh, [&](auto positions, auto triangles) {
     return ffi::detail(positions, triangles, recipe_toml, fields, no_self_intersections);

@@ -266,6 +266,42 @@ static void normal_displacement_for_python(const Mesh& single, const std::string
   std::cout << "normal displacement: " << h.level_count() << " levels, written for Python's comparison\n";
 }
 
+/// 8. A partitioned build (#40, the command line's --chunks): the target reached, every
+/// level kept (made by refinement) and the round trip exact; the input and the base as
+/// raw arrays for python/tests/test_asperity.py, which builds it in Python and on the
+/// command line and finds the same base.
+static void partitioned_for_python(const Mesh& single, const std::string& out) {
+  const MeshD input = with_double_points(single);
+  asperity::HierarchyOptions options;
+  options.target_vertices = input.n_vertices() / 20;
+  options.keep_features = "none";
+  options.chunks = 3;
+  const asperity::Hierarchy<MeshD> h(input, options);
+  const MeshD base = h.level(0);
+  expect(base.n_vertices() == *options.target_vertices, "a partitioned build reaches its target");
+  expect(h.level(h.level_count() - 1).n_faces() == input.n_faces(), "its top level is the input");
+  const MeshD refined = h.refine([](asperity::LevelView&) {});
+  expect(refined.n_faces() == input.n_faces(), "its refinement restores every face");
+  std::vector<double> in_positions, base_positions;
+  std::vector<std::uint32_t> in_triangles, base_triangles;
+  asperity::to_arrays(input, in_positions, in_triangles);
+  asperity::to_arrays(base, base_positions, base_triangles);
+  write_raw(out + "/partitioned.input-positions.f64", in_positions);
+  write_raw(out + "/partitioned.input-triangles.u32", in_triangles);
+  write_raw(out + "/partitioned.base-positions.f64", base_positions);
+  write_raw(out + "/partitioned.base-triangles.u32", base_triangles);
+  options.levels = 3;
+  bool refused = false;
+  try {
+    const asperity::Hierarchy<MeshD> limited(input, options);
+  } catch (const asperity::InputError& e) {
+    refused = std::string(e.what()).find("option .chunks = 3 takes no level limit yet") != std::string::npos;
+  }
+  expect(refused, "chunks beside a level limit is refused, naming both");
+  std::cout << "partitioned build: 3 chunks, " << h.level_count() << " levels, " << base.n_vertices()
+            << " base vertices, written for Python's comparison\n";
+}
+
 /// 7. A recipe whose [hierarchy] table sets every key to a value other than its default
 /// (#38: the library's one reading of the table, which the command line, Python and C++
 /// all call), run by asperity::detail on the sphere with its bottom cut flat (a crease, so
@@ -322,6 +358,7 @@ int main(int argc, char** argv) {
     threads(input);
     normal_displacement_for_python(input, out);
     recipe_for_python(input, out);
+    partitioned_for_python(input, out);
   } catch (const Failed& e) {
     std::cerr << "failed: " << e.what() << "\n";
     return 1;

@@ -243,7 +243,9 @@ class Hierarchy:
       ``"along-lines"`` (the default: removed along their line) or ``"keep"``.
     - ``removal_weight`` and ``swap_weight``: the weights of E(v) (eq. 4.1).
     - ``intersection_guard``: leave out the clusters whose new faces would cut the
-      surface (on by default).
+      surface (on by default); ``chunks``: build in this many parts in parallel, their
+      borders fenced, then continue on their joined bases (``simplify --chunks``; needs
+      ``target_vertices``, takes no ``levels``).
     - ``repair``: repair the mesh first (every array stays in the caller's numbering);
       ``progress``: True prints the build's progress to stderr; a function
       ``(stage, done, total)`` watches it, and stops it by returning False.
@@ -263,6 +265,7 @@ class Hierarchy:
         removal_weight: float = 0.75,
         swap_weight: float = 0.25,
         intersection_guard: bool = True,
+        chunks: Optional[int] = None,
         repair: bool = False,
         progress: Progress = False,
     ) -> None:
@@ -277,6 +280,7 @@ class Hierarchy:
                 "removal_weight": removal_weight,
                 "swap_weight": swap_weight,
                 "intersection_guard": intersection_guard,
+                "chunks": chunks,
             }
         )
         self._native = _native.Hierarchy(p, t, fields, repair, progress)
@@ -445,7 +449,7 @@ def detail(
     the result cuts itself (by default they are damped); ``repair`` repairs the mesh
     first. The other keywords are :class:`Hierarchy`'s (``target_vertices``, ``levels``,
     ``max_error``, ``keep_features``, ``feature_vertices``, ``removal_weight``,
-    ``swap_weight``, ``intersection_guard``): each replaces the recipe's ``[hierarchy]``
+    ``swap_weight``, ``intersection_guard``, ``chunks``): each replaces the recipe's ``[hierarchy]``
     key of its name; an unknown one is an :class:`InputError` naming it. Returns the mesh
     (with ``attributes["colors"]`` when the recipe has a ``[color]`` table) and the
     report."""

@@ -372,6 +372,31 @@ def test_a_recipe_with_every_hierarchy_key_gives_cpp_python_and_the_command_line
     assert faces_as_set(command_line.positions, command_line.triangles) == cpp
 
 
+def test_a_partitioned_build_gives_cpp_python_and_the_command_line_alike(cli, tmp_path):
+    """#40: ``chunks`` (the command line's --chunks, C++'s option .chunks) is one field of
+    the hierarchy request: examples/cpp/integration.cpp builds the sphere in 3 chunks and
+    writes its input and base; Python and the command line give the same base."""
+    files = cpp_example_output(
+        "partitioned", ["input-positions.f64", "input-triangles.u32", "base-positions.f64", "base-triangles.u32"]
+    )
+    positions, triangles = raw_rows(files["input-positions.f64"]), raw_rows(files["input-triangles.u32"])
+    cpp = faces_as_set(raw_rows(files["base-positions.f64"]), raw_rows(files["base-triangles.u32"]))
+    target = len(positions) // 20
+    h = asperity.Hierarchy(positions, triangles, target_vertices=target, keep_features="none", chunks=3)
+    assert faces_as_set(*h.level(0)) == cpp
+    assert h.levels > 2 and len(h.level(h.levels - 1)[1]) == len(triangles)
+    assert faces_as_set(*h.refine()) == faces_as_set(positions, triangles)
+    one_piece = asperity.Hierarchy(positions, triangles, target_vertices=target, keep_features="none")
+    assert faces_as_set(*one_piece.level(0)) != cpp
+    with pytest.raises(asperity.InputError, match=r"chunks=3 takes no level limit yet \(levels=4\)"):
+        asperity.Hierarchy(positions, triangles, target_vertices=target, levels=4, chunks=3)
+    asperity.write(tmp_path / "in.ply", positions, triangles)
+    run_cli(cli, "simplify", "in.ply", "--target-vertices", str(target), "--keep-features", "none", "--chunks", "3",
+            "-o", "base.ply", cwd=tmp_path)
+    command_line = asperity.read(tmp_path / "base.ply")
+    assert faces_as_set(command_line.positions, command_line.triangles) == cpp
+
+
 def test_results_are_the_command_lines_bit_for_bit(meshes, cli, tmp_path):
     femur = meshes / "femur.off"
     mesh = asperity.read(femur)

@@ -10,7 +10,6 @@ use clap::{Args, Subcommand};
 use serde_json::json;
 
 use crate::error::Result;
-use crate::hierarchy::partition::build_partitioned;
 use crate::hierarchy::{BuildReport, Hierarchy, HierarchyRequest, LevelMesh, build};
 use crate::io::glb::{GlbPart, write_glb_parts};
 use crate::io::{self, WriteOptions};
@@ -42,12 +41,6 @@ pub struct SimplifyArgs {
     /// and level as vertex properties.
     #[arg(long)]
     param_out: Option<PathBuf>,
-    /// Build in K parts along the Morton curve of the faces, in parallel, their borders
-    /// fenced, then continue on their joined bases to the target (#40; needs
-    /// --target-vertices; --levels-out and --lod-out make the levels afterwards by
-    /// refinement).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    chunks: Option<u32>,
     /// Allow an output to overwrite the input.
     #[arg(long)]
     force: bool,
@@ -113,23 +106,13 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
         super::require_extension(p, &["glb"])?;
         super::guard_overwrite(input_path, p, args.force)?;
     }
-    if args.chunks.is_some() {
-        check_chunks(&args)?;
-    }
     let input = super::input::read_input(input_path, args.repair, ctx)?;
     let mesh = &input.read.mesh;
     let record = args.levels_out.is_some() || args.lod_out.is_some();
-    // A partitioned build records no levels: they are made afterwards by refinement.
-    let options = args.hierarchy.options(mesh.vertex_count(), record && args.chunks.is_none(), Spelling::Flag)?;
-    let mut hierarchy = ctx
-        .spin("simplify", "building the 4-k hierarchy", || match args.chunks {
-            Some(parts) => build_partitioned(mesh, parts as usize, &options),
-            None => build(mesh, &options),
-        })
+    let options = args.hierarchy.options(mesh.vertex_count(), record, Spelling::Flag)?;
+    let hierarchy = ctx
+        .spin("simplify", "building the 4-k hierarchy", || build(mesh, &options))
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(input_path))?;
-    if record && args.chunks.is_some() {
-        hierarchy.levels = ctx.spin("simplify", "making the levels", || hierarchy.levels_by_refinement())?;
-    }
     let written =
         Written { input: input_path, output, param_out: args.param_out.as_deref(), repair: input.repair_json() };
     write_results(mesh, &hierarchy, &written, start, ctx, || {
@@ -182,18 +165,6 @@ pub(super) fn write_results(
         for line in report.target_lines() {
             println!("{line}");
         }
-    }
-    Ok(())
-}
-
-/// What `--chunks` does not take yet, refused by flag before the input is read.
-fn check_chunks(args: &SimplifyArgs) -> Result<()> {
-    let refuse = |msg: &str| Err(crate::Error::InvalidInput(msg.to_string()));
-    if args.hierarchy.target_vertices.is_none() {
-        return refuse("--chunks needs --target-vertices");
-    }
-    if args.hierarchy.levels.is_some() {
-        return refuse("--chunks does not take --levels yet");
     }
     Ok(())
 }

@@ -19,9 +19,6 @@ use crate::io;
 pub(crate) struct PlanArgs {
     /// Input mesh.
     input: PathBuf,
-    /// Parts to cut the mesh into, along the Morton curve of its faces (one job each).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    chunks: u32,
     #[command(flatten)]
     hierarchy: HierarchyRequest,
     /// The plan's folder: plan.json and chunks/.
@@ -63,17 +60,15 @@ pub(crate) struct MergeArgs {
 /// it and writes the parts and the manifest.
 pub(super) fn plan(args: PlanArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
-    if args.hierarchy.target_vertices.is_none() {
-        return Err(crate::Error::InvalidInput("simplify plan needs --target-vertices".into()));
-    }
-    if args.hierarchy.levels.is_some() {
-        return Err(crate::Error::InvalidInput("simplify plan does not take --levels yet".into()));
+    if args.hierarchy.chunks.is_none() {
+        return Err(crate::Error::InvalidInput(
+            "simplify plan needs --chunks K (the parts to cut the mesh into)".into(),
+        ));
     }
     let input = super::input::read_input(&args.input, args.repair, ctx)?;
     let mesh = &input.read.mesh;
-    let plan =
-        MeshPlan::make(mesh, &args.input, args.repair.repair, &args.hierarchy, args.chunks as usize, &args.output)
-            .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;
+    let plan = MeshPlan::make(mesh, &args.input, args.repair.repair, &args.hierarchy, &args.output)
+        .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;
     let dir = args.output.display();
     let count = plan.chunks.len();
     ctx.report(

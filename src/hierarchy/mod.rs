@@ -118,6 +118,10 @@ pub struct SimplifyOptions {
     /// Test each level as planned for self-intersections (CGAL) and leave out the clusters
     /// whose new faces would cut the surface.
     pub prevent_intersections: bool,
+    /// Build in this many parts along the Morton curve of the faces, in parallel, their
+    /// borders fenced, then continue on their joined bases ([`partition`], #40; needs a
+    /// vertex target; levels are made by refinement when recorded).
+    pub chunks: Option<usize>,
     /// Faces beside the mesh that its new faces must not cut either (with
     /// `prevent_intersections`): a part rebuilt beside the other parts' bases (#40).
     pub obstacles: Obstacles,
@@ -150,6 +154,7 @@ impl Default for SimplifyOptions {
             fix_threshold_degrees: 90.0,
             record_levels: false,
             prevent_intersections: true,
+            chunks: None,
             obstacles: Obstacles::default(),
         }
     }
@@ -177,6 +182,9 @@ impl SimplifyOptions {
         let t = self.fix_threshold_degrees;
         if !(t > 0.0 && t <= 180.0) {
             return bad("fix_threshold_degrees", t, "must be above 0 and at most 180");
+        }
+        if self.chunks == Some(0) {
+            return Err(crate::Error::InvalidInput("simplify option chunks = 0: must be at least 1".into()));
         }
         if self.obstacles.points.iter().any(|p| !p.is_finite()) {
             return Err(crate::Error::InvalidInput("an obstacle point is not finite".into()));

@@ -55,6 +55,11 @@ pub struct HierarchyRequest {
         )
     )]
     pub intersection_guard: Option<bool>,
+    /// Build in K parts along the Morton curve of the faces, in parallel, their borders
+    /// fenced, then continue on their joined bases to the target (#40; needs a vertex
+    /// target, takes no level limit; levels are made afterwards by refinement).
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub chunks: Option<usize>,
 }
 
 /// The command line's `--no-intersection-guard`, which sets `intersection_guard` off.
@@ -116,6 +121,26 @@ impl HierarchyRequest {
                 keep_source.of("keep_features")
             )));
         }
+        let chunks = pick(self.chunks, table.chunks, spelling);
+        if let Some((k, source)) = chunks {
+            if k == 0 {
+                return Err(Error::InvalidInput(format!("{}: give 1 part or more", source.with("chunks", k))));
+            }
+            if target_vertices.is_none() {
+                return Err(Error::InvalidInput(format!(
+                    "{} needs a vertex target ({}): a partitioned build stops at one",
+                    source.with("chunks", k),
+                    spelling.of("target_vertices")
+                )));
+            }
+            if let Some((levels, levels_source)) = pick(self.levels, table.levels, spelling) {
+                return Err(Error::InvalidInput(format!(
+                    "{} takes no level limit yet ({})",
+                    source.with("chunks", k),
+                    levels_source.with("levels", levels)
+                )));
+            }
+        }
         let defaults = SimplifyOptions::default();
         Ok(SimplifyOptions {
             target_vertices,
@@ -127,6 +152,7 @@ impl HierarchyRequest {
             swap_weight: swap_weight.unwrap_or(defaults.swap_weight),
             record_levels,
             prevent_intersections: self.intersection_guard.or(table.intersection_guard).unwrap_or(true),
+            chunks: chunks.map(|(k, _)| k),
             ..defaults
         })
     }

@@ -38,6 +38,16 @@ use glam::DVec3;
 /// [`Error::InvalidInput`] for an inconsistent mesh or options; [`Error::Topology`] for a
 /// non-manifold mesh; [`Error::Native`] if OpenMesh or CGAL refuse it.
 pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
+    if let Some(parts) = options.chunks {
+        // A partitioned build (#40) records no levels while it builds: refinement makes
+        // them afterwards when asked.
+        let inner = SimplifyOptions { chunks: None, record_levels: false, ..options.clone() };
+        let mut hierarchy = super::partition::build_partitioned(mesh, parts, &inner)?;
+        if options.record_levels {
+            hierarchy.levels = hierarchy.levels_by_refinement()?;
+        }
+        return Ok(hierarchy);
+    }
     build_with(mesh, options, cfg!(debug_assertions), None)
 }
 
@@ -82,6 +92,9 @@ struct Continuation<'a> {
 /// As [`build`]; [`Error::Internal`] if OpenMesh refuses a planned operation or ends with
 /// other faces than the rings.
 pub fn build_with_openmesh_replay(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
+    if options.chunks.is_some() {
+        return Err(Error::InvalidInput("the OpenMesh replay checks one-piece builds: set no chunks".into()));
+    }
     build_with(mesh, options, true, None)
 }
 

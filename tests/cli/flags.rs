@@ -142,6 +142,7 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     let df = ["detail", &fandisk, "-o", "d.ply", "--recipe", "relief.toml", "--target-vertices", "400"];
     add("detail", "--keep-features", &df, &["--keep-features", "none"]);
     add("detail", "--feature-vertices", &df, &["--feature-vertices", "keep"]);
+    add("detail", "--chunks", &df, &["--chunks", "2"]);
     // noise
     let n = ["noise", "--size", "32", "-o", "n.png"];
     add("noise", "--kind", &n, &["--kind", "fbm"]);
@@ -194,6 +195,7 @@ fn cases(meshes: &Path, broken: &Path) -> Vec<Case> {
     let rff = ["refine", &fandisk, "--region", half, "-o", "rf.ply", "--target-vertices", "400"];
     add("refine", "--keep-features", &rff, &["--keep-features", "none"]);
     add("refine", "--feature-vertices", &rff, &["--feature-vertices", "keep"]);
+    add("refine", "--chunks", &rff, &["--chunks", "2"]);
     // seed 002's generators
     let rules =
         |name: &str| Path::new(env!("CARGO_MANIFEST_DIR")).join("src/scene/flora").join(name).display().to_string();

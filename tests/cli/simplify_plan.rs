@@ -114,9 +114,10 @@ fn a_plan_refuses_what_its_chunks_would_refuse() {
     let dir = tmp.path();
     let input = shared_meshes().join("eight.off");
     let input = input.to_str().unwrap();
-    refused(&["simplify", "plan", input, "--chunks", "2", "-o", "p"], dir, &[], &["needs --target-vertices"]);
+    refused(&["simplify", "plan", input, "--chunks", "2", "-o", "p"], dir, &[], &["needs a vertex target"]);
+    refused(&["simplify", "plan", input, "--target-vertices", "50", "-o", "p"], dir, &[], &["needs --chunks K"]);
     let levels = ["simplify", "plan", input, "--chunks", "2", "--target-vertices", "50", "--levels", "2", "-o", "p"];
-    refused(&levels, dir, &[], &["--levels"]);
+    refused(&levels, dir, &[], &["takes no level limit yet (--levels 2)"]);
     let too_many = ["simplify", "plan", input, "--chunks", "100000", "--target-vertices", "50", "-o", "p"];
     refused(&too_many, dir, &[], &["100000 parts"]);
     assert!(!dir.join("p").exists(), "a refused plan left its folder");

@@ -117,6 +117,7 @@ fn build_part_beside(
         keep_vertices,
         border_vertices: part.border.clone(),
         obstacles,
+        chunks: None,
         ..options.clone()
     };
     let h = crate::hierarchy::build(&part.mesh, &part_options)?;
@@ -292,9 +293,12 @@ pub fn build_partitioned(mesh: &Mesh, parts: usize, options: &SimplifyOptions) -
 /// fenced vertices, for UVs or materials; as [`crate::hierarchy::build`]'s validation.
 pub fn check_partitioned(mesh: &Mesh, options: &SimplifyOptions) -> Result<()> {
     options.target_vertices.ok_or_else(needs_target)?;
-    if options.levels.is_some() || options.record_levels || !options.border_vertices.is_empty() {
+    if options.levels.is_some() {
+        return Err(Error::InvalidInput("a partitioned build takes no level limit yet".into()));
+    }
+    if options.record_levels || !options.border_vertices.is_empty() || !options.obstacles.faces.is_empty() {
         return Err(Error::InvalidInput(
-            "a partitioned build takes no level limit, records no levels and fences its own borders".into(),
+            "a partitioned build records its levels by refinement and fences its own borders and obstacles".into(),
         ));
     }
     if mesh.uvs.is_some() || mesh.materials.is_some() {

@@ -111,23 +111,18 @@ fn chunk_files(k: usize) -> (String, String) {
 }
 
 impl MeshPlan {
-    /// Cuts `mesh` (read from `input`, repaired if `repair`) into `chunks` parts
-    /// ([`Partition::of`]) and writes each part and the manifest into `dir`: the settings
-    /// are checked as the build will check them first, so a plan whose chunks would be
-    /// refused is refused itself.
+    /// Cuts `mesh` (read from `input`, repaired if `repair`) into the request's `chunks`
+    /// parts ([`Partition::of`]) and writes each part and the manifest into `dir`: the
+    /// settings are checked as the build will check them first, so a plan whose chunks
+    /// would be refused is refused itself.
     ///
     /// # Errors
-    /// As [`super::build_partitioned`]'s checks and [`Partition::of`]; a file that cannot be
+    /// [`Error::InvalidInput`] for a request without chunks; as
+    /// [`super::build_partitioned`]'s checks and [`Partition::of`]; a file that cannot be
     /// written.
-    pub fn make(
-        mesh: &Mesh,
-        input: &Path,
-        repair: bool,
-        request: &HierarchyRequest,
-        chunks: usize,
-        dir: &Path,
-    ) -> Result<MeshPlan> {
+    pub fn make(mesh: &Mesh, input: &Path, repair: bool, request: &HierarchyRequest, dir: &Path) -> Result<MeshPlan> {
         let options = request.options(mesh.vertex_count(), false, Spelling::Flag)?;
+        let chunks = options.chunks.ok_or_else(|| Error::InvalidInput("a plan needs chunks".into()))?;
         check_partitioned(mesh, &options)?;
         let partition = Partition::of(mesh, chunks)?;
         crate::io::create_output_dir(&dir.join("chunks"))?;
