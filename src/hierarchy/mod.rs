@@ -107,6 +107,10 @@ pub struct SimplifyOptions {
     /// The border of a part built apart (#40, [`partition`]): kept, and no two of them
     /// joined by a new edge, so that parts built apart join into a manifold.
     pub border_vertices: Vec<u32>,
+    /// Border vertices that are copies of one vertex of the whole mesh (a part pinched
+    /// there, split into one copy per fan), in groups: no flip or weld gives one of them a
+    /// neighbour another already has, which the joined parts would hold twice.
+    pub border_copies: Vec<Vec<u32>>,
     /// Weight of the removal error in E(v) (eq. 4.1).
     pub removal_weight: f64,
     /// Weight of the swap error in E(v) (eq. 4.1).
@@ -149,6 +153,7 @@ impl Default for SimplifyOptions {
             feature_vertices: FeatureVertices::AlongLines,
             keep_vertices: Vec::new(),
             border_vertices: Vec::new(),
+            border_copies: Vec::new(),
             removal_weight: 0.75,
             swap_weight: 0.25,
             fix_threshold_degrees: 90.0,

@@ -32,6 +32,8 @@ pub struct Rings {
     journal: Option<Journal>,
     /// Vertices no new edge may join two of (a part's border, #40); empty: none.
     fenced: Vec<bool>,
+    /// Each copy of a pinched border vertex and its other copies ([`Rings::twin`]).
+    copies: rustc_hash::FxHashMap<u32, SmallVec<[u32; 2]>>,
 }
 
 /// The rings as they were before their first edit since the checkpoint.
@@ -57,7 +59,7 @@ impl Rings {
             rings[v as usize] = Ring::from_slice(csr.row(i));
             boundary[v as usize] = b;
         }
-        Ok(Rings { rings, boundary, journal: None, fenced: Vec::new() })
+        Ok(Rings { rings, boundary, journal: None, fenced: Vec::new(), copies: Default::default() })
     }
 
     /// Number of vertex slots.
@@ -143,11 +145,28 @@ impl Rings {
         }
     }
 
-    /// Whether a flip or weld may make the edge a–b: it does not exist, and a and b are not
-    /// both fenced.
+    /// Makes each group of `groups` copies of one vertex (a part's border vertex where
+    /// the part pinches, #40): no flip or weld may join a vertex to one copy when it has an
+    /// edge to another, since the parts joined hold the copies as one vertex.
+    pub fn twin(&mut self, groups: &[Vec<u32>]) {
+        for group in groups {
+            for &v in group {
+                self.copies.insert(v, group.iter().copied().filter(|&w| w != v).collect());
+            }
+        }
+    }
+
+    /// Whether a flip or weld may make the edge a–b: it does not exist (nor, for copies of
+    /// one vertex, to another copy), and a and b are not both fenced.
     pub fn may_join(&self, a: u32, b: u32) -> bool {
         let both_fenced = !self.fenced.is_empty() && self.fenced[a as usize] && self.fenced[b as usize];
-        !both_fenced && !self.has_edge(a, b)
+        !both_fenced && !self.has_edge(a, b) && (self.copies.is_empty() || !self.joins_a_copy(a, b))
+    }
+
+    /// Whether a–b would repeat an edge between one's copy and the other.
+    fn joins_a_copy(&self, a: u32, b: u32) -> bool {
+        let twice = |x: u32, y: u32| self.copies.get(&y).is_some_and(|c| c.iter().any(|&y2| self.has_edge(x, y2)));
+        twice(a, b) || twice(b, a)
     }
 
     /// The third vertex `c` of the face (a, b, c) left of a → b, if there is one.

@@ -165,6 +165,7 @@ fn build_with(
     let live: Vec<u32> = (0..n as u32).filter(|&v| referenced[v as usize]).collect();
     let mut rings = Rings::fetch(&store, &live, n)?;
     rings.fence(&options.border_vertices);
+    rings.twin(&options.border_copies);
     let recorder = Recorder::new(&mesh.positions, &mesh.triangles, replay.then_some(store), options.record_levels);
     let mut params = ParamBuckets::new(n);
     if let Some(seeds) = seeds {

@@ -8,11 +8,11 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use glam::DVec3;
-use rustc_hash::FxHashMap;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::{Part, Partition};
 use crate::error::{Error, Result};
-use crate::hierarchy::{Hierarchy, Obstacles, ParamPoint, Removal, SimplifyOptions};
+use crate::hierarchy::{Hierarchy, Obstacles, ParamPoint, Removal, SimplifyOptions, face_key};
 use crate::mesh::Mesh;
 
 /// How much of a part's inside its build keeps, as a multiple of the share of the input
@@ -112,10 +112,17 @@ fn build_part_beside(
     let target = options.target_vertices.ok_or_else(needs_target)?;
     let marked: std::collections::HashSet<u32> = options.keep_vertices.iter().copied().collect();
     let keep_vertices = (0..part.ids.len() as u32).filter(|&v| marked.contains(&part.ids[v as usize])).collect();
+    let mut copies: FxHashMap<u32, Vec<u32>> = FxHashMap::default();
+    for &b in &part.border {
+        copies.entry(part.ids[b as usize]).or_default().push(b);
+    }
+    let mut border_copies: Vec<Vec<u32>> = copies.into_values().filter(|g| g.len() > 1).collect();
+    border_copies.sort_unstable();
     let part_options = SimplifyOptions {
         target_vertices: Some(part_goal(part, target, input_vertices)),
         keep_vertices,
         border_vertices: part.border.clone(),
+        border_copies,
         obstacles,
         chunks: None,
         ..options.clone()
@@ -215,6 +222,16 @@ pub fn separate_parts(
 ) -> Result<Vec<usize>> {
     let mut rebuilt = Vec::new();
     let mut crossing = crossing_pairs(mesh, parts)?;
+    if crossing.is_empty() {
+        return Ok(rebuilt);
+    }
+    // Two faces of the input that cross cross in the input (an assembly's parts): no
+    // build made that crossing, and no rebuild would undo it.
+    let input: FxHashSet<[u32; 3]> = mesh.triangles.iter().map(|&t| face_key(t)).collect();
+    let made = |pairs: Vec<[PartFace; 2]>| -> Vec<[PartFace; 2]> {
+        pairs.into_iter().filter(|pair| !pair.iter().all(|(_, t)| input.contains(&face_key(*t)))).collect()
+    };
+    crossing = made(crossing);
     for _ in 0..SEPARATION_ROUNDS {
         let cutting: std::collections::BTreeSet<usize> = crossing.iter().flat_map(|p| p.map(|(k, _)| k)).collect();
         if cutting.is_empty() {
@@ -230,7 +247,7 @@ pub fn separate_parts(
             parts[k] = build_part_among(&part_of(k)?, options, &mesh.positions, &beside)?;
             rebuilt.push(k);
         }
-        let after = crossing_pairs(mesh, parts)?;
+        let after = made(crossing_pairs(mesh, parts)?);
         if after == crossing {
             break;
         }
@@ -247,18 +264,18 @@ const SEPARATION_ROUNDS: usize = 3;
 /// A face of a part's base: the part and the face's corners.
 type PartFace = (usize, [u32; 3]);
 
-/// The pairs of faces of different parts' bases that cut each other (CGAL's
-/// self-intersection test of the joined bases; pairs within one part are its own guard's
-/// business), each face as (part, its corners).
+/// The pairs of faces of different parts' bases that cut each other (the guard's test on
+/// the joined bases; pairs within one part are its own guard's business), each face as
+/// (part, its corners).
 fn crossing_pairs(mesh: &Mesh, parts: &[PartBuild]) -> Result<Vec<[PartFace; 2]>> {
     let owner: Vec<usize> =
         (0..parts.len()).flat_map(|k| std::iter::repeat_n(k, parts[k].base_triangles.len())).collect();
     let faces: Vec<[u32; 3]> = parts.iter().flat_map(|p| p.base_triangles.iter().copied()).collect();
-    let joined = crate::hierarchy::LevelMesh::compact(&mesh.positions, &faces);
-    let pairs = crate::ffi::self_intersections(&joined.mesh)?;
+    // The guard's own test (CGAL's exact predicates, degenerate faces allowed).
+    let pairs = crate::hierarchy::added_triangle_intersections(&mesh.positions, &[], &faces)?;
     Ok(pairs
         .into_iter()
-        .map(|pair| pair.map(|f| (owner[f.0 as usize], faces[f.0 as usize])))
+        .map(|pair| pair.map(|f| (owner[f as usize], faces[f as usize])))
         .filter(|[a, b]| a.0 != b.0)
         .collect())
 }
@@ -296,7 +313,11 @@ pub fn check_partitioned(mesh: &Mesh, options: &SimplifyOptions) -> Result<()> {
     if options.levels.is_some() {
         return Err(Error::InvalidInput("a partitioned build takes no level limit yet".into()));
     }
-    if options.record_levels || !options.border_vertices.is_empty() || !options.obstacles.faces.is_empty() {
+    if options.record_levels
+        || !options.border_vertices.is_empty()
+        || !options.border_copies.is_empty()
+        || !options.obstacles.faces.is_empty()
+    {
         return Err(Error::InvalidInput(
             "a partitioned build records its levels by refinement and fences its own borders and obstacles".into(),
         ));
