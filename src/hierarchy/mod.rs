@@ -122,6 +122,11 @@ pub struct SimplifyOptions {
     /// Test each level as planned for self-intersections (CGAL) and leave out the clusters
     /// whose new faces would cut the surface.
     pub prevent_intersections: bool,
+    /// Whether the vertex target comes first (#34): kept vertices released and the angle
+    /// floor relaxed where a level is stuck short of it. Off, a build stuck short of its
+    /// target stops there: a part of a partitioned build (#40), whose goal is a staging
+    /// point that the continuation, seeing the whole mesh, goes beyond.
+    pub give_way: bool,
     /// Build in this many parts along the Morton curve of the faces, in parallel, their
     /// borders fenced, then continue on their joined bases ([`partition`], #40; needs a
     /// vertex target; levels are made by refinement when recorded).
@@ -159,6 +164,7 @@ impl Default for SimplifyOptions {
             fix_threshold_degrees: 90.0,
             record_levels: false,
             prevent_intersections: true,
+            give_way: true,
             chunks: None,
             obstacles: Obstacles::default(),
         }

@@ -340,7 +340,7 @@ impl Planner<'_> {
         let first_live = self.live.len();
         let to_remove = first_live.saturating_sub(options.target_vertices.unwrap_or(0)).max(1) as u64;
         crate::progress::report("simplify", 0, to_remove);
-        if let Some(target) = options.target_vertices.filter(|_| options.max_error.is_none()) {
+        if let Some(target) = options.target_vertices.filter(|_| options.max_error.is_none() && options.give_way) {
             self.give_way.release_to_budget(target, &self.live, &mut self.kept, &mut self.lines, &self.rings);
         }
         while options.levels.is_none_or(|l| state.steps < l) {
@@ -389,7 +389,7 @@ impl Planner<'_> {
             ranked_candidates(&self.live, &state.waiting, &self.rings, &self.kept, geometry, &state.rules, need);
         let max_error = options.max_error.map(|f| f * f);
         let limit = level_error_limit(&ranked, need, PLAN_TOLERANCE).min(max_error.unwrap_or(f64::INFINITY));
-        if options.target_vertices.is_none() || options.max_error.is_some() || !limit.is_finite() {
+        if options.target_vertices.is_none() || options.max_error.is_some() || !options.give_way || !limit.is_finite() {
             return (ranked, limit);
         }
         let cheap = self.give_way.cheap_to_release(
@@ -478,7 +478,11 @@ impl Planner<'_> {
             return Next::Stop;
         }
         let need = self.live.len() - target;
-        match self.give_way.next(need, &self.live, &mut self.kept, &mut self.lines, &self.rings) {
+        let rung = match options.give_way {
+            true => self.give_way.next(need, &self.live, &mut self.kept, &mut self.lines, &self.rings),
+            false => None,
+        };
+        match rung {
             Some(Rung::Floor(degrees)) => state.rules.min_angle = degrees.to_radians(),
             Some(Rung::Released(_)) => state.rules.min_angle = self.give_way.floor().to_radians(),
             // The last level's offenders sat this level out: before stopping, they are

@@ -125,6 +125,9 @@ fn build_part_beside(
         border_copies,
         obstacles,
         chunks: None,
+        // The part's goal is a staging point: stuck short of it, the part stops, and the
+        // continuation gives way with the whole mesh in view.
+        give_way: false,
         ..options.clone()
     };
     let h = crate::hierarchy::build(&part.mesh, &part_options)?;
