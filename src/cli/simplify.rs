@@ -91,21 +91,8 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
     let (Some(input_path), Some(output)) = (args.input.as_deref(), args.output.as_deref()) else {
         return Err(crate::Error::InvalidInput("simplify needs an input mesh and -o".into()));
     };
-    io::Format::from_path(output)?;
-    super::guard_overwrite(input_path, output, args.force)?;
-    let mut outputs = vec![("-o", output)];
-    outputs.extend(args.param_out.as_deref().map(|p| ("--param-out", p)));
-    outputs.extend(args.lod_out.as_deref().map(|p| ("--lod-out", p)));
-    outputs.extend(args.levels_out.as_deref().map(|p| ("--levels-out", p)));
-    super::distinct_outputs(&outputs)?;
-    if let Some(p) = &args.param_out {
-        io::Format::from_path(p)?;
-        super::guard_overwrite(input_path, p, args.force)?;
-    }
-    if let Some(p) = &args.lod_out {
-        super::require_extension(p, &["glb"])?;
-        super::guard_overwrite(input_path, p, args.force)?;
-    }
+    let written = Written { input: input_path, output, param_out: args.param_out.as_deref(), repair: json!(null) };
+    written.check(args.lod_out.as_deref(), args.levels_out.as_deref(), args.force)?;
     let input = super::input::read_input(input_path, args.repair, ctx)?;
     let mesh = &input.read.mesh;
     let record = args.levels_out.is_some() || args.lod_out.is_some();
@@ -113,8 +100,7 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
     let hierarchy = ctx
         .spin("simplify", "building the 4-k hierarchy", || build(mesh, &options))
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(input_path))?;
-    let written =
-        Written { input: input_path, output, param_out: args.param_out.as_deref(), repair: input.repair_json() };
+    let written = Written { repair: input.repair_json(), ..written };
     write_results(mesh, &hierarchy, &written, start, ctx, || {
         if let Some(dir) = &args.levels_out {
             write_levels(&hierarchy, input_path, dir)?;
@@ -132,6 +118,29 @@ pub(super) struct Written<'a> {
     pub output: &'a Path,
     pub param_out: Option<&'a Path>,
     pub repair: serde_json::Value,
+}
+
+impl Written<'_> {
+    /// Checks the outputs before anything is read: formats known by extension, no path
+    /// given twice, none overwriting the input unless `force`.
+    pub(super) fn check(&self, lod_out: Option<&Path>, levels_out: Option<&Path>, force: bool) -> Result<()> {
+        io::Format::from_path(self.output)?;
+        super::guard_overwrite(self.input, self.output, force)?;
+        let mut outputs = vec![("-o", self.output)];
+        outputs.extend(self.param_out.map(|p| ("--param-out", p)));
+        outputs.extend(lod_out.map(|p| ("--lod-out", p)));
+        outputs.extend(levels_out.map(|p| ("--levels-out", p)));
+        super::distinct_outputs(&outputs)?;
+        if let Some(p) = self.param_out {
+            io::Format::from_path(p)?;
+            super::guard_overwrite(self.input, p, force)?;
+        }
+        if let Some(p) = lod_out {
+            super::require_extension(p, &["glb"])?;
+            super::guard_overwrite(self.input, p, force)?;
+        }
+        Ok(())
+    }
 }
 
 /// Writes the base domain, then what `more` writes (levels), the parametrization when

@@ -13,7 +13,6 @@ use super::simplify::{Written, write_levels, write_lods, write_results};
 use crate::error::Result;
 use crate::hierarchy::HierarchyRequest;
 use crate::hierarchy::partition::plan::{ChunkRun, MeshPlan, join_plan, run_chunk as build_chunk};
-use crate::io;
 
 #[derive(Debug, Args)]
 pub(crate) struct PlanArgs {
@@ -119,21 +118,13 @@ pub(super) fn merge(args: MergeArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     let plan = MeshPlan::read(&args.plan)?;
     let input_path = args.input.clone().unwrap_or_else(|| plan.input.clone());
-    io::Format::from_path(&args.output)?;
-    super::guard_overwrite(&input_path, &args.output, args.force)?;
-    let mut outputs = vec![("-o", args.output.as_path())];
-    outputs.extend(args.param_out.as_deref().map(|p| ("--param-out", p)));
-    outputs.extend(args.lod_out.as_deref().map(|p| ("--lod-out", p)));
-    outputs.extend(args.levels_out.as_deref().map(|p| ("--levels-out", p)));
-    super::distinct_outputs(&outputs)?;
-    if let Some(p) = &args.param_out {
-        io::Format::from_path(p)?;
-        super::guard_overwrite(&input_path, p, args.force)?;
-    }
-    if let Some(p) = &args.lod_out {
-        super::require_extension(p, &["glb"])?;
-        super::guard_overwrite(&input_path, p, args.force)?;
-    }
+    let written = Written {
+        input: &input_path,
+        output: &args.output,
+        param_out: args.param_out.as_deref(),
+        repair: serde_json::Value::Null,
+    };
+    written.check(args.lod_out.as_deref(), args.levels_out.as_deref(), args.force)?;
     let repair = super::input::RepairArg { repair: plan.repair };
     let input = super::input::read_input(&input_path, repair, ctx)?;
     let mesh = &input.read.mesh;
@@ -143,12 +134,7 @@ pub(super) fn merge(args: MergeArgs, ctx: super::Context) -> Result<()> {
     if args.levels_out.is_some() || args.lod_out.is_some() {
         hierarchy.levels = ctx.spin("simplify", "making the levels", || hierarchy.levels_by_refinement())?;
     }
-    let written = Written {
-        input: &input_path,
-        output: &args.output,
-        param_out: args.param_out.as_deref(),
-        repair: input.repair_json(),
-    };
+    let written = Written { repair: input.repair_json(), ..written };
     write_results(mesh, &hierarchy, &written, start, ctx, || {
         if let Some(dir) = &args.levels_out {
             write_levels(&hierarchy, &input_path, dir)?;

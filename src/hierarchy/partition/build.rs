@@ -235,6 +235,13 @@ pub fn separate_parts(
         pairs.into_iter().filter(|pair| !pair.iter().all(|(_, t)| input.contains(&face_key(*t)))).collect()
     };
     crossing = made(crossing);
+    if crossing.is_empty() {
+        return Ok(rebuilt);
+    }
+    // Each part's input faces, in input ids, once.
+    let inputs: Vec<Vec<[u32; 3]>> = (0..parts.len())
+        .map(|j| part_of(j).map(|p| p.input_triangles(&p.mesh.triangles)))
+        .collect::<Result<_>>()?;
     for _ in 0..SEPARATION_ROUNDS {
         let cutting: std::collections::BTreeSet<usize> = crossing.iter().flat_map(|p| p.map(|(k, _)| k)).collect();
         if cutting.is_empty() {
@@ -243,8 +250,7 @@ pub fn separate_parts(
         for &k in &cutting {
             let mut beside: Vec<[u32; 3]> = Vec::new();
             for j in (0..parts.len()).filter(|&j| j != k) {
-                let other = part_of(j)?;
-                beside.extend(other.input_triangles(&other.mesh.triangles));
+                beside.extend(&inputs[j]);
                 beside.extend(&parts[j].base_triangles);
             }
             parts[k] = build_part_among(&part_of(k)?, options, &mesh.positions, &beside)?;
