@@ -7,6 +7,7 @@ pub mod glb;
 pub mod glb_scene;
 mod gltf_read;
 pub mod image;
+pub mod manifest;
 pub mod obj;
 mod off;
 pub mod ply;

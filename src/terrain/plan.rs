@@ -67,17 +67,11 @@ pub struct PlannedTile {
     pub command: Vec<String>,
 }
 
-/// FNV-1a, 64 bits: a fingerprint of text that does not change between builds.
-fn fingerprint(text: &str) -> String {
-    let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
-    format!("{hash:016x}")
-}
-
 /// The fingerprint of what a plan's tiles are made from.
 fn plan_fingerprint(parameters: &TerrainRequest, size: u64, tile_size: u64, format: &str) -> Result<String> {
     let text =
         serde_json::to_string(&(parameters, size, tile_size, format)).map_err(|e| Error::Internal(e.to_string()))?;
-    Ok(fingerprint(&format!("asperity terrain plan v{PLAN_VERSION} {text}")))
+    Ok(crate::io::manifest::fingerprint(&format!("asperity terrain plan v{PLAN_VERSION} {text}")))
 }
 
 /// Tile (x, y)'s file in the plan's folder: `tiles/terrain_x{x}_y{y}.{format}`, the
@@ -213,18 +207,7 @@ impl Plan {
     /// # Errors
     /// No manifest, not a plan, or a plan of another layout version.
     pub fn read(dir: &Path) -> Result<Plan> {
-        let manifest = dir.join("plan.json");
-        let text = std::fs::read_to_string(&manifest).map_err(|e| Error::io(&manifest, e))?;
-        let plan: Plan = serde_json::from_str(&text)
-            .map_err(|e| Error::InvalidInput(format!("{}: not an asperity terrain plan: {e}", manifest.display())))?;
-        if plan.version != PLAN_VERSION {
-            return Err(Error::InvalidInput(format!(
-                "{}: plan version {} (this asperity reads version {PLAN_VERSION}): make the plan again",
-                manifest.display(),
-                plan.version
-            )));
-        }
-        Ok(plan)
+        crate::io::manifest::read_plan(dir, "terrain", PLAN_VERSION, |p: &Plan| p.version)
     }
 
     /// Tile `index` of the plan read from `dir`, and the fingerprint its sidecar must name:

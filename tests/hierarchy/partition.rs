@@ -257,7 +257,7 @@ fn a_broken_part_file_is_refused_by_name_and_byte() {
     // Counts larger than the file are refused before anything is allocated.
     let mut huge = b"asperity-built1\n".to_vec();
     huge.extend(u64::MAX.to_le_bytes());
-    let hash = huge.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
+    let hash = asperity::io::manifest::fnv1a(asperity::io::manifest::FNV_OFFSET, &huge);
     huge.extend(hash.to_le_bytes());
     refused(&huge, "elements of 12 bytes");
 }

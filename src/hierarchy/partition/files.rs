@@ -14,17 +14,13 @@ use glam::DVec3;
 use super::{Part, PartBuild};
 use crate::error::{Error, Location, Result};
 use crate::hierarchy::{ParamPoint, Removal};
+use crate::io::manifest::{FNV_OFFSET, fnv1a};
 use crate::mesh::Mesh;
 
 /// The tag of a part's mesh file (layout 1).
 const PART_TAG: &[u8; 16] = b"asperity-part-1\n";
 /// The tag of a part's build file (layout 1).
 const BUILD_TAG: &[u8; 16] = b"asperity-built1\n";
-
-/// FNV-1a, 64 bits.
-fn fnv1a(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3))
-}
 
 /// Writes `part` to `path` (atomically: a reader never sees half a file).
 ///
@@ -154,7 +150,7 @@ impl Out {
 
     /// Writes the bytes and their hash; returns the file's size.
     fn write(mut self, path: &Path) -> Result<u64> {
-        let hash = fnv1a(&self.bytes);
+        let hash = fnv1a(FNV_OFFSET, &self.bytes);
         self.u64(hash);
         crate::io::write_atomically(path, |w| w.write_all(&self.bytes))?;
         Ok(self.bytes.len() as u64)
@@ -177,7 +173,7 @@ impl<'a> In<'a> {
         }
         let body = bytes.len().checked_sub(8).filter(|&b| b >= 16).ok_or_else(|| fault(16, "cut short"))?;
         let stored = u64::from_le_bytes(bytes[body..].try_into().expect("8 bytes"));
-        if fnv1a(&bytes[..body]) != stored {
+        if fnv1a(FNV_OFFSET, &bytes[..body]) != stored {
             return Err(fault(body, "its hash does not match its bytes (cut short or changed: run its chunk again)"));
         }
         Ok(In { bytes: &bytes[..body], at: 16, path })

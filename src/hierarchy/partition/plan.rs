@@ -17,6 +17,7 @@ use super::files::{read_build, read_part, write_build, write_part};
 use super::{PartBuild, Partition, build::check_partitioned, build_part};
 use crate::error::{Error, Result};
 use crate::hierarchy::{Hierarchy, HierarchyRequest, SimplifyOptions};
+use crate::io::manifest::{FNV_OFFSET, fingerprint, fnv1a, read_plan};
 use crate::mesh::Mesh;
 use crate::request::Spelling;
 
@@ -76,13 +77,6 @@ struct ChunkSidecar {
     bytes: u64,
 }
 
-/// FNV-1a, 64 bits, continued from `hash`.
-fn fnv1a(hash: u64, bytes: &[u8]) -> u64 {
-    bytes.iter().fold(hash, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3))
-}
-
-const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
-
 /// A hash of `mesh`'s positions (their bits) and faces.
 pub fn mesh_fingerprint(mesh: &Mesh) -> String {
     let mut hash = FNV_OFFSET;
@@ -102,7 +96,7 @@ pub fn mesh_fingerprint(mesh: &Mesh) -> String {
 /// The fingerprint of what a plan's chunks are built from.
 fn plan_fingerprint(mesh: &str, request: &HierarchyRequest, chunks: usize) -> Result<String> {
     let text = serde_json::to_string(&(mesh, request, chunks)).map_err(|e| Error::Internal(e.to_string()))?;
-    Ok(format!("{:016x}", fnv1a(FNV_OFFSET, format!("asperity simplify plan v{MESH_PLAN_VERSION} {text}").as_bytes())))
+    Ok(fingerprint(&format!("asperity simplify plan v{MESH_PLAN_VERSION} {text}")))
 }
 
 /// The plan's names for chunk `k`'s files.
@@ -166,18 +160,7 @@ impl MeshPlan {
     /// # Errors
     /// No manifest, not a mesh plan, or a plan of another layout version.
     pub fn read(dir: &Path) -> Result<MeshPlan> {
-        let manifest = dir.join("plan.json");
-        let text = std::fs::read_to_string(&manifest).map_err(|e| Error::io(&manifest, e))?;
-        let plan: MeshPlan = serde_json::from_str(&text)
-            .map_err(|e| Error::InvalidInput(format!("{}: not an asperity simplify plan: {e}", manifest.display())))?;
-        if plan.version != MESH_PLAN_VERSION {
-            return Err(Error::InvalidInput(format!(
-                "{}: plan version {} (this asperity reads version {MESH_PLAN_VERSION}): make the plan again",
-                manifest.display(),
-                plan.version
-            )));
-        }
-        Ok(plan)
+        read_plan(dir, "simplify", MESH_PLAN_VERSION, |p: &MeshPlan| p.version)
     }
 
     /// The build options every chunk and the merge use.
@@ -261,16 +244,15 @@ pub fn chunk_complete(output: &Path, fingerprint: &str) -> bool {
     sidecar.plan == fingerprint && size == Some(sidecar.bytes)
 }
 
-/// Joins the chunks of the plan in `dir` over `mesh` (the plan's input, read again):
-/// checks that `mesh` is the mesh the plan cut and that every chunk is complete, then
-/// continues the build on the joined bases ([`super::join_parts`]).
+/// Joins the chunks of `plan` (read from `dir`) over `mesh` (the plan's input, read
+/// again): checks that `mesh` is the mesh the plan cut and that every chunk is complete,
+/// then continues the build on the joined bases ([`super::join_parts`]).
 ///
 /// # Errors
 /// [`Error::InvalidInput`] for another mesh than the plan's, or chunks not complete (named,
 /// with the command that builds them); as [`read_build`] and [`super::join_parts`].
-pub fn join_plan(dir: &Path, mesh: &Mesh) -> Result<Hierarchy> {
+pub fn join_plan(dir: &Path, plan: &MeshPlan, mesh: &Mesh) -> Result<Hierarchy> {
     let started = std::time::Instant::now();
-    let plan = MeshPlan::read(dir)?;
     if mesh_fingerprint(mesh) != plan.mesh_fingerprint {
         return Err(Error::InvalidInput(format!(
             "{}: the input is not the mesh this plan cut ({} changed since `simplify plan`): make the plan again",
