@@ -343,3 +343,40 @@ fn copies_of_a_pinched_border_vertex_never_share_a_neighbour() {
         assert!(report.is_manifold(), "{parts} parts: {report:?}");
     }
 }
+
+#[test]
+fn a_recipe_table_s_chunks_is_read_and_checked_like_the_flag() {
+    use asperity::hierarchy::{HierarchyRequest, VertexTarget};
+    use asperity::request::Spelling;
+    let table = HierarchyRequest {
+        chunks: Some(3),
+        target_vertices: Some(VertexTarget::parse("5%").unwrap()),
+        ..Default::default()
+    };
+    let options = HierarchyRequest::default().options_over(&table, 1000, false, Spelling::Flag).unwrap();
+    assert_eq!(options.chunks, Some(3));
+    let with_levels = HierarchyRequest { levels: Some(4), ..table.clone() };
+    let e =
+        HierarchyRequest::default().options_over(&with_levels, 1000, false, Spelling::Flag).unwrap_err().to_string();
+    assert!(e.contains("[hierarchy] chunks = 3 takes no level limit yet ([hierarchy] levels = 4)"), "{e}");
+    // The front end's own setting replaces the table's.
+    let own = HierarchyRequest { chunks: Some(2), ..Default::default() };
+    assert_eq!(own.options_over(&table, 1000, false, Spelling::Flag).unwrap().chunks, Some(2));
+    let zero = HierarchyRequest { chunks: Some(0), ..Default::default() };
+    let e = zero.options_over(&table, 1000, false, Spelling::Flag).unwrap_err().to_string();
+    assert!(e.contains("--chunks 0: give 1 part or more"), "{e}");
+}
+
+#[test]
+fn a_build_that_does_not_give_way_stops_where_it_is_stuck() {
+    // A part's goal is a staging point (#40): without the give-way ladder a build stuck
+    // short of its target keeps its feature vertices and angle floor and stops there.
+    let fandisk = shared("fandisk.off");
+    let options = SimplifyOptions { target_vertices: Some(20), ..Default::default() };
+    let giving = build(&fandisk, &options).unwrap();
+    let stuck = build(&fandisk, &SimplifyOptions { give_way: false, ..options }).unwrap();
+    assert!(giving.target.reached, "{:?}", giving.target);
+    assert!(!stuck.target.reached && stuck.base_vertex_count() > 20, "{:?}", stuck.target);
+    assert!(stuck.feature_vertices > giving.feature_vertices);
+    assert_eq!(stuck.target.min_angle_floor_deg, 5.0, "{:?}", stuck.target);
+}
