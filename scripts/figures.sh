@@ -8,7 +8,8 @@ cd "$(dirname "$0")/.."
 
 # figure | recipe | what the thesis says the figure shows (its caption or text, quoted) | our check
 FIGURES=(
-  "4.19–4.20|elephant-hair|\"local tapering deformation simulating hair appearance\"; \"the curl details ... were created using this twisting operator\"|taper and twist closed forms (tests: taper_and_twist_match_their_closed_forms)"
+  "4.19|bunny-hair|\"simulating hair appearance\", made as Fig. 5.10 makes it: \"each point processed individually at a high resolution\" (a subdivided region, strands combed by phasor noise)|across the comb the displacement changes 2.2× as fast as along it; isotropic kernels 0.9× (the_hair_recipe_combs_strands_along_its_orientation)"
+  "4.19–4.20|elephant-taper-twist|\"local tapering deformation\" (eq. 4.6–4.7) and \"global twisting operator\" (eq. 4.8–4.9)|taper and twist closed forms (tests: taper_and_twist_match_their_closed_forms)"
   "4.21|sphere-turbulence|\"Noise mapping and deformation over a sphere model\" (turbulence, gain 0.5, lacunarity 2.0)|amplitude is the peak displacement (amplitude_is_the_peak_displacement_of_every_kind)"
   "4.23|sphere-marble|\"This pattern resembles marble stripes\"|the displacement along x peaks at the sine's 8 cycles per diagonal (the_marble_recipe_makes_stripes_along_x_at_its_frequency)"
   "4.24|sphere-multifractal|multifractal noise over a sphere (eq. 4.12)|level modulation (level_modulation_attenuates_lacunarity_towards_coarser_levels)"

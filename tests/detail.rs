@@ -1061,6 +1061,65 @@ fn the_stronger_femur_wearing_wears_one_side_of_the_head_twice_as_deep() {
 }
 
 #[test]
+fn the_hair_recipe_combs_strands_along_its_orientation() {
+    // Thesis Fig. 4.19 (hair), made as Fig. 5.10 makes it (#37: the taper-and-twist recipe
+    // did not read as hair). Strands run along the comb direction (y): across them the
+    // displacement changes from strand to groove, along them it hardly changes. Measured
+    // on the result's edges in the combed region, away from the crown (where the surface
+    // faces up and the hair falls every way): the displacement's change per unit length
+    // across the comb direction (edges within 15° of the tangent across it) against along
+    // it (within 15° of y projected on the face). The same step with isotropic kernels
+    // (random orientations, no strands) is the control.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("recipes/bunny-hair.toml");
+    let mesh = recipe_input(&path).unwrap();
+    let combed = Recipe::read(&path).unwrap();
+    let mut tangled = combed.clone();
+    tangled.steps[1].noise.isotropic = true;
+    tangled.steps[1].noise.orientation = None;
+    let frame = BoxFrame::of(&mesh);
+    let slopes = |recipe: &Recipe| {
+        let options = DetailOptions { simplify: recipe_simplify_options(recipe, &mesh), ..Default::default() };
+        let out = apply(&mesh, recipe, &options).unwrap();
+        let result = &out.result.mesh;
+        let (mut across, mut along) = (Vec::new(), Vec::new());
+        for t in &result.triangles {
+            let rest = t.map(|v| out.rest[v as usize]);
+            if rest.iter().any(|&q| frame.normalise(q).y < 0.5) {
+                continue;
+            }
+            let normal = (rest[1] - rest[0]).cross(rest[2] - rest[0]).normalize_or_zero();
+            if normal == DVec3::ZERO || normal.y.abs() > 0.7 {
+                continue;
+            }
+            let comb = (DVec3::Y - DVec3::Y.dot(normal) * normal).normalize();
+            let lifted = |v: u32| (result.positions[v as usize] - out.rest[v as usize]).dot(normal);
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let edge = out.rest[b as usize] - out.rest[a as usize];
+                let slope = (lifted(b) - lifted(a)).abs() / edge.length();
+                let cosine = edge.normalize().dot(comb).abs();
+                if cosine >= 15f64.to_radians().cos() {
+                    along.push(slope);
+                } else if cosine <= 75f64.to_radians().cos() {
+                    across.push(slope);
+                }
+            }
+        }
+        let mean = |x: &[f64]| x.iter().sum::<f64>() / x.len().max(1) as f64;
+        (mean(&across), mean(&along))
+    };
+    let ((across, along), (tangled_across, tangled_along)) = (slopes(&combed), slopes(&tangled));
+    println!(
+        "displacement slope across / along the comb: combed {across:.4} / {along:.4}, isotropic {tangled_across:.4} / {tangled_along:.4}"
+    );
+    assert!(across >= 2.0 * along, "no strands: slope across {across:.4}, along {along:.4}");
+    assert!(
+        tangled_across < 1.3 * tangled_along,
+        "the control has strands too: {tangled_across:.4} / {tangled_along:.4}"
+    );
+}
+
+#[test]
 fn the_fandisk_erosion_recipe_wears_its_creases_visibly() {
     // Thesis Fig. 4.28: erosion across the fandisk's feature lines (#37: the recipe moved
     // its crease vertices by 0.096 % of the diagonal on average: wavy, hardly eroded; now

@@ -503,7 +503,7 @@ fn terrain_map(params: &crate::terrain::TerrainParams, heights: &[f64]) -> Pictu
 
 /// Example recipes the demo runs (the files of `recipes/`, built in), with the axis that
 /// is up in their pictures.
-const DEMO_RECIPES: [(&str, &str, UpAxis); 11] = [
+const DEMO_RECIPES: [(&str, &str, UpAxis); 12] = [
     ("torus-variation", include_str!("../../recipes/torus-variation.toml"), UpAxis::Z),
     ("sphere-marble", include_str!("../../recipes/sphere-marble.toml"), UpAxis::Z),
     ("sphere-turbulence", include_str!("../../recipes/sphere-turbulence.toml"), UpAxis::Z),
@@ -514,7 +514,8 @@ const DEMO_RECIPES: [(&str, &str, UpAxis); 11] = [
     ("femur-wearing", include_str!("../../recipes/femur-wearing.toml"), UpAxis::Z),
     ("femur-wearing-strong", include_str!("../../recipes/femur-wearing-strong.toml"), UpAxis::Z),
     ("fandisk-erosion", include_str!("../../recipes/fandisk-erosion.toml"), UpAxis::Z),
-    ("elephant-hair", include_str!("../../recipes/elephant-hair.toml"), UpAxis::Z),
+    ("elephant-taper-twist", include_str!("../../recipes/elephant-taper-twist.toml"), UpAxis::Z),
+    ("bunny-hair", include_str!("../../recipes/bunny-hair.toml"), UpAxis::Y),
 ];
 
 /// A mesh of `../shared/data/meshes` (next to the working directory or the executable's
