@@ -49,7 +49,7 @@ struct HierarchyOptions {
   bool intersection_guard;
   /// Build in this many parts along the Morton curve of the faces, in parallel, their
   /// borders fenced, then continue on their joined bases (the command line's --chunks;
-  /// needs target_vertices, takes no levels). Empty: one piece.
+  /// needs target_vertices or max_error, takes no levels). Empty: one piece.
   std::optional<std::size_t> chunks;
   /// Watches the build (stage, done, total); returning false stops it with
   /// asperity::Cancelled. Empty: unwatched.

@@ -245,7 +245,7 @@ class Hierarchy:
     - ``intersection_guard``: leave out the clusters whose new faces would cut the
       surface (on by default); ``chunks``: build in this many parts in parallel, their
       borders fenced, then continue on their joined bases (``simplify --chunks``; needs
-      ``target_vertices``, takes no ``levels``).
+      ``target_vertices`` or ``max_error``, takes no ``levels``).
     - ``repair``: repair the mesh first (every array stays in the caller's numbering);
       ``progress``: True prints the build's progress to stderr; a function
       ``(stage, done, total)`` watches it, and stops it by returning False.

@@ -56,8 +56,8 @@ pub struct HierarchyRequest {
     )]
     pub intersection_guard: Option<bool>,
     /// Build in K parts along the Morton curve of the faces, in parallel, their borders
-    /// fenced, then continue on their joined bases to the target (#40; needs a vertex
-    /// target, takes no level limit; levels are made afterwards by refinement).
+    /// fenced, then continue on their joined bases to the target or error bound (#40;
+    /// needs one of them, takes no level limit; levels are made afterwards by refinement).
     #[cfg_attr(feature = "cli", arg(long))]
     pub chunks: Option<usize>,
 }
@@ -126,11 +126,12 @@ impl HierarchyRequest {
             if k == 0 {
                 return Err(Error::InvalidInput(format!("{}: give 1 part or more", source.with("chunks", k))));
             }
-            if target_vertices.is_none() {
+            if target_vertices.is_none() && max_error.is_none() {
                 return Err(Error::InvalidInput(format!(
-                    "{} needs a vertex target ({}): a partitioned build stops at one",
+                    "{} needs a vertex target ({}) or an error bound ({}): a partitioned build stops at one",
                     source.with("chunks", k),
-                    spelling.of("target_vertices")
+                    spelling.of("target_vertices"),
+                    spelling.of("max_error")
                 )));
             }
             if let Some((levels, levels_source)) = pick(self.levels, table.levels, spelling) {

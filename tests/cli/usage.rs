@@ -548,7 +548,10 @@ fn simplify_in_chunks_reaches_the_target_alike_at_any_thread_count() {
         assert!(read(a) == read(b), "{a} and {b} differ");
     }
     let refused = [
-        (&["--levels", "3"][..], "--chunks 4 needs a vertex target (--target-vertices)"),
+        (
+            &["--levels", "3"][..],
+            "--chunks 4 needs a vertex target (--target-vertices) or an error bound (--max-error)",
+        ),
         (&["--target-vertices", "100", "--levels", "3"][..], "--chunks 4 takes no level limit yet (--levels 3)"),
     ];
     for (extra, phrase) in refused {
@@ -559,6 +562,18 @@ fn simplify_in_chunks_reaches_the_target_alike_at_any_thread_count() {
     }
     let zero = asperity(&["simplify", input.to_str().unwrap(), "--chunks", "0", "-o", "x.ply"], tmp.path());
     assert_eq!(zero.status.code(), Some(2));
+    // An error bound instead of a target: the build stops at it (the report says so).
+    let bounded = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["--json", "simplify", input.to_str().unwrap(), "--max-error", "0.004", "--chunks", "4"])
+        .args(["--keep-features", "none", "-o", "bounded.ply"])
+        .current_dir(tmp.path())
+        .output()
+        .unwrap();
+    assert!(bounded.status.success(), "{}", String::from_utf8_lossy(&bounded.stderr));
+    let json = serde_json::from_slice::<serde_json::Value>(&bounded.stdout).unwrap();
+    let vertices = json["output_vertices"].as_u64().unwrap();
+    assert!((500..1000).contains(&vertices), "{json}");
+    assert!(json["hausdorff"].as_f64().unwrap() <= 0.005, "{json}");
 }
 
 #[test]

@@ -189,7 +189,7 @@ fn a_partitioned_build_is_one_hierarchy_whose_refinement_restores_the_input() {
     assert!(e.contains("belong to no face, first vertex 1152"), "{e}");
     let mesh = torus(1.0, 0.35, 48, 24);
     let e = build_partitioned(&mesh, 4, &SimplifyOptions { levels: Some(3), ..Default::default() }).unwrap_err();
-    assert!(e.to_string().contains("needs a vertex target"), "{e}");
+    assert!(e.to_string().contains("needs a vertex target or an error bound"), "{e}");
     let e = build_partitioned(&mesh, 4, &SimplifyOptions { levels: Some(3), ..to(100, Vec::new()) }).unwrap_err();
     assert!(e.to_string().contains("no level limit"), "{e}");
 }
@@ -211,8 +211,8 @@ fn a_part_and_its_build_read_back_from_their_files_bit_for_bit() {
         write_part(&part, &part_file).unwrap();
         let read = read_part(&part_file, mesh.vertex_count()).unwrap();
         assert_eq!(
-            (&read.mesh.positions, &read.mesh.triangles, &read.ids, &read.border),
-            (&part.mesh.positions, &part.mesh.triangles, &part.ids, &part.border)
+            (&read.mesh.positions, &read.mesh.triangles, &read.ids, &read.border, read.input_diagonal),
+            (&part.mesh.positions, &part.mesh.triangles, &part.ids, &part.border, part.input_diagonal)
         );
         let built = build_part(&read, &options, mesh.vertex_count()).unwrap();
         write_build(&built, &build_file).unwrap();
@@ -379,4 +379,40 @@ fn a_build_that_does_not_give_way_stops_where_it_is_stuck() {
     assert!(!stuck.target.reached && stuck.base_vertex_count() > 20, "{:?}", stuck.target);
     assert!(stuck.feature_vertices > giving.feature_vertices);
     assert_eq!(stuck.target.min_angle_floor_deg, 5.0, "{:?}", stuck.target);
+}
+
+#[test]
+fn a_partitioned_build_stops_at_an_error_bound_as_a_one_piece_build_does() {
+    // #40: an error bound instead of a vertex target. It is a fraction of the input's
+    // diagonal in every part (scaled from the part's own, smaller box) and in the
+    // continuation, so the parts in turn remove what the bound allows and the joined
+    // build stops where a one-piece build stops.
+    let bunny = shared("bunny00.off");
+    let bound = 0.004;
+    let options = SimplifyOptions { max_error: Some(bound), keep_features: KeepFeatures::None, ..Default::default() };
+    let hausdorff = |h: &asperity::hierarchy::Hierarchy| {
+        let base = Mesh::new(h.positions.clone(), h.base_triangles.clone());
+        asperity::hierarchy::compare::relative_hausdorff(&bunny, &base).unwrap()
+    };
+    let whole = build(&bunny, &options).unwrap();
+    let parted = build_partitioned(&bunny, 4, &options).unwrap();
+    let (whole_vertices, parted_vertices) = (whole.base_vertex_count(), parted.base_vertex_count());
+    let (whole_distance, parted_distance) = (hausdorff(&whole), hausdorff(&parted));
+    println!(
+        "error bound {bound}: one piece {whole_vertices} vertices at {whole_distance:.5}, 4 parts {parted_vertices} at {parted_distance:.5}"
+    );
+    assert!(parted_distance <= 1.1 * whole_distance.max(bound), "{parted_distance} against {whole_distance}");
+    let ratio = parted_vertices as f64 / whole_vertices as f64;
+    assert!((0.8..=1.25).contains(&ratio), "{parted_vertices} vertices against {whole_vertices}");
+    // The parts alone already remove what the bound allows inside them: the joined bases
+    // hold far fewer vertices than the input.
+    let partition = Partition::of(&bunny, 4).unwrap();
+    let inside: usize = (0..4)
+        .map(|k| {
+            let part = partition.part(&bunny, k).unwrap();
+            let built = asperity::hierarchy::partition::build_part(&part, &options, bunny.vertex_count()).unwrap();
+            built.removals.len()
+        })
+        .sum();
+    assert!(inside as f64 >= 0.5 * (bunny.vertex_count() - whole_vertices) as f64, "the parts removed {inside}");
 }

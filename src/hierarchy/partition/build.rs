@@ -53,10 +53,13 @@ pub fn part_goal(part: &Part, target: usize, input_vertices: usize) -> usize {
 }
 
 /// Builds `part` of an input of `input_vertices` vertices with its border fenced, to its
-/// [`part_goal`] for `options`' vertex target (the input's vertices it marks kept are kept).
+/// [`part_goal`] for `options`' vertex target and within its error bound (the input's
+/// vertices it marks kept are kept). The error bound is a fraction of the input's diagonal
+/// ([`Part::input_diagonal`]), so the part's, a fraction of its own, is scaled to match.
 ///
 /// # Errors
-/// [`Error::InvalidInput`] without a vertex target; as [`crate::hierarchy::build`].
+/// [`Error::InvalidInput`] without a vertex target or an error bound; as
+/// [`crate::hierarchy::build`].
 pub fn build_part(part: &Part, options: &SimplifyOptions, input_vertices: usize) -> Result<PartBuild> {
     build_part_beside(part, options, input_vertices, Obstacles::default())
 }
@@ -109,7 +112,11 @@ fn build_part_beside(
     input_vertices: usize,
     obstacles: Obstacles,
 ) -> Result<PartBuild> {
-    let target = options.target_vertices.ok_or_else(needs_target)?;
+    if options.target_vertices.is_none() && options.max_error.is_none() {
+        return Err(needs_target());
+    }
+    let part_diagonal = crate::mesh::UnitFrame::of(&part.mesh)?.diagonal;
+    let max_error = options.max_error.map(|e| e * part.input_diagonal / part_diagonal);
     let marked: std::collections::HashSet<u32> = options.keep_vertices.iter().copied().collect();
     let keep_vertices = (0..part.ids.len() as u32).filter(|&v| marked.contains(&part.ids[v as usize])).collect();
     let mut copies: FxHashMap<u32, Vec<u32>> = FxHashMap::default();
@@ -119,7 +126,8 @@ fn build_part_beside(
     let mut border_copies: Vec<Vec<u32>> = copies.into_values().filter(|g| g.len() > 1).collect();
     border_copies.sort_unstable();
     let part_options = SimplifyOptions {
-        target_vertices: Some(part_goal(part, target, input_vertices)),
+        target_vertices: options.target_vertices.map(|target| part_goal(part, target, input_vertices)),
+        max_error,
         keep_vertices,
         border_vertices: part.border.clone(),
         border_copies,
@@ -239,9 +247,8 @@ pub fn separate_parts(
         return Ok(rebuilt);
     }
     // Each part's input faces, in input ids, once.
-    let inputs: Vec<Vec<[u32; 3]>> = (0..parts.len())
-        .map(|j| part_of(j).map(|p| p.input_triangles(&p.mesh.triangles)))
-        .collect::<Result<_>>()?;
+    let inputs: Vec<Vec<[u32; 3]>> =
+        (0..parts.len()).map(|j| part_of(j).map(|p| p.input_triangles(&p.mesh.triangles))).collect::<Result<_>>()?;
     for _ in 0..SEPARATION_ROUNDS {
         let cutting: std::collections::BTreeSet<usize> = crossing.iter().flat_map(|p| p.map(|(k, _)| k)).collect();
         if cutting.is_empty() {
@@ -292,10 +299,11 @@ fn crossing_pairs(mesh: &Mesh, parts: &[PartBuild]) -> Result<Vec<[PartFace; 2]>
 /// A partitioned build (#40) in one process: `mesh` cut into `parts` ([`Partition::of`]),
 /// each part built in parallel ([`build_part`]) and the parts joined ([`join_parts`]).
 ///
-/// Limits of this first version: a vertex target is needed (levels and error bounds
-/// alone are refused), levels are not recorded (refinement makes them afterwards:
-/// [`Hierarchy::levels_by_refinement`]), UVs and materials are refused, and a part's
-/// intersection guard sees only its own faces.
+/// It stops at a vertex target or an error bound (a fraction of the input's diagonal in
+/// every part and in the continuation); a level limit alone is refused, levels are not
+/// recorded (refinement makes them afterwards: [`Hierarchy::levels_by_refinement`]), UVs
+/// and materials are refused, and parts whose bases cut each other are built again beside
+/// each other ([`separate_parts`]).
 ///
 /// # Errors
 /// [`Error::InvalidInput`] for the limits above and as
@@ -315,10 +323,13 @@ pub fn build_partitioned(mesh: &Mesh, parts: usize, options: &SimplifyOptions) -
 /// faults as a one-piece build names them (not as a part's).
 ///
 /// # Errors
-/// [`Error::InvalidInput`] without a vertex target, with a level limit, recorded levels or
-/// fenced vertices, for UVs or materials; as [`crate::hierarchy::build`]'s validation.
+/// [`Error::InvalidInput`] without a vertex target or an error bound, with a level limit,
+/// recorded levels or fenced vertices, for UVs or materials; as
+/// [`crate::hierarchy::build`]'s validation.
 pub fn check_partitioned(mesh: &Mesh, options: &SimplifyOptions) -> Result<()> {
-    options.target_vertices.ok_or_else(needs_target)?;
+    if options.target_vertices.is_none() && options.max_error.is_none() {
+        return Err(needs_target());
+    }
     if options.levels.is_some() {
         return Err(Error::InvalidInput("a partitioned build takes no level limit yet".into()));
     }
@@ -341,7 +352,7 @@ pub fn check_partitioned(mesh: &Mesh, options: &SimplifyOptions) -> Result<()> {
 
 fn needs_target() -> Error {
     Error::InvalidInput(
-        "a partitioned build needs a vertex target (levels or an error bound alone are not supported yet)".into(),
+        "a partitioned build needs a vertex target or an error bound (a level limit alone is not supported yet)".into(),
     )
 }
 

@@ -17,8 +17,8 @@ use crate::hierarchy::{ParamPoint, Removal};
 use crate::io::manifest::{FNV_OFFSET, fnv1a};
 use crate::mesh::Mesh;
 
-/// The tag of a part's mesh file (layout 1).
-const PART_TAG: &[u8; 16] = b"asperity-part-1\n";
+/// The tag of a part's mesh file (layout 2: the input's diagonal first).
+const PART_TAG: &[u8; 16] = b"asperity-part-2\n";
 /// The tag of a part's build file (layout 1).
 const BUILD_TAG: &[u8; 16] = b"asperity-built1\n";
 
@@ -28,6 +28,7 @@ const BUILD_TAG: &[u8; 16] = b"asperity-built1\n";
 /// [`Error::Io`] naming the file.
 pub fn write_part(part: &Part, path: &Path) -> Result<()> {
     let mut out = Out::new(PART_TAG);
+    out.f64(part.input_diagonal);
     out.array(&part.mesh.positions, |o, p| p.to_array().into_iter().for_each(|c| o.f64(c)));
     out.array(&part.mesh.triangles, |o, t| t.iter().for_each(|&v| o.u32(v)));
     out.array(&part.ids, |o, &v| o.u32(v));
@@ -44,6 +45,10 @@ pub fn write_part(part: &Part, path: &Path) -> Result<()> {
 pub fn read_part(path: &Path, input_vertices: usize) -> Result<Part> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     let mut r = In::new(&bytes, path, PART_TAG)?;
+    let input_diagonal = r.f64()?;
+    if input_diagonal <= 0.0 {
+        return Err(r.fault("the input's diagonal is not positive"));
+    }
     let positions = r.array(24, |r| Ok(DVec3::new(r.f64()?, r.f64()?, r.f64()?)))?;
     let n = positions.len();
     let triangles = r.array(12, |r| Ok([r.index(n)?, r.index(n)?, r.index(n)?]))?;
@@ -53,7 +58,7 @@ pub fn read_part(path: &Path, input_vertices: usize) -> Result<Part> {
     }
     let border = r.array(4, |r| r.index(n))?;
     r.end()?;
-    Ok(Part { mesh: Mesh::new(positions, triangles), ids, border })
+    Ok(Part { mesh: Mesh::new(positions, triangles), ids, border, input_diagonal })
 }
 
 /// Writes a part's build to `path` (atomically); returns the file's size in bytes.

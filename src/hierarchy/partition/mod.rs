@@ -42,6 +42,8 @@ pub struct Partition {
     /// `faces[starts[k]..starts[k + 1]]` are part k's.
     faces: Vec<u32>,
     starts: Vec<usize>,
+    /// The input's bounding-box diagonal, which each part's error bound is a fraction of.
+    diagonal: f64,
 }
 
 impl Partition {
@@ -72,7 +74,7 @@ impl Partition {
         for (i, &(_, f)) in keys.iter().enumerate() {
             owner[f as usize] = (i * parts / faces) as u32;
         }
-        Ok(Partition::grouped(mesh, owner, parts))
+        Ok(Partition::grouped(mesh, owner, parts, unit.diagonal))
     }
 
     /// The partition giving face f to part `owner[f]` (any cut: components, materials, a
@@ -89,12 +91,12 @@ impl Partition {
             return Err(Error::InvalidInput(format!("face {f} is given part {} of {parts}", owner[f])));
         }
         mesh.check()?;
-        Ok(Partition::grouped(mesh, owner, parts))
+        Ok(Partition::grouped(mesh, owner, parts, UnitFrame::of(mesh)?.diagonal))
     }
 
     /// The partition of a checked `mesh` by checked owners: its border vertices, and its
     /// faces grouped by part (a counting sort, so a part's faces keep their input order).
-    fn grouped(mesh: &Mesh, owner: Vec<u32>, parts: usize) -> Partition {
+    fn grouped(mesh: &Mesh, owner: Vec<u32>, parts: usize, diagonal: f64) -> Partition {
         let mut first = vec![u32::MAX; mesh.vertex_count()];
         let mut border = vec![false; mesh.vertex_count()];
         let mut starts = vec![0usize; parts + 1];
@@ -117,7 +119,7 @@ impl Partition {
             faces[next[part as usize]] = f as u32;
             next[part as usize] += 1;
         }
-        Partition { owner, parts, border, faces, starts }
+        Partition { owner, parts, border, faces, starts, diagonal }
     }
 
     /// Number of parts.
@@ -174,7 +176,7 @@ impl Partition {
         let ids: Vec<u32> =
             part.scalars.remove(INPUT_ID).expect("the ids' scalar").into_iter().map(|v| v as u32).collect();
         let border = (0..ids.len() as u32).filter(|&v| self.border[ids[v as usize] as usize]).collect();
-        Ok(Part { mesh: part, ids, border })
+        Ok(Part { mesh: part, ids, border, input_diagonal: self.diagonal })
     }
 }
 
@@ -190,6 +192,9 @@ pub struct Part {
     pub ids: Vec<u32>,
     /// The part's vertices on its border (to fence in its build).
     pub border: Vec<u32>,
+    /// The input's bounding-box diagonal: an error bound is a fraction of it, in every
+    /// part (a part's own box is smaller).
+    pub input_diagonal: f64,
 }
 
 impl Part {
