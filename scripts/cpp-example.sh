@@ -38,7 +38,11 @@ pc=target/cpp-install/lib/pkgconfig
 g++ -std=c++17 -O1 examples/cpp/integration.cpp -o target/cpp-example/integration-shared \
   $(PKG_CONFIG_PATH="$pc" pkg-config --cflags --libs asperity)
 libdir=$(PKG_CONFIG_PATH="$pc" pkg-config --variable=libdir asperity)
-LD_LIBRARY_PATH="$libdir" ldd target/cpp-example/integration-shared | grep -q "libasperity.so.0 => $libdir" \
-  || { echo "cpp-example: the pkg-config build does not use $libdir/libasperity.so.0" >&2; exit 1; }
+# ldd's output is read whole before matching: `ldd | grep -q` under pipefail fails at random
+# when grep exits at the first match and ldd is killed by SIGPIPE writing the lines after it.
+linked=$(LD_LIBRARY_PATH="$libdir" ldd target/cpp-example/integration-shared)
+grep -q "libasperity.so.0 => $libdir" <<<"$linked" \
+  || { echo "cpp-example: the pkg-config build does not use $libdir/libasperity.so.0:" >&2
+       echo "$linked" >&2; exit 1; }
 mkdir -p target/cpp-example/out-shared
 LD_LIBRARY_PATH="$libdir" ./target/cpp-example/integration-shared target/cpp-example/out-shared

@@ -26,7 +26,7 @@ mapfile -t hidden < <(printf '%s\n' "${hidden[@]}" | sort -u)
 # Which files the import loads, from the dynamic loader's own trace.
 loaded=$(LD_LIBRARY_PATH= LD_DEBUG=libs "$venv/bin/python" -c 'import asperity' 2>&1 | sed -n 's/.*calling init: //p')
 for lib in libOpenMeshCore libOpenMeshTools libgmp; do
-  echo "$loaded" | grep -q "asperity.libs/$lib-" \
+  grep -q "asperity.libs/$lib-" <<<"$loaded" \
     || { echo "python-wheel-check: $lib not loaded from the wheel's asperity.libs:"$'\n'"$loaded" >&2; exit 1; }
 done
 if echo "$loaded" | grep -E '^/(usr/)?lib.*/lib(OpenMesh|gmp)'; then

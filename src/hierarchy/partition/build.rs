@@ -112,11 +112,11 @@ fn build_part_beside(
     input_vertices: usize,
     obstacles: Obstacles,
 ) -> Result<PartBuild> {
-    if options.target_vertices.is_none() && options.max_error.is_none() {
-        return Err(needs_target());
-    }
-    let part_diagonal = crate::mesh::UnitFrame::of(&part.mesh)?.diagonal;
-    let max_error = options.max_error.map(|e| e * part.input_diagonal / part_diagonal);
+    require_stop(options)?;
+    let max_error = match options.max_error {
+        Some(e) => Some(e * part.input_diagonal / crate::mesh::UnitFrame::of(&part.mesh)?.diagonal),
+        None => None,
+    };
     let marked: std::collections::HashSet<u32> = options.keep_vertices.iter().copied().collect();
     let keep_vertices = (0..part.ids.len() as u32).filter(|&v| marked.contains(&part.ids[v as usize])).collect();
     let mut copies: FxHashMap<u32, Vec<u32>> = FxHashMap::default();
@@ -327,9 +327,7 @@ pub fn build_partitioned(mesh: &Mesh, parts: usize, options: &SimplifyOptions) -
 /// recorded levels or fenced vertices, for UVs or materials; as
 /// [`crate::hierarchy::build`]'s validation.
 pub fn check_partitioned(mesh: &Mesh, options: &SimplifyOptions) -> Result<()> {
-    if options.target_vertices.is_none() && options.max_error.is_none() {
-        return Err(needs_target());
-    }
+    require_stop(options)?;
     if options.levels.is_some() {
         return Err(Error::InvalidInput("a partitioned build takes no level limit yet".into()));
     }
@@ -350,10 +348,15 @@ pub fn check_partitioned(mesh: &Mesh, options: &SimplifyOptions) -> Result<()> {
     crate::hierarchy::simplify::prepare_input(mesh, None)
 }
 
-fn needs_target() -> Error {
-    Error::InvalidInput(
-        "a partitioned build needs a vertex target or an error bound (a level limit alone is not supported yet)".into(),
-    )
+/// Refuses `options` that give a partitioned build (or a part of one) nowhere to stop.
+fn require_stop(options: &SimplifyOptions) -> Result<()> {
+    if options.target_vertices.is_none() && options.max_error.is_none() {
+        return Err(Error::InvalidInput(
+            "a partitioned build needs a vertex target or an error bound (a level limit alone is not supported yet)"
+                .into(),
+        ));
+    }
+    Ok(())
 }
 
 /// Removal records gathered from several builds into one hierarchy's.
