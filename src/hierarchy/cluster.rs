@@ -28,7 +28,7 @@ use super::rings::{RingVec, Rings};
 use crate::analysis::Quadric;
 
 /// Weights and thresholds of the cluster selection.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ClusterRules {
     /// Weight of the removal (weld) error in E(v) (eq. 4.1: 0.75).
     pub removal_weight: f64,

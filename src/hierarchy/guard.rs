@@ -4,6 +4,7 @@
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
+use super::intersections::{AddedPairs, listed_pairs_intersect, triangle_intersections_across};
 use super::plan::{ClusterPlan, apply_plan, plan_still_applies};
 use super::rings::Rings;
 use crate::error::Result;
@@ -46,9 +47,15 @@ pub(super) fn guard_plans(
     }
 }
 
-/// The planned vertices whose new triangles intersect the surface. With `restored` (the
-/// vertices of plans just dropped), only their star faces, which come back, are checked
-/// against the rest: the other pairs were checked by an earlier round.
+/// The planned vertices whose new triangles intersect the surface.
+///
+/// The first round checks the planned triangles against each other and against the
+/// level's faces they do not replace. A later round (`restored`: the vertices of plans just
+/// dropped) checks only the faces that come back (the level's faces around those vertices)
+/// against the planned triangles still kept: every other pair was checked by an earlier
+/// round, and two faces of the level before can only cross where the level crossed
+/// already, which is never counted. On an assembly whose parts interpenetrate, such pairs
+/// are most of what a later round would find (samurai-monastery, #35).
 fn intersecting_plans(
     positions: &[glam::DVec3],
     level_faces: &[[u32; 3]],
@@ -56,32 +63,34 @@ fn intersecting_plans(
     restored: Option<&FxHashSet<u32>>,
 ) -> Result<FxHashSet<u32>> {
     let planned: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
-    let (mut kept, mut added) = (Vec::new(), Vec::new());
+    let mut level_side = Vec::new();
     for t in level_faces {
         if t.iter().any(|v| planned.contains(v)) {
             continue;
         }
-        if restored.is_some_and(|r| t.iter().any(|v| r.contains(v))) {
-            added.push(*t);
-        } else {
-            kept.push(*t);
+        if restored.is_none_or(|r| t.iter().any(|v| r.contains(v))) {
+            level_side.push(*t);
         }
     }
-    // The plans' triangles go last on their side; `owners` names each one's plan.
-    let faces = if restored.is_some() { &mut kept } else { &mut added };
-    let first_planned = faces.len();
+    // `owners` names each planned triangle's plan.
+    let mut planned_side = Vec::new();
     let mut owners = Vec::new();
     for plan in plans {
-        faces.extend(&plan.triangles);
+        planned_side.extend(&plan.triangles);
         owners.extend(std::iter::repeat_n(plan.vertex, plan.triangles.len()));
     }
-    let first_planned = if restored.is_some() { first_planned } else { kept.len() + first_planned };
+    // Pairs index `kept` then `added`: the planned triangles are added in the first round
+    // (tested among themselves too), kept in the later ones.
+    let (kept, added, among_added, first_planned) = match restored {
+        None => (&level_side, &planned_side, AddedPairs::Tested, level_side.len()),
+        Some(_) => (&planned_side, &level_side, AddedPairs::LeftOut, 0),
+    };
     let owner = |t: u32| (t as usize).checked_sub(first_planned).and_then(|i| owners.get(i).copied());
-    let pairs = super::added_triangle_intersections(positions, &kept, &added)?;
+    let pairs = triangle_intersections_across(positions, kept, added, among_added)?;
     if pairs.is_empty() {
         return Ok(FxHashSet::default());
     }
-    let combined: Vec<[u32; 3]> = kept.iter().chain(&added).copied().collect();
+    let combined: Vec<[u32; 3]> = kept.iter().chain(added.iter()).copied().collect();
     let stars: FxHashMap<u32, Vec<[u32; 3]>> = {
         let offending: FxHashSet<u32> = pairs.iter().flatten().filter_map(|&t| owner(t)).collect();
         let mut stars: FxHashMap<u32, Vec<[u32; 3]>> = offending.iter().map(|&v| (v, Vec::new())).collect();
@@ -96,13 +105,15 @@ fn intersecting_plans(
     };
     // What each face of a pair stands for in the level before: a planned triangle for its
     // plan's star, any other face for itself.
-    let region = |t: u32| -> Vec<[u32; 3]> {
-        match owner(t) {
-            Some(v) => stars[&v].clone(),
-            None => vec![combined[t as usize]],
+    let side = |t: u32| owner(t).map_or(Side::Face(t), Side::Plan);
+    let region = |side: Side| -> Vec<[u32; 3]> {
+        match side {
+            Side::Plan(v) => stars[&v].clone(),
+            Side::Face(t) => vec![combined[t as usize]],
         }
     };
-    let before = crossings_before(positions, &pairs, &region)?;
+    let sides: Vec<[Side; 2]> = pairs.iter().map(|&[a, b]| [side(a), side(b)]).collect();
+    let before = crossings_before(positions, &sides, &region)?;
     let mut offending = FxHashSet::default();
     for (k, pair) in pairs.iter().enumerate() {
         if !before[k] {
@@ -112,34 +123,59 @@ fn intersecting_plans(
     Ok(offending)
 }
 
-/// For each intersecting pair of a level as planned, whether the surface already crossed
-/// itself there: whether a face of one side's `region` (the faces it replaces, or itself)
-/// intersects a face of the other's in the level before the plans. Inputs whose parts
-/// interpenetrate or touch (assemblies, scans with overlapping sheets) keep those
-/// crossings at every level; the guard refuses only crossings the plans would make (#34).
+/// What a face of an intersecting pair stands for in the level before the plans.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+enum Side {
+    /// A planned triangle: its plan's star (the plan's vertex).
+    Plan(u32),
+    /// Any other face: itself (its index in the pairs' numbering).
+    Face(u32),
+}
+
+/// For each intersecting pair of a level as planned (as the [`Side`]s its faces stand
+/// for), whether the surface already crossed itself there: whether a face of one side's
+/// `region` (the faces it replaces, or itself) intersects a face of the other's in the level
+/// before the plans. Inputs whose parts interpenetrate or touch (assemblies, scans with
+/// overlapping sheets) keep those crossings at every level; the guard refuses only
+/// crossings the plans would make (#34). Each distinct pair of sides is looked at once,
+/// and each pair of their faces tested once.
 fn crossings_before(
     positions: &[glam::DVec3],
-    pairs: &[[u32; 2]],
-    region: &dyn Fn(u32) -> Vec<[u32; 3]>,
+    pairs: &[[Side; 2]],
+    region: &dyn Fn(Side) -> Vec<[u32; 3]>,
 ) -> Result<Vec<bool>> {
+    let mut distinct = pairs.to_vec();
+    distinct.sort_unstable();
+    distinct.dedup();
     let mut faces: Vec<[u32; 3]> = Vec::new();
     let mut index: FxHashMap<[u32; 3], u32> = FxHashMap::default();
-    let mut slot = |t: [u32; 3], faces: &mut Vec<[u32; 3]>| {
-        *index.entry(super::face_key(t)).or_insert_with(|| {
-            faces.push(t);
-            faces.len() as u32 - 1
-        })
+    let mut regions: FxHashMap<Side, Vec<u32>> = FxHashMap::default();
+    for side in distinct.iter().flatten() {
+        regions.entry(*side).or_insert_with(|| {
+            let slot = |t: [u32; 3]| {
+                *index.entry(super::face_key(t)).or_insert_with(|| {
+                    faces.push(t);
+                    faces.len() as u32 - 1
+                })
+            };
+            region(*side).into_iter().map(slot).collect()
+        });
+    }
+    // Each pair of faces, one from each side, tested once (a face on both sides of a
+    // pair, as when a plan's triangles cross each other, is not tested against itself).
+    let across = |[x, y]: &[Side; 2]| {
+        let (x, y) = (&regions[x], &regions[y]);
+        x.iter().flat_map(move |&a| y.iter().filter(move |&&b| b != a).map(move |&b| [a.min(b), a.max(b)]))
     };
-    let sides: Vec<[Vec<u32>; 2]> = pairs
-        .iter()
-        .map(|&[a, b]| [region(a), region(b)].map(|r| r.into_iter().map(|t| slot(t, &mut faces)).collect()))
-        .collect();
-    let crossing: FxHashSet<[u32; 2]> = super::added_triangle_intersections(positions, &[], &faces)?
+    let mut tests: Vec<[u32; 2]> = distinct.iter().flat_map(across).collect();
+    tests.sort_unstable();
+    tests.dedup();
+    let crossing: FxHashSet<[u32; 2]> = listed_pairs_intersect(positions, &faces, &tests)?
         .into_iter()
-        .map(|[a, b]| [a.min(b), a.max(b)])
+        .zip(&tests)
+        .filter_map(|(hit, pair)| hit.then_some(*pair))
         .collect();
-    Ok(sides
-        .iter()
-        .map(|[x, y]| x.iter().any(|&a| y.iter().any(|&b| crossing.contains(&[a.min(b), a.max(b)]))))
-        .collect())
+    let crossed: FxHashSet<[Side; 2]> =
+        distinct.into_iter().filter(|pair| across(pair).any(|p| crossing.contains(&p))).collect();
+    Ok(pairs.iter().map(|pair| crossed.contains(pair)).collect())
 }

@@ -27,6 +27,26 @@ pub fn added_triangle_intersections(
     kept: &[[u32; 3]],
     added: &[[u32; 3]],
 ) -> Result<Vec<[u32; 2]>> {
+    triangle_intersections_across(positions, kept, added, AddedPairs::Tested)
+}
+
+/// Whether [`triangle_intersections_across`] tests the pairs of two added triangles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum AddedPairs {
+    /// Tested, as [`added_triangle_intersections`] does.
+    Tested,
+    /// Left out: the caller knows they cannot matter (the guard's later rounds, whose
+    /// added faces all belong to the level before and so crossed there already if they cross).
+    LeftOut,
+}
+
+/// [`added_triangle_intersections`], with the pairs of two added triangles tested or left out.
+pub(super) fn triangle_intersections_across(
+    positions: &[DVec3],
+    kept: &[[u32; 3]],
+    added: &[[u32; 3]],
+    among_added: AddedPairs,
+) -> Result<Vec<[u32; 2]>> {
     use rayon::prelude::*;
     for (i, t) in kept.iter().chain(added).enumerate() {
         for &v in t {
@@ -57,7 +77,8 @@ pub fn added_triangle_intersections(
         }
         pairs
     });
-    let near_added = grid.boxes().par_chunks(CHUNK).enumerate().map(|(c, part)| {
+    let added_boxes = if among_added == AddedPairs::Tested { grid.boxes() } else { &[] };
+    let near_added = added_boxes.par_chunks(CHUNK).enumerate().map(|(c, part)| {
         let mut pairs = Vec::new();
         for (i, b) in part.iter().enumerate() {
             let i = (c * CHUNK + i) as u32;
@@ -80,4 +101,85 @@ pub fn added_triangle_intersections(
     let mut pairs: Vec<[u32; 2]> = hits.into_iter().flatten().collect();
     pairs.sort_unstable();
     Ok(pairs)
+}
+
+/// Which of the listed `pairs` of `faces` (indices into `faces`, two distinct faces each)
+/// intersect, one flag per pair, by the rules and predicates of
+/// [`added_triangle_intersections`]: pairs whose boxes are apart or that the plane-side
+/// filter separates are not sent to CGAL (both tests are certain, so the answer is the one
+/// CGAL would give).
+///
+/// # Errors
+/// [`Error::Native`] if CGAL fails.
+pub(super) fn listed_pairs_intersect(positions: &[DVec3], faces: &[[u32; 3]], pairs: &[[u32; 2]]) -> Result<Vec<bool>> {
+    use rayon::prelude::*;
+    const CHUNK: usize = 1 << 12;
+    let bbox =
+        |t: [u32; 3]| Aabb::of_triangle(positions[t[0] as usize], positions[t[1] as usize], positions[t[2] as usize]);
+    let chunks: Vec<Vec<bool>> = pairs
+        .par_chunks(CHUNK)
+        .map(|part| {
+            let near = |&[a, b]: &[u32; 2]| {
+                let (s, t) = (faces[a as usize], faces[b as usize]);
+                bbox(s).overlaps(&bbox(t)) && !certainly_apart(positions, s, t)
+            };
+            let uncertain: Vec<[u32; 2]> = part.iter().copied().filter(near).collect();
+            let mut flags = ffi::triangle_pairs_intersect(positions, faces, &[], &uncertain)?.into_iter();
+            Ok(part.iter().map(|p| near(p) && flags.next().is_some_and(|f| f != 0)).collect())
+        })
+        .collect::<Result<_>>()?;
+    Ok(chunks.into_iter().flatten().collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A soup of `n` small triangles in the unit cube, many crossing, some sharing corners.
+    fn soup(n: usize) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        let mut state = 0x9E37_79B9_7F4A_7C15_u64;
+        let mut unit = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut positions = Vec::new();
+        for _ in 0..n {
+            let centre = DVec3::new(unit(), unit(), unit());
+            for _ in 0..3 {
+                positions.push(centre + 0.15 * DVec3::new(unit() - 0.5, unit() - 0.5, unit() - 0.5));
+            }
+        }
+        // Every fifth triangle reuses a corner of the one before, to exercise the shared-corner rules.
+        let faces = (0..n as u32)
+            .map(|i| if i % 5 == 4 { [3 * i - 1, 3 * i + 1, 3 * i + 2] } else { [3 * i, 3 * i + 1, 3 * i + 2] })
+            .collect();
+        (positions, faces)
+    }
+
+    #[test]
+    fn leaving_out_added_pairs_drops_exactly_those() {
+        let (positions, faces) = soup(400);
+        let (kept, added) = faces.split_at(250);
+        let nk = kept.len() as u32;
+        let all = added_triangle_intersections(&positions, kept, added).unwrap();
+        let across = triangle_intersections_across(&positions, kept, added, AddedPairs::LeftOut).unwrap();
+        assert!(all.iter().any(|p| p[0] >= nk), "the soup has no crossing between added triangles");
+        assert!(!across.is_empty(), "the soup has no crossing between kept and added triangles");
+        let expected: Vec<[u32; 2]> = all.into_iter().filter(|p| p[0] < nk).collect();
+        assert_eq!(across, expected);
+    }
+
+    #[test]
+    fn listed_pairs_agree_with_the_grid_search() {
+        let (positions, faces) = soup(300);
+        let found = added_triangle_intersections(&positions, &[], &faces).unwrap();
+        let n = faces.len() as u32;
+        let every_pair: Vec<[u32; 2]> = (0..n).flat_map(|a| (a + 1..n).map(move |b| [a, b])).collect();
+        let flags = listed_pairs_intersect(&positions, &faces, &every_pair).unwrap();
+        let listed: Vec<[u32; 2]> = every_pair.iter().zip(flags).filter(|(_, f)| *f).map(|(p, _)| *p).collect();
+        assert!(listed.len() > 10, "the soup crosses itself only {} times", listed.len());
+        assert_eq!(listed, found);
+    }
 }

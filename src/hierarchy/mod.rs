@@ -21,6 +21,7 @@ mod lines;
 mod param;
 pub mod partition;
 mod plan;
+mod plan_cache;
 mod record;
 mod refine;
 pub mod region;

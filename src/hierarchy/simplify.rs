@@ -17,6 +17,7 @@ use super::guard::guard_plans;
 use super::lines::FeatureLines;
 use super::param::{ParamBuckets, ParamPoint};
 use super::plan::{ClusterPlan, apply_plan, plan_still_applies};
+use super::plan_cache::PlanCache;
 use super::record::{Recorded, Recorder};
 use super::rings::Rings;
 use super::sliver_budget::SliverBudget;
@@ -197,6 +198,7 @@ fn build_with(
         lines,
         params,
         slivers: SliverBudget::new(&working_positions, &mesh.triangles),
+        cache: PlanCache::new(n),
     };
     // Planning runs here; the record (the removal records, and the OpenMesh replay when
     // asked) follows a level behind on its own thread. The channel holds nothing: a level's
@@ -288,6 +290,8 @@ struct Planner<'a> {
     params: ParamBuckets,
     /// How many slivers clusters under the angle floor may still make.
     slivers: SliverBudget,
+    /// Each vertex's plan while nothing it reads has changed.
+    cache: PlanCache,
 }
 
 /// What the level loop carries from one level to the next.
@@ -350,6 +354,7 @@ impl Planner<'_> {
             let (mut ranked, limit) = self.rank_level(&mut state);
             lap(clock, &mut stages.ranking);
             let (plans, offenders) = self.plan_level(&mut ranked, &state.rules, limit, stages, clock)?;
+            self.cache.give_back(ranked);
             if plans.is_empty() {
                 match self.after_empty_level(&mut state, offenders) {
                     Next::Retry => continue,
@@ -360,6 +365,7 @@ impl Planner<'_> {
             state.waiting_retried = false;
             state.waiting = offenders;
             self.apply_level(&plans);
+            self.cache.forget_around(plans.iter().flat_map(|p| p.ring.iter().copied().chain([p.vertex])), &self.rings);
             state.steps += 1;
             crate::progress::report("simplify", (first_live - self.live.len()) as u64, to_remove);
             lap(clock, &mut stages.planning);
@@ -385,8 +391,17 @@ impl Planner<'_> {
         let geometry = level_geometry(self.positions, &self.quadrics, &self.params, &self.lines);
         state.rules.under_floor = self.slivers.has_room();
         let need = options.target_vertices.map_or(usize::MAX, |t| self.live.len().saturating_sub(t));
-        let mut ranked =
-            ranked_candidates(&self.live, &state.waiting, &self.rings, &self.kept, geometry, &state.rules, need);
+        let waiting = &state.waiting;
+        let mut ranked = ranked_candidates(
+            &self.live,
+            waiting,
+            &self.rings,
+            &self.kept,
+            geometry,
+            &state.rules,
+            need,
+            &mut self.cache,
+        );
         let max_error = options.max_error.map(|f| f * f);
         let limit = level_error_limit(&ranked, need, PLAN_TOLERANCE).min(max_error.unwrap_or(f64::INFINITY));
         if options.target_vertices.is_none() || options.max_error.is_some() || !options.give_way || !limit.is_finite() {
@@ -407,6 +422,7 @@ impl Planner<'_> {
             // made again by selection, on the lines as they now are.
             let touched: FxHashSet<u32> =
                 cheap.iter().flat_map(|&(_, v)| self.rings.ring(v).iter().copied().chain([v])).collect();
+            self.cache.forget_around(touched.iter().copied(), &self.rings);
             for candidate in &mut ranked {
                 if touched.contains(&candidate.vertex) {
                     candidate.plan = None;
@@ -482,6 +498,11 @@ impl Planner<'_> {
             true => self.give_way.next(need, &self.live, &mut self.kept, &mut self.lines, &self.rings),
             false => None,
         };
+        // A release changes lines and kept vertices anywhere (a floor changes the rules,
+        // which the plan cache watches itself).
+        if matches!(rung, Some(Rung::Released(_))) {
+            self.cache.forget_all();
+        }
         match rung {
             Some(Rung::Floor(degrees)) => state.rules.min_angle = degrees.to_radians(),
             Some(Rung::Released(_)) => state.rules.min_angle = self.give_way.floor().to_radians(),
@@ -764,7 +785,14 @@ const BOUND_SAMPLE: usize = 2048;
 /// the level's goal, with a margin of 1.25 in rank and 3 in error). A limit above the
 /// estimate costs only time: the candidates between are planned again by selection. Meshes
 /// of up to four samples keep every plan.
-fn plan_bound(eligible: &[u32], rings: &Rings, geometry: LevelGeometry<'_>, rules: &ClusterRules, need: usize) -> f64 {
+fn plan_bound(
+    eligible: &[u32],
+    rings: &Rings,
+    geometry: LevelGeometry<'_>,
+    rules: &ClusterRules,
+    need: usize,
+    cache: &PlanCache,
+) -> f64 {
     if eligible.len() <= 4 * BOUND_SAMPLE {
         return f64::INFINITY;
     }
@@ -772,7 +800,7 @@ fn plan_bound(eligible: &[u32], rings: &Rings, geometry: LevelGeometry<'_>, rule
     let mut errors: Vec<f64> = eligible
         .par_iter()
         .step_by(stride)
-        .filter_map(|&v| plan_cluster(v, rings, geometry, rules).map(|plan| plan.error))
+        .filter_map(|&v| cache.error(v).unwrap_or_else(|| plan_cluster(v, rings, geometry, rules).map(|p| p.error)))
         .collect();
     if errors.is_empty() {
         return f64::INFINITY;
@@ -786,7 +814,9 @@ fn plan_bound(eligible: &[u32], rings: &Rings, geometry: LevelGeometry<'_>, rule
 
 /// Removable candidates with the E(v) of the cluster each would be on this level's rings,
 /// cheapest first (ties by vertex id), each with its plan where its error is within
-/// [`plan_bound`]; vertices with no valid cluster, and those `waiting`, are left out.
+/// [`plan_bound`]; vertices with no valid cluster, and those `waiting`, are left out. Only
+/// the vertices whose plans `cache` no longer holds are planned.
+#[allow(clippy::too_many_arguments)]
 fn ranked_candidates(
     live: &[u32],
     waiting: &FxHashSet<u32>,
@@ -795,6 +825,7 @@ fn ranked_candidates(
     geometry: LevelGeometry<'_>,
     rules: &ClusterRules,
     need: usize,
+    cache: &mut PlanCache,
 ) -> Vec<Candidate> {
     let eligible: Vec<u32> = live
         .par_iter()
@@ -803,19 +834,37 @@ fn ranked_candidates(
             !kept[v as usize] && !waiting.contains(&v) && rings.degree(v) >= if rings.is_boundary(v) { 3 } else { 4 }
         })
         .collect();
-    let bound = plan_bound(&eligible, rings, geometry, rules, need);
-    let mut ranked: Vec<Candidate> = eligible
-        .par_iter()
-        .filter_map(|&v| {
-            plan_cluster(v, rings, geometry, rules).map(|plan| Candidate {
-                error: plan.error,
-                vertex: v,
-                plan: (plan.error <= bound).then(|| Box::new(plan)),
-            })
-        })
-        .collect();
+    cache.use_rules(rules);
+    let bound = plan_bound(&eligible, rings, geometry, rules, need, cache);
+    #[cfg(debug_assertions)]
+    check_cached_plans(&eligible, rings, geometry, rules, cache);
+    let stale: Vec<u32> = eligible.iter().copied().filter(|&v| cache.is_stale(v)).collect();
+    let planned: Vec<Option<ClusterPlan>> =
+        stale.par_iter().map(|&v| plan_cluster(v, rings, geometry, rules)).collect();
+    for (v, plan) in stale.into_iter().zip(planned) {
+        cache.store(v, plan, bound);
+    }
+    let mut ranked: Vec<Candidate> = eligible.iter().filter_map(|&v| cache.candidate(v, bound)).collect();
     ranked.par_sort_unstable_by(|a, b| a.error.total_cmp(&b.error).then(a.vertex.cmp(&b.vertex)));
     ranked
+}
+
+/// Debug builds check the plan cache's premise: a sample of the vertices whose plans it
+/// kept (one in 16), planned again, gives the same E(v) to the bit.
+#[cfg(debug_assertions)]
+fn check_cached_plans(
+    eligible: &[u32],
+    rings: &Rings,
+    geometry: LevelGeometry<'_>,
+    rules: &ClusterRules,
+    cache: &PlanCache,
+) {
+    eligible.par_iter().filter(|&&v| v % 16 == 0).for_each(|&v| {
+        if let Some(kept) = cache.error(v) {
+            let fresh = plan_cluster(v, rings, geometry, rules).map(|p| p.error.to_bits());
+            assert_eq!(kept.map(f64::to_bits), fresh, "the plan cache kept a stale plan of vertex {v}");
+        }
+    });
 }
 
 /// The error limit of one level, after meshoptimizer's passes (Kapoulkine, `simplify`):

@@ -8,6 +8,7 @@ use asperity::hierarchy::{KeepFeatures, Refiner, Rings, SimplifyOptions, build, 
 use asperity::mesh::primitives::{icosphere, torus};
 use asperity::mesh::{Mesh, ValidationReport};
 use asperity::{analysis, io};
+use glam::DVec3;
 
 use crate::common::shared_meshes;
 
@@ -183,6 +184,79 @@ fn the_guard_keeps_a_thin_pancake_from_cutting_itself() {
     // Without the guard the same simplification does cut through: the check above is the
     // guard's doing, not the mesh's.
     assert!(intersecting_pairs(false) > 0);
+}
+
+/// The intersecting face pairs summed over the levels of `mesh` simplified to `target`
+/// vertices, with the guard or without.
+fn crossings_over_levels(mesh: &Mesh, target: usize, guard: bool) -> usize {
+    let options = SimplifyOptions {
+        target_vertices: Some(target),
+        keep_features: KeepFeatures::None,
+        record_levels: true,
+        prevent_intersections: guard,
+        ..SimplifyOptions::default()
+    };
+    let h = build(mesh, &options).unwrap();
+    assert_eq!(h.base_vertex_count(), target);
+    h.levels.iter().map(|level| ffi::self_intersections(&level.mesh).unwrap().len()).sum()
+}
+
+/// A bumpy sheet over the unit square, `cells`×`cells`: `z = lift + 0.03·sin(9x)·cos(7y)`.
+fn bumpy_sheet(cells: u32, lift: f64) -> Mesh {
+    let mut sheet = asperity::mesh::primitives::grid(cells);
+    for p in &mut sheet.positions {
+        p.z = lift + 0.03 * (9.0 * p.x).sin() * (7.0 * p.y).cos();
+    }
+    sheet
+}
+
+#[test]
+fn the_guard_keeps_two_sheets_closer_than_the_error_apart() {
+    // Two bumpy sheets 0.005 apart, a twelfth of their bumps' height, on different grids
+    // (so their levels differ): flattening a bump moves a sheet further than the gap.
+    let (lower, upper) = (bumpy_sheet(24, 0.0), bumpy_sheet(19, 0.005));
+    let n = lower.vertex_count() as u32;
+    let positions = [lower.positions, upper.positions].concat();
+    let triangles = [lower.triangles, upper.triangles.iter().map(|t| t.map(|v| v + n)).collect()].concat();
+    let mesh = Mesh::new(positions, triangles);
+    assert!(ffi::self_intersections(&mesh).unwrap().is_empty());
+    assert_eq!(crossings_over_levels(&mesh, 120, true), 0);
+    assert!(crossings_over_levels(&mesh, 120, false) > 0, "without the guard the sheets should cut each other");
+}
+
+#[test]
+fn the_guard_keeps_a_folded_strip_from_cutting_itself() {
+    // One bumpy strip folded in two: 24 columns of cells from x = 0 to 2 at z = -0.004, a
+    // column standing at x = 2 (the fold), 24 back from x = 2 to 0 at z = +0.004, each leg
+    // 12 cells wide, both carrying the bumps 0.06·sin(5x)·cos(4y). The legs' cells are
+    // split along opposite diagonals, so their levels differ; the gap is a fifteenth of the
+    // bumps' height.
+    let (m, rows) = (24_u32, 12_u32);
+    let bump = |x: f64, y: f64| 0.06 * (5.0 * x).sin() * (4.0 * y).cos();
+    let mut positions = Vec::new();
+    for j in 0..=rows {
+        let y = f64::from(j) / f64::from(rows);
+        for i in 0..=2 * m + 1 {
+            let (x, z) = if i <= m {
+                (2.0 * f64::from(i) / f64::from(m), -0.004)
+            } else {
+                (2.0 * f64::from(2 * m + 1 - i) / f64::from(m), 0.004)
+            };
+            positions.push(DVec3::new(x, y, z + bump(x, y)));
+        }
+    }
+    let id = |i: u32, j: u32| j * (2 * m + 2) + i;
+    let mut triangles = Vec::new();
+    for j in 0..rows {
+        for i in 0..=2 * m {
+            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    let strip = Mesh::new(positions, triangles);
+    assert!(ffi::self_intersections(&strip).unwrap().is_empty());
+    assert_eq!(crossings_over_levels(&strip, 60, true), 0);
+    assert!(crossings_over_levels(&strip, 60, false) > 0, "without the guard the strip should cut itself");
 }
 
 #[test]
