@@ -12,11 +12,12 @@ use crate::error::Result;
 /// The intersection guard: leaves out the plans whose new triangles would intersect the
 /// level's surface as planned (CGAL's exact predicates; intersections already in the level
 /// are not counted, nor a planned triangle's crossing of a face that the faces it replaces
-/// already crossed: see [`crossings_before`]). The offending plans are dropped and the others replayed on the rings
-/// in their order, dropping those that no longer apply without the dropped ones
-/// ([`plan_still_applies`]); the faces that come back are then checked against the rest,
-/// until nothing offends. Plans are never re-planned, so each round after the first checks
-/// only the restored faces. Returns the plans kept and the vertices whose plans offended.
+/// already crossed: see [`crossings_before`]). The offending plans are dropped and the
+/// others replayed on the rings in their order, dropping those that no longer apply without
+/// the dropped ones ([`plan_still_applies`]); the faces that come back are then checked
+/// against the planned triangles still kept, until nothing offends. Plans are never
+/// re-planned, so each round after the first checks only the restored faces. Returns the
+/// plans kept and the vertices whose plans offended.
 pub(super) fn guard_plans(
     positions: &[glam::DVec3],
     level_faces: &[[u32; 3]],

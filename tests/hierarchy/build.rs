@@ -166,24 +166,15 @@ fn no_level_intersects_itself() {
 
 #[test]
 fn the_guard_keeps_a_thin_pancake_from_cutting_itself() {
-    let mesh = crate::common::thin_pancake();
-    assert!(ffi::self_intersections(&mesh).unwrap().is_empty());
-    let intersecting_pairs = |guard: bool| {
-        let options = SimplifyOptions {
-            target_vertices: Some(20),
-            keep_features: KeepFeatures::None,
-            record_levels: true,
-            prevent_intersections: guard,
-            ..SimplifyOptions::default()
-        };
-        let h = build(&mesh, &options).unwrap();
-        assert_eq!(h.base_vertex_count(), 20);
-        h.levels.iter().map(|level| ffi::self_intersections(&level.mesh).unwrap().len()).sum::<usize>()
-    };
-    assert_eq!(intersecting_pairs(true), 0);
-    // Without the guard the same simplification does cut through: the check above is the
-    // guard's doing, not the mesh's.
-    assert!(intersecting_pairs(false) > 0);
+    assert_only_the_guard_keeps_apart(&crate::common::thin_pancake(), 20, "the pancake");
+}
+
+/// `mesh` does not cut itself, nor do its levels down to `target` vertices with the guard;
+/// without it they do: the check is the guard's doing, not the mesh's.
+fn assert_only_the_guard_keeps_apart(mesh: &Mesh, target: usize, what: &str) {
+    assert!(ffi::self_intersections(mesh).unwrap().is_empty(), "{what} cuts itself before any level");
+    assert_eq!(crossings_over_levels(mesh, target, true), 0, "{what}: a level cuts itself with the guard");
+    assert!(crossings_over_levels(mesh, target, false) > 0, "{what}: no level cuts itself even without the guard");
 }
 
 /// The intersecting face pairs summed over the levels of `mesh` simplified to `target`
@@ -218,10 +209,7 @@ fn the_guard_keeps_two_sheets_closer_than_the_error_apart() {
     let n = lower.vertex_count() as u32;
     let positions = [lower.positions, upper.positions].concat();
     let triangles = [lower.triangles, upper.triangles.iter().map(|t| t.map(|v| v + n)).collect()].concat();
-    let mesh = Mesh::new(positions, triangles);
-    assert!(ffi::self_intersections(&mesh).unwrap().is_empty());
-    assert_eq!(crossings_over_levels(&mesh, 120, true), 0);
-    assert!(crossings_over_levels(&mesh, 120, false) > 0, "without the guard the sheets should cut each other");
+    assert_only_the_guard_keeps_apart(&Mesh::new(positions, triangles), 120, "two sheets");
 }
 
 #[test]
@@ -253,10 +241,7 @@ fn the_guard_keeps_a_folded_strip_from_cutting_itself() {
             triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
         }
     }
-    let strip = Mesh::new(positions, triangles);
-    assert!(ffi::self_intersections(&strip).unwrap().is_empty());
-    assert_eq!(crossings_over_levels(&strip, 60, true), 0);
-    assert!(crossings_over_levels(&strip, 60, false) > 0, "without the guard the strip should cut itself");
+    assert_only_the_guard_keeps_apart(&Mesh::new(positions, triangles), 60, "the folded strip");
 }
 
 #[test]
