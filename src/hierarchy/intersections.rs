@@ -58,13 +58,11 @@ pub(super) fn triangle_intersections_across(
             }
         }
     }
-    let bbox =
-        |t: &[u32; 3]| Aabb::of_triangle(positions[t[0] as usize], positions[t[1] as usize], positions[t[2] as usize]);
+    let bbox = |t: &[u32; 3]| face_box(positions, *t);
     let grid = BoxGrid::new(added.par_iter().map(bbox).collect());
     let nk = kept.len() as u32;
     // Candidates: kept against added, then added against added (each pair once), whose
     // boxes overlap and which the plane-side filter cannot tell apart.
-    const CHUNK: usize = 1 << 12;
     let near_kept = kept.par_chunks(CHUNK).enumerate().map(|(c, part)| {
         let mut pairs = Vec::new();
         for (k, t) in part.iter().enumerate() {
@@ -113,22 +111,30 @@ pub(super) fn triangle_intersections_across(
 /// [`Error::Native`] if CGAL fails.
 pub(super) fn listed_pairs_intersect(positions: &[DVec3], faces: &[[u32; 3]], pairs: &[[u32; 2]]) -> Result<Vec<bool>> {
     use rayon::prelude::*;
-    const CHUNK: usize = 1 << 12;
-    let bbox =
-        |t: [u32; 3]| Aabb::of_triangle(positions[t[0] as usize], positions[t[1] as usize], positions[t[2] as usize]);
     let chunks: Vec<Vec<bool>> = pairs
         .par_chunks(CHUNK)
         .map(|part| {
-            let near = |&[a, b]: &[u32; 2]| {
-                let (s, t) = (faces[a as usize], faces[b as usize]);
-                bbox(s).overlaps(&bbox(t)) && !certainly_apart(positions, s, t)
-            };
-            let uncertain: Vec<[u32; 2]> = part.iter().copied().filter(near).collect();
+            let near: Vec<bool> = part
+                .iter()
+                .map(|&[a, b]| {
+                    let (s, t) = (faces[a as usize], faces[b as usize]);
+                    face_box(positions, s).overlaps(&face_box(positions, t)) && !certainly_apart(positions, s, t)
+                })
+                .collect();
+            let uncertain: Vec<[u32; 2]> = part.iter().zip(&near).filter(|(_, n)| **n).map(|(p, _)| *p).collect();
             let mut flags = ffi::triangle_pairs_intersect(positions, faces, &[], &uncertain)?.into_iter();
-            Ok(part.iter().map(|p| near(p) && flags.next().is_some_and(|f| f != 0)).collect())
+            Ok(near.into_iter().map(|n| n && flags.next().is_some_and(|f| f != 0)).collect())
         })
         .collect::<Result<_>>()?;
     Ok(chunks.into_iter().flatten().collect())
+}
+
+/// Pairs are gathered and sent to CGAL in chunks of this many, across threads.
+const CHUNK: usize = 1 << 12;
+
+/// The bounding box of face `t`.
+fn face_box(positions: &[DVec3], t: [u32; 3]) -> Aabb {
+    Aabb::of_triangle(positions[t[0] as usize], positions[t[1] as usize], positions[t[2] as usize])
 }
 
 #[cfg(test)]

@@ -391,10 +391,9 @@ impl Planner<'_> {
         let geometry = level_geometry(self.positions, &self.quadrics, &self.params, &self.lines);
         state.rules.under_floor = self.slivers.has_room();
         let need = options.target_vertices.map_or(usize::MAX, |t| self.live.len().saturating_sub(t));
-        let waiting = &state.waiting;
         let mut ranked = ranked_candidates(
             &self.live,
-            waiting,
+            &state.waiting,
             &self.rings,
             &self.kept,
             geometry,
