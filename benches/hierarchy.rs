@@ -7,7 +7,8 @@
 //! stage's time on one thread and on all, the OpenMesh replay's cost), and #19's 1 % rows
 //! on the shared meshes.
 //!
-//! `cargo bench --bench hierarchy` (`-- --quick` uses the 327 k-triangle sphere).
+//! `cargo bench --bench hierarchy` (`-- --quick` uses the 327 k-triangle sphere;
+//! `-- --write-mesh PATH` writes the chosen sphere and stops, to profile the CLI on it).
 
 mod common;
 
@@ -22,6 +23,11 @@ fn main() {
     asperity::memory::return_large_buffers_to_the_os();
     let quick = std::env::args().any(|a| a == "--quick");
     let mesh = common::displaced_sphere(if quick { 7 } else { 8 });
+    if let Some(path) = std::env::args().skip_while(|a| a != "--write-mesh").nth(1) {
+        asperity::io::write(&mesh, std::path::Path::new(&path), Default::default()).expect("write the sphere");
+        println!("wrote {path}: {} vertices, {} tris", mesh.vertex_count(), mesh.face_count());
+        return;
+    }
     let target = mesh.vertex_count() / 100;
     println!("mesh: {} vertices, {} tris; target {} vertices", mesh.vertex_count(), mesh.face_count(), target);
     let before = common::peak_rss_kib().unwrap_or(0);

@@ -6,14 +6,25 @@
 //! A plan ([`super::cluster::plan_cluster`]) of a vertex `v` reads `v`'s ring, the rings of
 //! its ring's vertices (`Rings::may_join`'s edges and copies' edges, their degrees), the
 //! positions (never moved), `v`'s quadric, the parameter points on `v`'s star faces, the
-//! feature-line edges at `v`, and the level's rules. A level's removal changes the rings
-//! of its own ring's vertices only; the quadrics it shares go to its diagonal's ends, its
-//! parameter points onto its new faces and its merged line edge between ring vertices —
-//! all vertices of its ring. So after a level, the plans of those vertices and of their
-//! neighbours are stale ([`PlanCache::forget_around`]) and every other plan is the one
-//! planning it again would make, bit for bit: the build's output does not change (checked
-//! in debug builds by planning a sample of the reused vertices again). A change of the
-//! rules or a release by the give-way ladder forgets every plan.
+//! feature-line edges at `v`, and the level's rules. A level's removal of `u` edits the rings
+//! of `u`'s ring only; the quadrics it shares go to its diagonal's ends, its parameter points
+//! onto its new faces and its merged line edge between ring vertices — all vertices of its
+//! ring. So after a level ([`PlanCache::forget_after_level`]) the plans of the removed
+//! vertices' rings are stale. A vertex `w` beside such a ring keeps its own ring, star,
+//! quadric and lines; of its ring's rings a plan reads only two things:
+//! - whether two of its ring vertices are joined (`may_join`): a removal deletes only edges
+//!   at the removed vertex, so the answers change only where the level made an edge (a flip's
+//!   or the weld's diagonal) between two of `w`'s ring vertices;
+//! - whether a ring vertex may lose a neighbour after the plan's earlier flips gave it
+//!   `gain ≥ 0` (`may_lose_neighbour`): always yes while its degree is above the fan's least,
+//!   so the answers change only where a ring vertex's degree is, or was when `w` was
+//!   planned, at that least.
+//!
+//! Every other plan is the one planning it again would make, bit for bit: the build's
+//! output does not change (checked in debug builds by planning a sample of the reused
+//! vertices again). A change of the rules or a release by the give-way ladder forgets every
+//! plan, or those around the released vertices; a build whose rings hold copies of one
+//! vertex (a partitioned build's continuation) forgets the removed vertices' 2-rings.
 
 use rayon::prelude::*;
 
@@ -40,12 +51,15 @@ pub(super) struct PlanCache {
     entries: Vec<Entry>,
     /// The rules the entries were planned under.
     rules: Option<ClusterRules>,
+    /// Whether every ring vertex of the vertex had a degree above the fan's least when it
+    /// was planned (its plan's `may_lose_neighbour` checks then all said yes).
+    roomy: Vec<bool>,
 }
 
 impl PlanCache {
     /// Nothing planned yet for `slots` vertices.
     pub(super) fn new(slots: usize) -> Self {
-        PlanCache { entries: (0..slots).map(|_| Entry::Stale).collect(), rules: None }
+        PlanCache { entries: (0..slots).map(|_| Entry::Stale).collect(), rules: None, roomy: vec![false; slots] }
     }
 
     /// Forgets every plan if `rules` are not those the plans were made under.
@@ -72,6 +86,42 @@ impl PlanCache {
         }
     }
 
+    /// Forgets the plans a level's removals (`plans`, carried out on `rings`) made stale: the
+    /// removed vertices' and their rings' and, beside those rings, the vertices between two
+    /// of whose ring vertices the level made an edge, or a ring vertex of which is at (or
+    /// was planned at) the least degree of a fan (see the module's documentation).
+    pub(super) fn forget_after_level(&mut self, plans: &[ClusterPlan], rings: &Rings) {
+        if rings.has_copies() {
+            self.forget_around(plans.iter().flat_map(|p| p.ring.iter().copied().chain([p.vertex])), rings);
+            return;
+        }
+        for plan in plans {
+            self.entries[plan.vertex as usize] = Entry::Stale;
+            for &r in &plan.ring {
+                self.entries[r as usize] = Entry::Stale;
+            }
+        }
+        // Only the rings' vertices changed degree: a vertex beside one at the least, or
+        // planned beside one, is stale.
+        for plan in plans {
+            for &r in &plan.ring {
+                let tight = !rings.may_lose_neighbour(r, 0);
+                for &w in rings.ring(r) {
+                    if tight || !self.roomy[w as usize] {
+                        self.entries[w as usize] = Entry::Stale;
+                    }
+                }
+            }
+            for [a, b] in new_edges(plan) {
+                for &w in rings.ring(a) {
+                    if rings.has_edge(w, b) {
+                        self.entries[w as usize] = Entry::Stale;
+                    }
+                }
+            }
+        }
+    }
+
     /// Whether `v` must be planned again.
     pub(super) fn is_stale(&self, v: u32) -> bool {
         matches!(self.entries[v as usize], Entry::Stale)
@@ -87,8 +137,9 @@ impl PlanCache {
     }
 
     /// Records `v`'s fresh plan (or that it has none), keeping the plan itself if its error
-    /// is within `bound`.
-    pub(super) fn store(&mut self, v: u32, plan: Option<ClusterPlan>, bound: f64) {
+    /// is within `bound`; `roomy`: [`ring_is_roomy`] on the rings it was planned on.
+    pub(super) fn store(&mut self, v: u32, plan: Option<ClusterPlan>, bound: f64, roomy: bool) {
+        self.roomy[v as usize] = roomy;
         self.entries[v as usize] = match plan {
             None => Entry::Invalid,
             Some(plan) => Entry::Planned { error: plan.error, plan: (plan.error <= bound).then(|| Box::new(plan)) },
@@ -120,4 +171,16 @@ impl PlanCache {
             }
         }
     }
+}
+
+/// Whether every ring vertex of `v` has a degree above the least of a fan, so that any
+/// plan's `may_lose_neighbour` checks on them say yes.
+pub(super) fn ring_is_roomy(v: u32, rings: &Rings) -> bool {
+    rings.ring(v).iter().all(|&r| rings.may_lose_neighbour(r, 0))
+}
+
+/// The edges a removal makes: each flip's (the cut ear's outer corners) and the weld's
+/// diagonal.
+fn new_edges(plan: &ClusterPlan) -> impl Iterator<Item = [u32; 2]> + '_ {
+    plan.triangles[..plan.flips.len()].iter().map(|t| [t[0], t[2]]).chain([plan.diagonal])
 }

@@ -163,6 +163,12 @@ impl Rings {
         !both_fenced && !self.has_edge(a, b) && (self.copies.is_empty() || !self.joins_a_copy(a, b))
     }
 
+    /// Whether some vertex is held as copies of one ([`Rings::twin`]): a plan then reads
+    /// edges beyond its ring's.
+    pub fn has_copies(&self) -> bool {
+        !self.copies.is_empty()
+    }
+
     /// Whether a–b would repeat an edge between one's copy and the other.
     fn joins_a_copy(&self, a: u32, b: u32) -> bool {
         let twice = |x: u32, y: u32| self.copies.get(&y).is_some_and(|c| c.iter().any(|&y2| self.has_edge(x, y2)));

@@ -17,7 +17,7 @@ use super::guard::guard_plans;
 use super::lines::FeatureLines;
 use super::param::{ParamBuckets, ParamPoint};
 use super::plan::{ClusterPlan, apply_plan, plan_still_applies};
-use super::plan_cache::PlanCache;
+use super::plan_cache::{PlanCache, ring_is_roomy};
 use super::record::{Recorded, Recorder};
 use super::rings::Rings;
 use super::sliver_budget::SliverBudget;
@@ -365,7 +365,7 @@ impl Planner<'_> {
             state.waiting_retried = false;
             state.waiting = offenders;
             self.apply_level(&plans);
-            self.cache.forget_around(plans.iter().flat_map(|p| p.ring.iter().copied().chain([p.vertex])), &self.rings);
+            self.cache.forget_after_level(&plans, &self.rings);
             state.steps += 1;
             crate::progress::report("simplify", (first_live - self.live.len()) as u64, to_remove);
             lap(clock, &mut stages.planning);
@@ -838,18 +838,19 @@ fn ranked_candidates(
     #[cfg(debug_assertions)]
     check_cached_plans(&eligible, rings, geometry, rules, cache);
     let stale: Vec<u32> = eligible.iter().copied().filter(|&v| cache.is_stale(v)).collect();
-    let planned: Vec<Option<ClusterPlan>> =
-        stale.par_iter().map(|&v| plan_cluster(v, rings, geometry, rules)).collect();
-    for (v, plan) in stale.into_iter().zip(planned) {
-        cache.store(v, plan, bound);
+    let planned: Vec<(Option<ClusterPlan>, bool)> =
+        stale.par_iter().map(|&v| (plan_cluster(v, rings, geometry, rules), ring_is_roomy(v, rings))).collect();
+    for (v, (plan, roomy)) in stale.into_iter().zip(planned) {
+        cache.store(v, plan, bound, roomy);
     }
     let mut ranked: Vec<Candidate> = eligible.iter().filter_map(|&v| cache.candidate(v, bound)).collect();
     ranked.par_sort_unstable_by(|a, b| a.error.total_cmp(&b.error).then(a.vertex.cmp(&b.vertex)));
     ranked
 }
 
-/// Debug builds check the plan cache's premise: a sample of the vertices whose plans it
-/// kept (one in 16), planned again, gives the same E(v) to the bit.
+/// Debug builds check the plan cache's premise: the vertices whose plans it kept (all of
+/// them on small meshes, one in 16 beyond 4096 candidates), planned again, give the same
+/// E(v) to the bit.
 #[cfg(debug_assertions)]
 fn check_cached_plans(
     eligible: &[u32],
@@ -858,7 +859,8 @@ fn check_cached_plans(
     rules: &ClusterRules,
     cache: &PlanCache,
 ) {
-    eligible.par_iter().filter(|&&v| v % 16 == 0).for_each(|&v| {
+    let stride = if eligible.len() <= 4096 { 1 } else { 16 };
+    eligible.par_iter().filter(|&&v| v % stride == 0).for_each(|&v| {
         if let Some(kept) = cache.error(v) {
             let fresh = plan_cluster(v, rings, geometry, rules).map(|p| p.error.to_bits());
             assert_eq!(kept.map(f64::to_bits), fresh, "the plan cache kept a stale plan of vertex {v}");
