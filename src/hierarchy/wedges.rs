@@ -98,6 +98,35 @@ impl Wedges {
         })
     }
 
+    /// The seam edges of a level of the input whose faces are `triangles` (smaller id
+    /// first, sorted): its edges between two seam vertices that the input's seam runs
+    /// along through vertices the level has not (a partitioned build's joined parts, #40,
+    /// which the continuation simplifies along these as a one-piece build does).
+    pub fn level_seam_edges(&self, triangles: &[[u32; 3]]) -> Vec<[u32; 2]> {
+        let n = self.seam_neighbours.len();
+        let mut target = Target {
+            triangles,
+            half: FxHashMap::default(),
+            present: vec![false; n],
+            seams: self.seam_neighbours.clone(),
+            stands_for: FxHashMap::default(),
+            first_steps: FxHashMap::default(),
+        };
+        for t in triangles {
+            for k in 0..3 {
+                target.present[t[k] as usize] = true;
+                target.half.insert([t[k], t[(k + 1) % 3]], 0);
+            }
+        }
+        let mut seams: Vec<[u32; 2]> = target
+            .seam_steps(n)
+            .into_keys()
+            .filter(|&[v, x]| v < x && (target.half.contains_key(&[v, x]) || target.half.contains_key(&[x, v])))
+            .collect();
+        seams.sort_unstable();
+        seams
+    }
+
     /// The corner UVs and face materials of `triangles`, in their order: a level's or a
     /// refinement's faces, whose vertices are input vertices and the vertices made by
     /// `splits` (vertex n + i split edge `splits[i]` at its midpoint, in that order).

@@ -184,11 +184,23 @@ fn with_cylindrical_uvs(mut mesh: Mesh) -> Mesh {
 /// accepts (corner positions) stays under 1/2, where a face across the seam would reach
 /// nearly 1.
 fn assert_levels_keep_uvs(name: &str, mesh: &Mesh, target: usize, measurable: &dyn Fn([DVec3; 3]) -> bool) -> usize {
+    assert_levels_keep_uvs_in(name, mesh, target, None, measurable)
+}
+
+/// [`assert_levels_keep_uvs`] for a build in `chunks` parts (#40) or in one piece.
+fn assert_levels_keep_uvs_in(
+    name: &str,
+    mesh: &Mesh,
+    target: usize,
+    chunks: Option<usize>,
+    measurable: &dyn Fn([DVec3; 3]) -> bool,
+) -> usize {
     use asperity::hierarchy::{KeepFeatures, SimplifyOptions, build};
     let options = SimplifyOptions {
         target_vertices: Some(target),
         keep_features: KeepFeatures::None,
         record_levels: true,
+        chunks,
         ..SimplifyOptions::default()
     };
     let h = build(mesh, &options).unwrap();
@@ -235,6 +247,63 @@ fn every_level_keeps_the_uvs_and_no_face_spans_a_seam() {
     assert!(!seam_edges(&torus).is_empty());
     let base = assert_levels_keep_uvs("torus", &torus, 100, &|_| true);
     assert!(base < 400, "torus: {base} base vertices");
+}
+
+#[test]
+fn a_partitioned_build_keeps_the_uvs_and_materials_on_every_level() {
+    // #40: the parts carry the input's corner UVs and materials, so their seams are the
+    // input's; the joined bases' continuation simplifies the seams along themselves, and
+    // every level (made by refinement) takes the input's attributes.
+    let off_poles = |p: [DVec3; 3]| p.iter().all(|p| p.z.abs() < 0.999);
+    let sphere = uv_sphere(48, 24);
+    let base = assert_levels_keep_uvs_in("uv sphere in 3 parts", &sphere, 60, Some(3), &off_poles);
+    assert!(base < 200, "uv sphere in 3 parts: {base} base vertices");
+    let torus = with_cylindrical_uvs(asperity::mesh::primitives::torus(1.0, 0.35, 64, 24));
+    let base = assert_levels_keep_uvs_in("torus in 4 parts", &torus, 100, Some(4), &|_| true);
+    assert!(base < 400, "torus in 4 parts: {base} base vertices");
+    // A part's file holds its UVs and materials (a part built in another process).
+    use asperity::hierarchy::partition::{Partition, files};
+    let tmp = crate::common::temp_dir();
+    let partition = Partition::of(&sphere, 3).unwrap();
+    let mut with_seams = 0;
+    for k in 0..3 {
+        let part = partition.part(&sphere, k).unwrap();
+        with_seams += usize::from(!seam_edges(&part.mesh).is_empty());
+        let file = tmp.path().join(format!("{k}.part"));
+        files::write_part(&part, &file).unwrap();
+        let read = files::read_part(&file, sphere.vertex_count()).unwrap();
+        assert_eq!((&read.mesh.uvs, &read.mesh.materials), (&part.mesh.uvs, &part.mesh.materials), "part {k}");
+    }
+    assert!(with_seams >= 1, "no part holds a seam");
+    // Refinement restores every face with its UVs and material.
+    let options = asperity::hierarchy::SimplifyOptions {
+        target_vertices: Some(60),
+        keep_features: asperity::hierarchy::KeepFeatures::None,
+        chunks: Some(3),
+        ..Default::default()
+    };
+    let h = asperity::hierarchy::build(&sphere, &options).unwrap();
+    let mut refiner = asperity::hierarchy::Refiner::new(&h).unwrap();
+    refiner.refine_all().unwrap();
+    let full = h.with_attributes(refiner.mesh().unwrap()).unwrap().mesh;
+    let faces_with_attributes = |m: &Mesh| {
+        let (uvs, materials) = (m.uvs.as_ref().unwrap(), m.materials.as_ref().unwrap());
+        let mut faces: Vec<_> = (0..m.face_count())
+            .map(|f| {
+                let corners = (0..3).map(|k| {
+                    let p = m.positions[m.triangles[f][k] as usize].to_array().map(f64::to_bits);
+                    (p, uvs.at(f, k).map(f64::to_bits))
+                });
+                let mut corners: Vec<_> = corners.collect();
+                let first = (0..3).min_by_key(|&k| corners[k].0).unwrap();
+                corners.rotate_left(first);
+                (corners, materials.names.get(materials.faces[f] as usize).cloned())
+            })
+            .collect();
+        faces.sort();
+        faces
+    };
+    assert_eq!(faces_with_attributes(&full), faces_with_attributes(&sphere));
 }
 
 #[test]

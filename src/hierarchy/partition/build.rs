@@ -301,9 +301,11 @@ fn crossing_pairs(mesh: &Mesh, parts: &[PartBuild]) -> Result<Vec<[PartFace; 2]>
 ///
 /// It stops at a vertex target or an error bound (a fraction of the input's diagonal in
 /// every part and in the continuation); a level limit alone is refused, levels are not
-/// recorded (refinement makes them afterwards: [`Hierarchy::levels_by_refinement`]), UVs
-/// and materials are refused, and parts whose bases cut each other are built again beside
-/// each other ([`separate_parts`]).
+/// recorded (refinement makes them afterwards: [`Hierarchy::levels_by_refinement`]), and
+/// parts whose bases cut each other are built again beside each other
+/// ([`separate_parts`]). UVs and materials go with the parts, whose seams are the input's,
+/// and the continuation simplifies the seams along themselves as they run on the joined
+/// bases; every level takes the input's attributes.
 ///
 /// # Errors
 /// [`Error::InvalidInput`] for the limits above and as
@@ -324,7 +326,7 @@ pub fn build_partitioned(mesh: &Mesh, parts: usize, options: &SimplifyOptions) -
 ///
 /// # Errors
 /// [`Error::InvalidInput`] without a vertex target or an error bound, with a level limit,
-/// recorded levels or fenced vertices, for UVs or materials; as
+/// recorded levels or fenced vertices; as
 /// [`crate::hierarchy::build`]'s validation.
 pub fn check_partitioned(mesh: &Mesh, options: &SimplifyOptions) -> Result<()> {
     require_stop(options)?;
@@ -339,9 +341,6 @@ pub fn check_partitioned(mesh: &Mesh, options: &SimplifyOptions) -> Result<()> {
         return Err(Error::InvalidInput(
             "a partitioned build records its levels by refinement and fences its own borders and obstacles".into(),
         ));
-    }
-    if mesh.uvs.is_some() || mesh.materials.is_some() {
-        return Err(Error::InvalidInput("a partitioned build does not carry UVs or materials yet".into()));
     }
     options.check()?;
     mesh.check()?;

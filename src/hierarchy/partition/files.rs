@@ -16,9 +16,11 @@ use crate::error::{Error, Location, Result};
 use crate::hierarchy::{ParamPoint, Removal};
 use crate::io::manifest::{FNV_OFFSET, fnv1a};
 use crate::mesh::Mesh;
+use crate::mesh::uv::{CornerUvs, Materials};
 
-/// The tag of a part's mesh file (layout 2: the input's diagonal first).
-const PART_TAG: &[u8; 16] = b"asperity-part-2\n";
+/// The tag of a part's mesh file (layout 3: the input's diagonal first; corner UVs and
+/// face materials last, empty arrays where the input has none).
+const PART_TAG: &[u8; 16] = b"asperity-part-3\n";
 /// The tag of a part's build file (layout 1).
 const BUILD_TAG: &[u8; 16] = b"asperity-built1\n";
 
@@ -33,6 +35,10 @@ pub fn write_part(part: &Part, path: &Path) -> Result<()> {
     out.array(&part.mesh.triangles, |o, t| t.iter().for_each(|&v| o.u32(v)));
     out.array(&part.ids, |o, &v| o.u32(v));
     out.array(&part.border, |o, &v| o.u32(v));
+    let uvs = part.mesh.uvs.as_ref();
+    out.array(uvs.map_or(&[][..], |u| &u.values), |o, uv| uv.iter().for_each(|&c| o.f64(c)));
+    out.array(uvs.map_or(&[][..], |u| &u.corners), |o, c| c.iter().for_each(|&i| o.u32(i)));
+    out.array(part.mesh.materials.as_ref().map_or(&[][..], |m| &m.faces), |o, &i| o.u32(i));
     out.write(path).map(|_| ())
 }
 
@@ -57,8 +63,36 @@ pub fn read_part(path: &Path, input_vertices: usize) -> Result<Part> {
         return Err(r.fault(&format!("{} input ids for {n} vertices", ids.len())));
     }
     let border = r.array(4, |r| r.index(n))?;
+    let faces = triangles.len();
+    let values = r.array(16, |r| Ok([r.f64()?, r.f64()?]))?;
+    let corners = r.array(12, |r| Ok([r.index(values.len())?, r.index(values.len())?, r.index(values.len())?]))?;
+    if !corners.is_empty() && corners.len() != faces {
+        return Err(r.fault(&format!("UVs for {} of {faces} faces", corners.len())));
+    }
+    // A part numbers its materials in order of first use (`Partition::part`).
+    let mut used = 0u32;
+    let material = r.array(4, |r| {
+        let i = r.u32()?;
+        match i {
+            u32::MAX => {}
+            i if i < used => {}
+            i if i == used => used += 1,
+            i => return Err(r.fault(&format!("material {i} before material {used}"))),
+        }
+        Ok(i)
+    })?;
+    if !material.is_empty() && material.len() != faces {
+        return Err(r.fault(&format!("materials for {} of {faces} faces", material.len())));
+    }
     r.end()?;
-    Ok(Part { mesh: Mesh::new(positions, triangles), ids, border, input_diagonal })
+    let mut mesh = Mesh::new(positions, triangles);
+    mesh.uvs = (!corners.is_empty()).then_some(CornerUvs { values, corners });
+    mesh.materials = (!material.is_empty()).then(|| Materials {
+        libraries: Vec::new(),
+        names: (0..used).map(|i| i.to_string()).collect(),
+        faces: material,
+    });
+    Ok(Part { mesh, ids, border, input_diagonal })
 }
 
 /// Writes a part's build to `path` (atomically); returns the file's size in bytes.

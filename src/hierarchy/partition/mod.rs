@@ -28,6 +28,7 @@ use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
 use crate::error::{Error, Result};
+use crate::mesh::uv::{CornerUvs, Materials};
 use crate::mesh::{Mesh, UnitFrame, split_non_manifold_fans};
 use glam::DVec3;
 
@@ -170,6 +171,8 @@ impl Partition {
         }
         let positions = ids.iter().map(|&v| mesh.positions[v as usize]).collect();
         let mut part = Mesh::new(positions, triangles);
+        part.uvs = mesh.uvs.as_ref().map(|uvs| part_uvs(uvs, own));
+        part.materials = mesh.materials.as_ref().map(|m| part_materials(m, own));
         // The input ids ride along as a scalar, which the split copies to each copy.
         part.scalars.insert(INPUT_ID.to_string(), ids.iter().map(|&v| f64::from(v)).collect());
         split_non_manifold_fans(&mut part);
@@ -178,6 +181,43 @@ impl Partition {
         let border = (0..ids.len() as u32).filter(|&v| self.border[ids[v as usize] as usize]).collect();
         Ok(Part { mesh: part, ids, border, input_diagonal: self.diagonal })
     }
+}
+
+/// The corner UVs of the faces `own`, with the coordinates they use (in order of first
+/// use): the part's seams are the input's.
+fn part_uvs(uvs: &CornerUvs, own: &[u32]) -> CornerUvs {
+    let mut local: FxHashMap<u32, u32> = FxHashMap::default();
+    let mut values = Vec::new();
+    let corners = own
+        .iter()
+        .map(|&f| {
+            uvs.corners[f as usize].map(|i| {
+                *local.entry(i).or_insert_with(|| {
+                    values.push(uvs.values[i as usize]);
+                    values.len() as u32 - 1
+                })
+            })
+        })
+        .collect();
+    CornerUvs { values, corners }
+}
+
+/// The materials of the faces `own`, numbered in order of first use: which material each
+/// face has, which is what finds the seams between materials. The names stay with the
+/// input (a part's build writes none); a part's are its numbers.
+fn part_materials(materials: &Materials, own: &[u32]) -> Materials {
+    let mut local: FxHashMap<u32, u32> = FxHashMap::default();
+    let faces = own
+        .iter()
+        .map(|&f| match materials.faces[f as usize] {
+            u32::MAX => u32::MAX,
+            m => {
+                let next = local.len() as u32;
+                *local.entry(m).or_insert(next)
+            }
+        })
+        .collect();
+    Materials { libraries: Vec::new(), names: (0..local.len()).map(|i| i.to_string()).collect(), faces }
 }
 
 /// The scalar that carries input ids through a part's fan split.
