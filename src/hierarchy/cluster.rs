@@ -16,7 +16,7 @@
 use glam::{DVec2, DVec3};
 use smallvec::SmallVec;
 
-use super::conformal::{Flattening, interpolate, locate, orient};
+use super::conformal::{Flattening, barycentric, interpolate, locate, orient};
 use super::cost::{
     Choice, choose, crossing_error, min_angle_sine, point_segment_distance_squared, point_triangle_distance_squared,
     spoke_crossing,
@@ -390,6 +390,8 @@ impl Star<'_> {
         let pv = self.pv();
         let mut choices: RingVec<Choice> = RingVec::new();
         let mut located = [None; 2];
+        // Where the star's points land among the ears: the same for both diagonals.
+        let mut on_ears: Option<EarPlaces> = None;
         for k in 0..2 {
             let c = [current[k], current[k + 1], current[(k + 2) % 4], current[(k + 3) % 4]];
             if self.line.is_some_and(|([a, b], _)| [a.min(b), a.max(b)] != [c[0].min(c[2]), c[0].max(c[2])])
@@ -417,10 +419,9 @@ impl Star<'_> {
             let (t, w) = locate(DVec2::ZERO, &weld.map(|t| t.map(|i| flat[i])));
             located[k] = Some((t, w));
             let image = interpolate(weld[t].map(|i| p[i]), w);
-            let mut made: RingVec<[usize; 3]> = ears.cut.clone();
-            made.extend(weld);
             let points = self.star_points();
-            let mapped = mapped_error(points, ring, flat, &made, self.geometry.positions);
+            let on_ears = on_ears.get_or_insert_with(|| EarPlaces::of(points, flat, &ears.cut));
+            let mapped = on_ears.mapped_error(points, ring, flat, &ears.cut, &weld, self.geometry.positions);
             let mut removal = self.geometry.quadrics[self.v as usize].mean_error(image).max(mapped);
             if let Some(bound) = self.line_bound(c[0], c[2]) {
                 removal = removal.max(bound * bound);
@@ -523,6 +524,82 @@ fn star_points(v: u32, ring: &[u32], flat: &[DVec2], geometry: LevelGeometry<'_>
 /// Vertices with their images in a star's flattening.
 type StarPoints = SmallVec<[(u32, DVec2); 16]>;
 
+/// Where each of a star's points lands among the ears a weld keeps (ring-index triples cut
+/// before it), in [`locate`]'s order: the ear so far and its smallest barycentric
+/// coordinate, and the point's squared distance from that ear once measured. Both
+/// diagonals of a weld continue the same search over their own two triangles (the ears
+/// come first in the new triangles, so the result is [`mapped_error`]'s over all of them),
+/// and a point that stays in an ear is measured once.
+struct EarPlaces {
+    places: SmallVec<[(usize, f64, Option<f64>); 16]>,
+}
+
+impl EarPlaces {
+    fn of(points: &StarPoints, flat: &[DVec2], ears: &[[usize; 3]]) -> Self {
+        let flat_ears: RingVec<[DVec2; 3]> = ears.iter().map(|t| t.map(|i| flat[i])).collect();
+        let places = points
+            .iter()
+            .map(|&(_, image)| {
+                let mut best = (0, f64::NEG_INFINITY);
+                for (i, t) in flat_ears.iter().enumerate() {
+                    let w = barycentric(image, *t);
+                    let worst = w[0].min(w[1]).min(w[2]);
+                    if worst > best.1 {
+                        best = (i, worst);
+                    }
+                }
+                (best.0, best.1, None)
+            })
+            .collect();
+        EarPlaces { places }
+    }
+
+    /// [`mapped_error`] over the `ears` then the `weld`'s triangles.
+    fn mapped_error(
+        &mut self,
+        points: &StarPoints,
+        ring: &[u32],
+        flat: &[DVec2],
+        ears: &[[usize; 3]],
+        weld: &[[usize; 3]; 2],
+        pos: &[DVec3],
+    ) -> f64 {
+        let flat_weld = weld.map(|t| t.map(|i| flat[i]));
+        let corners = |t: [usize; 3]| t.map(|i| pos[ring[i] as usize]);
+        points
+            .iter()
+            .zip(&mut self.places)
+            .map(|(&(w, image), place)| {
+                let mut in_weld = None;
+                let mut best = place.1;
+                for (j, t) in flat_weld.iter().enumerate() {
+                    let b = barycentric(image, *t);
+                    let worst = b[0].min(b[1]).min(b[2]);
+                    if worst > best {
+                        (best, in_weld) = (worst, Some(j));
+                    }
+                }
+                let p = pos[w as usize];
+                match in_weld {
+                    // No ears and no triangle found better than none: the first new one.
+                    None if ears.is_empty() => {
+                        let [a, b, c] = corners(weld[0]);
+                        point_triangle_distance_squared(p, a, b, c)
+                    }
+                    None => *place.2.get_or_insert_with(|| {
+                        let [a, b, c] = corners(ears[place.0]);
+                        point_triangle_distance_squared(p, a, b, c)
+                    }),
+                    Some(j) => {
+                        let [a, b, c] = corners(weld[j]);
+                        point_triangle_distance_squared(p, a, b, c)
+                    }
+                }
+            })
+            .fold(0.0, f64::max)
+    }
+}
+
 /// The largest squared distance from each of `points` to the new triangle (ring-index
 /// triples `made`) its image lands on in the flattening.
 fn mapped_error(points: &StarPoints, ring: &[u32], flat: &[DVec2], made: &[[usize; 3]], pos: &[DVec3]) -> f64 {
@@ -535,4 +612,48 @@ fn mapped_error(points: &StarPoints, ring: &[u32], flat: &[DVec2], made: &[[usiz
             point_triangle_distance_squared(pos[w as usize], a, b, c)
         })
         .fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The shared search over the ears, continued per diagonal, gives `mapped_error` over
+    /// all new triangles bit for bit: for points inside, outside and on edges, with ears
+    /// cut and without, and with a degenerate weld triangle (whose coordinates are NaN).
+    #[test]
+    fn ear_places_give_the_mapped_error_of_every_new_triangle() {
+        let d = 7;
+        let ring: Vec<u32> = (0..d as u32).collect();
+        let flat: Vec<DVec2> = (0..d)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / d as f64;
+                DVec2::new(a.cos(), a.sin()) * (1.0 + 0.1 * k as f64)
+            })
+            .collect();
+        let mut pos: Vec<DVec3> = flat.iter().enumerate().map(|(k, p)| p.extend(0.05 * k as f64)).collect();
+        let mut points: StarPoints = SmallVec::new();
+        for i in 0..40u32 {
+            let image = DVec2::new((i as f64 * 0.37).sin(), (i as f64 * 0.71).cos()) * 1.3;
+            points.push((pos.len() as u32, image));
+            pos.push(image.extend(0.3 * (i as f64).cos()));
+        }
+        // Images on ring vertices lie on several triangles at once: ties, which the first
+        // triangle in the new triangles' order wins.
+        for k in [1, 0, 3, 4, 6] {
+            points.push((pos.len() as u32, flat[k]));
+            pos.push(DVec3::new(0.2, 0.1 * k as f64, 0.4));
+        }
+        let ears = [[0, 1, 2], [0, 2, 3], [4, 5, 6]];
+        let welds = [[[0, 3, 4], [0, 4, 6]], [[3, 4, 4], [0, 3, 6]], [[3, 4, 4], [6, 6, 0]]];
+        for cut in [&ears[..], &ears[..0]] {
+            let mut places = EarPlaces::of(&points, &flat, cut);
+            for weld in welds {
+                let made: Vec<[usize; 3]> = cut.iter().copied().chain(weld).collect();
+                let all = mapped_error(&points, &ring, &flat, &made, &pos);
+                let shared = places.mapped_error(&points, &ring, &flat, cut, &weld, &pos);
+                assert_eq!(shared.to_bits(), all.to_bits(), "{} ears, weld {weld:?}", cut.len());
+            }
+        }
+    }
 }
