@@ -23,7 +23,8 @@ fn main() {
     asperity::memory::return_large_buffers_to_the_os();
     let quick = std::env::args().any(|a| a == "--quick");
     let mesh = common::displaced_sphere(if quick { 7 } else { 8 });
-    if let Some(path) = std::env::args().skip_while(|a| a != "--write-mesh").nth(1) {
+    if std::env::args().any(|a| a == "--write-mesh") {
+        let path = std::env::args().skip_while(|a| a != "--write-mesh").nth(1).expect("--write-mesh needs a path");
         asperity::io::write(&mesh, std::path::Path::new(&path), Default::default()).expect("write the sphere");
         println!("wrote {path}: {} vertices, {} tris", mesh.vertex_count(), mesh.face_count());
         return;

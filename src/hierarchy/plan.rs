@@ -10,7 +10,7 @@ use super::conformal::Flattening;
 use super::rings::{RingVec, Rings};
 
 /// A planned removal of one vertex.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ClusterPlan {
     /// The removed vertex.
     pub vertex: u32,

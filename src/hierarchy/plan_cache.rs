@@ -21,10 +21,11 @@
 //!   planned, at that least.
 //!
 //! Every other plan is the one planning it again would make, bit for bit: the build's
-//! output does not change (checked in debug builds by planning a sample of the reused
-//! vertices again). A change of the rules or a release by the give-way ladder forgets every
+//! output does not change (checked in debug builds by planning the reused vertices again,
+//! a sample of them on large meshes). A change of the rules or a release by the give-way ladder forgets every
 //! plan, or those around the released vertices; a build whose rings hold copies of one
-//! vertex (a partitioned build's continuation) forgets the removed vertices' 2-rings.
+//! vertex (a part of a partitioned build pinched at a border vertex: `Rings::twin`), whose
+//! `may_join` reads the copies' edges too, forgets the removed vertices' 2-rings.
 
 use rayon::prelude::*;
 
@@ -133,6 +134,15 @@ impl PlanCache {
             Entry::Stale => None,
             Entry::Invalid => Some(None),
             Entry::Planned { error, .. } => Some(Some(*error)),
+        }
+    }
+
+    /// The plan kept for `v`, if it is kept whole (within the bound it was stored under).
+    #[cfg(debug_assertions)]
+    pub(super) fn plan(&self, v: u32) -> Option<&ClusterPlan> {
+        match &self.entries[v as usize] {
+            Entry::Planned { plan: Some(plan), .. } => Some(plan),
+            _ => None,
         }
     }
 

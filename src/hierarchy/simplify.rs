@@ -868,7 +868,7 @@ fn ranked_candidates(
 
 /// Debug builds check the plan cache's premise: the vertices whose plans it kept (all of
 /// them on small meshes, one in 16 beyond 4096 candidates), planned again, give the same
-/// E(v) to the bit.
+/// E(v) to the bit, and the same plan where the cache holds it.
 #[cfg(debug_assertions)]
 fn check_cached_plans(
     eligible: &[u32],
@@ -880,8 +880,12 @@ fn check_cached_plans(
     let stride = if eligible.len() <= 4096 { 1 } else { 16 };
     eligible.par_iter().filter(|&&v| v % stride == 0).for_each(|&v| {
         if let Some(kept) = cache.error(v) {
-            let fresh = plan_cluster(v, rings, geometry, rules).map(|p| p.error.to_bits());
-            assert_eq!(kept.map(f64::to_bits), fresh, "the plan cache kept a stale plan of vertex {v}");
+            let fresh = plan_cluster(v, rings, geometry, rules);
+            let error = fresh.as_ref().map(|p| p.error.to_bits());
+            assert_eq!(kept.map(f64::to_bits), error, "the plan cache kept a stale plan of vertex {v}");
+            if let Some(plan) = cache.plan(v) {
+                assert_eq!(Some(plan), fresh.as_ref(), "the plan cache kept a stale plan of vertex {v}");
+            }
         }
     });
 }

@@ -275,6 +275,22 @@ fn a_partitioned_build_keeps_the_uvs_and_materials_on_every_level() {
         assert_eq!((&read.mesh.uvs, &read.mesh.materials), (&part.mesh.uvs, &part.mesh.materials), "part {k}");
     }
     assert!(with_seams >= 1, "no part holds a seam");
+    // A part file whose materials are not numbered in order of first use is refused at
+    // the material's byte (its hash made to match: a file written so, not cut short).
+    let file = tmp.path().join("0.part");
+    let mut bytes = std::fs::read(&file).unwrap();
+    let faces = partition.part(&sphere, 0).unwrap().mesh.face_count();
+    let at = bytes.len() - 8 - 4 * faces;
+    bytes[at..at + 4].copy_from_slice(&5u32.to_le_bytes());
+    let body = bytes.len() - 8;
+    let hash = asperity::io::manifest::fnv1a(asperity::io::manifest::FNV_OFFSET, &bytes[..body]);
+    bytes[body..].copy_from_slice(&hash.to_le_bytes());
+    let broken = tmp.path().join("broken.part");
+    std::fs::write(&broken, &bytes).unwrap();
+    let e = files::read_part(&broken, sphere.vertex_count()).unwrap_err();
+    let text = e.to_string();
+    assert_eq!(e.exit_code(), 2);
+    assert!(text.contains(&format!("broken.part: byte {at}")) && text.contains("material 5 before material 0"), "{text}");
     // Refinement restores every face with its UVs and material.
     let options = asperity::hierarchy::SimplifyOptions {
         target_vertices: Some(60),

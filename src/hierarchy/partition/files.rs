@@ -66,18 +66,22 @@ pub fn read_part(path: &Path, input_vertices: usize) -> Result<Part> {
     let faces = triangles.len();
     let values = r.array(16, |r| Ok([r.f64()?, r.f64()?]))?;
     let corners = r.array(12, |r| Ok([r.index(values.len())?, r.index(values.len())?, r.index(values.len())?]))?;
-    if !corners.is_empty() && corners.len() != faces {
-        return Err(r.fault(&format!("UVs for {} of {faces} faces", corners.len())));
+    if corners.len() != if values.is_empty() { 0 } else { faces } {
+        return Err(r.fault(&format!("UVs for {} of {faces} faces ({} coordinates)", corners.len(), values.len())));
     }
     // A part numbers its materials in order of first use (`Partition::part`).
     let mut used = 0u32;
     let material = r.array(4, |r| {
+        let at = r.at;
         let i = r.u32()?;
         match i {
             u32::MAX => {}
             i if i < used => {}
             i if i == used => used += 1,
-            i => return Err(r.fault(&format!("material {i} before material {used}"))),
+            i => {
+                r.at = at;
+                return Err(r.fault(&format!("material {i} before material {used}")));
+            }
         }
         Ok(i)
     })?;
