@@ -96,31 +96,28 @@ impl PlanCache {
             self.forget_around(plans.iter().flat_map(|p| p.ring.iter().copied().chain([p.vertex])), rings);
             return;
         }
-        for plan in plans {
-            self.entries[plan.vertex as usize] = Entry::Stale;
-            for &r in &plan.ring {
-                self.entries[r as usize] = Entry::Stale;
-            }
-        }
         // Only the rings' vertices changed degree: a vertex beside one at the least, or
-        // planned beside one, is stale.
-        for plan in plans {
-            for &r in &plan.ring {
-                let tight = !rings.may_lose_neighbour(r, 0);
-                for &w in rings.ring(r) {
-                    if tight || !self.roomy[w as usize] {
-                        self.entries[w as usize] = Entry::Stale;
-                    }
+        // planned beside one, is stale. Found in parallel, then forgotten in one pass.
+        let roomy = &self.roomy;
+        let mut stale = vec![false; self.entries.len()];
+        let found: Vec<u32> = plans
+            .par_iter()
+            .flat_map_iter(|plan| {
+                let mut found: Vec<u32> = plan.ring.iter().copied().chain([plan.vertex]).collect();
+                for &r in &plan.ring {
+                    let tight = !rings.may_lose_neighbour(r, 0);
+                    found.extend(rings.ring(r).iter().filter(|&&w| tight || !roomy[w as usize]));
                 }
-            }
-            for [a, b] in new_edges(plan) {
-                for &w in rings.ring(a) {
-                    if rings.has_edge(w, b) {
-                        self.entries[w as usize] = Entry::Stale;
-                    }
+                for [a, b] in new_edges(plan) {
+                    found.extend(rings.ring(a).iter().filter(|&&w| rings.has_edge(w, b)));
                 }
-            }
+                found
+            })
+            .collect();
+        for v in found {
+            stale[v as usize] = true;
         }
+        self.entries.par_iter_mut().zip(stale).filter(|(_, s)| *s).for_each(|(e, _)| *e = Entry::Stale);
     }
 
     /// Whether `v` must be planned again.
@@ -146,13 +143,13 @@ impl PlanCache {
         }
     }
 
-    /// Records `v`'s fresh plan (or that it has none), keeping the plan itself if its error
-    /// is within `bound`; `roomy`: [`ring_is_roomy`] on the rings it was planned on.
-    pub(super) fn store(&mut self, v: u32, plan: Option<ClusterPlan>, bound: f64, roomy: bool) {
+    /// Records `v`'s fresh plan (or that it has none) as [`kept_within`] made it; `roomy`:
+    /// [`ring_is_roomy`] on the rings it was planned on.
+    pub(super) fn store(&mut self, v: u32, planned: Planned, roomy: bool) {
         self.roomy[v as usize] = roomy;
-        self.entries[v as usize] = match plan {
+        self.entries[v as usize] = match planned {
             None => Entry::Invalid,
-            Some(plan) => Entry::Planned { error: plan.error, plan: (plan.error <= bound).then(|| Box::new(plan)) },
+            Some((error, plan)) => Entry::Planned { error, plan },
         };
     }
 
@@ -181,6 +178,16 @@ impl PlanCache {
             }
         }
     }
+}
+
+/// A fresh plan as the cache stores it: `None` without a valid cluster, else E(v) and the
+/// plan itself if it is within the bound ([`kept_within`]).
+pub(super) type Planned = Option<(f64, Option<Box<ClusterPlan>>)>;
+
+/// `plan` as the cache stores it, kept whole if its error is within `bound` (boxed where it
+/// was made: ranking makes plans in parallel and stores them in one pass).
+pub(super) fn kept_within(plan: Option<ClusterPlan>, bound: f64) -> Planned {
+    plan.map(|plan| (plan.error, (plan.error <= bound).then(|| Box::new(plan))))
 }
 
 /// Whether every ring vertex of `v` has a degree above the least of a fan, so that any

@@ -17,7 +17,7 @@ use super::guard::guard_plans;
 use super::lines::FeatureLines;
 use super::param::{ParamBuckets, ParamPoint};
 use super::plan::{ClusterPlan, apply_plan, plan_still_applies};
-use super::plan_cache::{PlanCache, ring_is_roomy};
+use super::plan_cache::{PlanCache, Planned, kept_within, ring_is_roomy};
 use super::record::{Recorded, Recorder};
 use super::rings::Rings;
 use super::sliver_budget::SliverBudget;
@@ -856,10 +856,12 @@ fn ranked_candidates(
     #[cfg(debug_assertions)]
     check_cached_plans(&eligible, rings, geometry, rules, cache);
     let stale: Vec<u32> = eligible.iter().copied().filter(|&v| cache.is_stale(v)).collect();
-    let planned: Vec<(Option<ClusterPlan>, bool)> =
-        stale.par_iter().map(|&v| (plan_cluster(v, rings, geometry, rules), ring_is_roomy(v, rings))).collect();
+    let planned: Vec<(Planned, bool)> = stale
+        .par_iter()
+        .map(|&v| (kept_within(plan_cluster(v, rings, geometry, rules), bound), ring_is_roomy(v, rings)))
+        .collect();
     for (v, (plan, roomy)) in stale.into_iter().zip(planned) {
-        cache.store(v, plan, bound, roomy);
+        cache.store(v, plan, roomy);
     }
     let mut ranked: Vec<Candidate> = eligible.iter().filter_map(|&v| cache.candidate(v, bound)).collect();
     ranked.par_sort_unstable_by(|a, b| a.error.total_cmp(&b.error).then(a.vertex.cmp(&b.vertex)));
