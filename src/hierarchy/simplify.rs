@@ -153,7 +153,7 @@ fn build_with(
     let n = mesh.vertex_count();
     // Texture seams and material borders: lines of the build, and what each level's
     // faces take their UVs by (found once for both).
-    let (seams, wedges) = seams_and_wedges(mesh, continuing.map(|c| c.input));
+    let (seams, wedges) = seams_and_wedges(mesh, continuing.map(|c| c.input))?;
     let Features { feature, kept, lines, give_way } =
         features_and_kept(&working, input_working.as_ref().unwrap_or(&working), options, &seams)?;
     // Planning needs only the working positions; the copy's faces go now.
@@ -262,17 +262,17 @@ fn build_with(
 /// continued build's mesh is a level of `input` (a partitioned build's joined parts, #40):
 /// its seams are the input's seams as they run along its edges, and its levels take the
 /// input's attributes.
-fn seams_and_wedges(mesh: &Mesh, input: Option<&Mesh>) -> (Vec<[u32; 2]>, Option<Wedges>) {
+fn seams_and_wedges(mesh: &Mesh, input: Option<&Mesh>) -> Result<(Vec<[u32; 2]>, Option<Wedges>)> {
     match input {
         None => {
             let seams = crate::mesh::uv::seam_edges(mesh);
             let wedges = Wedges::of(mesh, &seams);
-            (seams, wedges)
+            Ok((seams, wedges))
         }
         Some(input) => {
             let wedges = Wedges::of(input, &crate::mesh::uv::seam_edges(input));
-            let seams = wedges.as_ref().map_or_else(Vec::new, |w| w.level_seam_edges(&mesh.triangles));
-            (seams, wedges)
+            let seams = wedges.as_ref().map(|w| w.level_seam_edges(&mesh.triangles)).transpose()?;
+            Ok((seams.unwrap_or_default(), wedges))
         }
     }
 }

@@ -102,41 +102,24 @@ impl Wedges {
     /// first, sorted): its edges between two seam vertices that the input's seam runs
     /// along through vertices the level has not (a partitioned build's joined parts, #40,
     /// which the continuation simplifies along these as a one-piece build does).
-    pub fn level_seam_edges(&self, triangles: &[[u32; 3]]) -> Vec<[u32; 2]> {
+    ///
+    /// # Errors
+    /// [`Error::Internal`] for a vertex that is not the input's.
+    pub fn level_seam_edges(&self, triangles: &[[u32; 3]]) -> Result<Vec<[u32; 2]>> {
         let n = self.seam_neighbours.len();
-        let mut target = Target {
-            triangles,
-            half: FxHashMap::default(),
-            present: vec![false; n],
-            seams: self.seam_neighbours.clone(),
-            stands_for: FxHashMap::default(),
-            first_steps: FxHashMap::default(),
-        };
-        for t in triangles {
-            for k in 0..3 {
-                target.present[t[k] as usize] = true;
-                target.half.insert([t[k], t[(k + 1) % 3]], 0);
-            }
-        }
+        let target = self.target(triangles, n)?;
         let mut seams: Vec<[u32; 2]> = target
             .seam_steps(n)
             .into_keys()
             .filter(|&[v, x]| v < x && (target.half.contains_key(&[v, x]) || target.half.contains_key(&[x, v])))
             .collect();
         seams.sort_unstable();
-        seams
+        Ok(seams)
     }
 
-    /// The corner UVs and face materials of `triangles`, in their order: a level's or a
-    /// refinement's faces, whose vertices are input vertices and the vertices made by
-    /// `splits` (vertex n + i split edge `splits[i]` at its midpoint, in that order).
-    ///
-    /// # Errors
-    /// [`Error::Internal`] when a face's wedge cannot be found (a seam the mesh does not
-    /// keep: a bug of the simplification) or a vertex is neither an input one nor made.
-    pub fn level(&self, triangles: &[[u32; 3]], splits: &[[u32; 2]]) -> Result<(Option<CornerUvs>, Option<Materials>)> {
-        let n = self.seam_neighbours.len();
-        let total = n + splits.len();
+    /// The mesh of `triangles` to give attributes, its vertices below `total` (the input's
+    /// and those made by splits): which are present, and each directed edge's face.
+    fn target<'a>(&self, triangles: &'a [[u32; 3]], total: usize) -> Result<Target<'a>> {
         if let Some(v) = triangles.iter().flatten().find(|&&v| v as usize >= total) {
             return Err(Error::Internal(format!("vertex {v} is neither an input vertex nor made: its UV is unknown")));
         }
@@ -154,6 +137,20 @@ impl Wedges {
                 target.half.insert([t[k], t[(k + 1) % 3]], f as u32);
             }
         }
+        Ok(target)
+    }
+
+    /// The corner UVs and face materials of `triangles`, in their order: a level's or a
+    /// refinement's faces, whose vertices are input vertices and the vertices made by
+    /// `splits` (vertex n + i split edge `splits[i]` at its midpoint, in that order).
+    ///
+    /// # Errors
+    /// [`Error::Internal`] when a face's wedge cannot be found (a seam the mesh does not
+    /// keep: a bug of the simplification) or a vertex is neither an input one nor made.
+    pub fn level(&self, triangles: &[[u32; 3]], splits: &[[u32; 2]]) -> Result<(Option<CornerUvs>, Option<Materials>)> {
+        let n = self.seam_neighbours.len();
+        let total = n + splits.len();
+        let mut target = self.target(triangles, total)?;
         // Where each made vertex lies: the vertex next to each end along its edge, and
         // whether the edge ran along a seam (then it joins the seam).
         let mut next: FxHashMap<[u32; 2], u32> = FxHashMap::default();
