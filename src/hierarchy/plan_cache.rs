@@ -22,10 +22,11 @@
 //!
 //! Every other plan is the one planning it again would make, bit for bit: the build's
 //! output does not change (checked in debug builds by planning the reused vertices again,
-//! a sample of them on large meshes). A change of the rules or a release by the give-way ladder forgets every
-//! plan, or those around the released vertices; a build whose rings hold copies of one
-//! vertex (a part of a partitioned build pinched at a border vertex: `Rings::twin`), whose
-//! `may_join` reads the copies' edges too, forgets the removed vertices' 2-rings.
+//! a sample of them on large meshes). A change of the rules, or a release by the give-way
+//! ladder, forgets every plan, a cheap release those around the released vertices; a build
+//! whose rings hold copies of one vertex (a part of a partitioned build pinched at a border
+//! vertex: `Rings::twin`), whose `may_join` reads the copies' edges too, forgets the
+//! removed vertices' 2-rings.
 
 use rayon::prelude::*;
 

@@ -290,7 +290,8 @@ fn a_partitioned_build_keeps_the_uvs_and_materials_on_every_level() {
     let e = files::read_part(&broken, sphere.vertex_count()).unwrap_err();
     let text = e.to_string();
     assert_eq!(e.exit_code(), 2);
-    assert!(text.contains(&format!("broken.part: byte {at}")) && text.contains("material 5 before material 0"), "{text}");
+    let named = text.contains(&format!("broken.part: byte {at}"));
+    assert!(named && text.contains("material 5 before material 0"), "{text}");
     // Refinement restores every face with its UVs and material.
     let options = asperity::hierarchy::SimplifyOptions {
         target_vertices: Some(60),
