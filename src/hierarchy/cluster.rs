@@ -16,7 +16,7 @@
 use glam::{DVec2, DVec3};
 use smallvec::SmallVec;
 
-use super::conformal::{Flattening, barycentric, interpolate, locate, orient};
+use super::conformal::{Flattening, Located, interpolate, locate, locate_from, orient};
 use super::cost::{
     Choice, choose, crossing_error, min_angle_sine, point_segment_distance_squared, point_triangle_distance_squared,
     spoke_crossing,
@@ -421,7 +421,7 @@ impl Star<'_> {
             let image = interpolate(weld[t].map(|i| p[i]), w);
             let points = self.star_points();
             let on_ears = on_ears.get_or_insert_with(|| EarPlaces::of(points, flat, &ears.cut));
-            let mapped = on_ears.mapped_error(points, ring, flat, &ears.cut, &weld, self.geometry.positions);
+            let mapped = on_ears.mapped_error(points, ring, flat, &weld, self.geometry.positions);
             let mut removal = self.geometry.quadrics[self.v as usize].mean_error(image).max(mapped);
             if let Some(bound) = self.line_bound(c[0], c[2]) {
                 removal = removal.max(bound * bound);
@@ -525,75 +525,48 @@ fn star_points(v: u32, ring: &[u32], flat: &[DVec2], geometry: LevelGeometry<'_>
 type StarPoints = SmallVec<[(u32, DVec2); 16]>;
 
 /// Where each of a star's points lands among the ears a weld keeps (ring-index triples cut
-/// before it), in [`locate`]'s order: the ear so far and its smallest barycentric
-/// coordinate, and the point's squared distance from that ear once measured. Both
-/// diagonals of a weld continue the same search over their own two triangles (the ears
-/// come first in the new triangles, so the result is [`mapped_error`]'s over all of them),
-/// and a point that stays in an ear is measured once.
+/// before it), as [`locate`] searches: the ear so far with its coordinates, and the point's
+/// squared distance from that ear once measured. Both diagonals of a weld continue the
+/// same search over their own two triangles ([`locate_from`]; the ears come first in the
+/// new triangles, so the result is [`mapped_error`]'s over all of them), and a point that
+/// stays in an ear is measured once.
 struct EarPlaces {
-    places: SmallVec<[(usize, f64, Option<f64>); 16]>,
+    ears: RingVec<[usize; 3]>,
+    places: SmallVec<[(Located, Option<f64>); 16]>,
 }
 
 impl EarPlaces {
     fn of(points: &StarPoints, flat: &[DVec2], ears: &[[usize; 3]]) -> Self {
         let flat_ears: RingVec<[DVec2; 3]> = ears.iter().map(|t| t.map(|i| flat[i])).collect();
-        let places = points
-            .iter()
-            .map(|&(_, image)| {
-                let mut best = (0, f64::NEG_INFINITY);
-                for (i, t) in flat_ears.iter().enumerate() {
-                    let w = barycentric(image, *t);
-                    let worst = w[0].min(w[1]).min(w[2]);
-                    if worst > best.1 {
-                        best = (i, worst);
-                    }
-                }
-                (best.0, best.1, None)
-            })
-            .collect();
-        EarPlaces { places }
+        let start = (0, [1.0, 0.0, 0.0], f64::NEG_INFINITY);
+        let places = points.iter().map(|&(_, image)| (locate_from(image, &flat_ears, 0, start), None)).collect();
+        EarPlaces { ears: ears.into(), places }
     }
 
-    /// [`mapped_error`] over the `ears` then the `weld`'s triangles.
+    /// [`mapped_error`] over the ears then the `weld`'s triangles.
     fn mapped_error(
         &mut self,
         points: &StarPoints,
         ring: &[u32],
         flat: &[DVec2],
-        ears: &[[usize; 3]],
         weld: &[[usize; 3]; 2],
         pos: &[DVec3],
     ) -> f64 {
         let flat_weld = weld.map(|t| t.map(|i| flat[i]));
-        let corners = |t: [usize; 3]| t.map(|i| pos[ring[i] as usize]);
+        let ears = &self.ears;
+        let distance = |t: [usize; 3], p: DVec3| {
+            let [a, b, c] = t.map(|i| pos[ring[i] as usize]);
+            point_triangle_distance_squared(p, a, b, c)
+        };
         points
             .iter()
             .zip(&mut self.places)
-            .map(|(&(w, image), place)| {
-                let mut in_weld = None;
-                let mut best = place.1;
-                for (j, t) in flat_weld.iter().enumerate() {
-                    let b = barycentric(image, *t);
-                    let worst = b[0].min(b[1]).min(b[2]);
-                    if worst > best {
-                        (best, in_weld) = (worst, Some(j));
-                    }
-                }
+            .map(|(&(w, image), (on_ears, measured))| {
+                let (t, _, _) = locate_from(image, &flat_weld, ears.len(), *on_ears);
                 let p = pos[w as usize];
-                match in_weld {
-                    // No ears and no triangle found better than none: the first new one.
-                    None if ears.is_empty() => {
-                        let [a, b, c] = corners(weld[0]);
-                        point_triangle_distance_squared(p, a, b, c)
-                    }
-                    None => *place.2.get_or_insert_with(|| {
-                        let [a, b, c] = corners(ears[place.0]);
-                        point_triangle_distance_squared(p, a, b, c)
-                    }),
-                    Some(j) => {
-                        let [a, b, c] = corners(weld[j]);
-                        point_triangle_distance_squared(p, a, b, c)
-                    }
+                match ears.get(t) {
+                    Some(&ear) => *measured.get_or_insert_with(|| distance(ear, p)),
+                    None => distance(weld[t - ears.len()], p),
                 }
             })
             .fold(0.0, f64::max)
@@ -651,7 +624,7 @@ mod tests {
             for weld in welds {
                 let made: Vec<[usize; 3]> = cut.iter().copied().chain(weld).collect();
                 let all = mapped_error(&points, &ring, &flat, &made, &pos);
-                let shared = places.mapped_error(&points, &ring, &flat, cut, &weld, &pos);
+                let shared = places.mapped_error(&points, &ring, &flat, &weld, &pos);
                 assert_eq!(shared.to_bits(), all.to_bits(), "{} ears, weld {weld:?}", cut.len());
             }
         }

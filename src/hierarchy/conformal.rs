@@ -73,15 +73,26 @@ pub fn barycentric(p: DVec2, t: [DVec2; 3]) -> [f64; 3] {
 /// be non-negative and renormalised — a point that rounding put just outside every triangle
 /// lands on the nearest edge.
 pub fn locate(p: DVec2, triangles: &[[DVec2; 3]]) -> (usize, [f64; 3]) {
-    let mut best = (0, [1.0, 0.0, 0.0], f64::NEG_INFINITY);
+    let best = locate_from(p, triangles, 0, (0, [1.0, 0.0, 0.0], f64::NEG_INFINITY));
+    (best.0, clamp_barycentric(best.1))
+}
+
+/// Where [`locate`]'s search stands: a triangle, its unclamped barycentric coordinates and
+/// their smallest.
+pub type Located = (usize, [f64; 3], f64);
+
+/// [`locate`]'s search over `triangles` (numbered from `first`) continued from `best` (a
+/// triangle, its unclamped coordinates and their smallest): the triangle whose smallest
+/// barycentric coordinate is largest, the earlier one on ties.
+pub fn locate_from(p: DVec2, triangles: &[[DVec2; 3]], first: usize, mut best: Located) -> Located {
     for (i, t) in triangles.iter().enumerate() {
         let w = barycentric(p, *t);
         let worst = w[0].min(w[1]).min(w[2]);
         if worst > best.2 {
-            best = (i, w, worst);
+            best = (first + i, w, worst);
         }
     }
-    (best.0, clamp_barycentric(best.1))
+    best
 }
 
 /// Clamps barycentric coordinates to [0, 1] and renormalises them to sum to one.
