@@ -164,6 +164,62 @@ mod tests {
         (positions, faces)
     }
 
+    /// Fans of triangles around shared centres, on axis planes (exactly coplanar, as CAD
+    /// parts are) and on tilted ones, their rims in random order so that some of a fan's
+    /// triangles overlap and most only touch.
+    fn fans(n: usize) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        let mut state = 0x2545_F491_4F6C_DD1D_u64;
+        let mut unit = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut positions, mut faces) = (Vec::new(), Vec::new());
+        for f in 0..n {
+            // The flat fans side by side in one plane, overlapping their neighbours.
+            let centre = if f % 2 == 0 { DVec3::new(0.6 * f as f64, unit(), 0.0) } else { DVec3::splat(f as f64) };
+            let tilt = if f % 2 == 0 { DVec3::ZERO } else { DVec3::new(unit(), unit(), 0.0) - 0.5 };
+            let first = positions.len() as u32;
+            positions.push(centre);
+            let k = 7;
+            for j in 0..k {
+                let angle = std::f64::consts::TAU * (j as f64 + 0.6 * unit()) / k as f64;
+                let (x, y) = (angle.cos() * (0.5 + unit()), angle.sin() * (0.5 + unit()));
+                positions.push(centre + DVec3::new(x, y, tilt.x * x + tilt.y * y));
+            }
+            for j in 0..k as u32 {
+                let next = if unit() < 0.8 { (j + 1) % k as u32 } else { (j + 3) % k as u32 };
+                faces.push([first, first + 1 + j, first + 1 + next]);
+            }
+        }
+        (positions, faces)
+    }
+
+    #[test]
+    fn pairs_certified_apart_are_apart_for_cgal() {
+        let (positions, faces) = fans(120);
+        // Every pair within a fan (they share its centre) and across neighbouring fans.
+        let pairs: Vec<[u32; 2]> = (0..faces.len() as u32)
+            .flat_map(|a| (a + 1..faces.len() as u32).map(move |b| [a, b]))
+            .filter(|&[a, b]| b / 7 - a / 7 <= 2)
+            .collect();
+        let cgal = ffi::triangle_pairs_intersect(&positions, &faces, &[], &pairs).unwrap();
+        let apart: Vec<bool> =
+            pairs.iter().map(|&[a, b]| certainly_apart(&positions, faces[a as usize], faces[b as usize])).collect();
+        for ((pair, hit), apart) in pairs.iter().zip(&cgal).zip(&apart) {
+            assert!(!(*apart && *hit != 0), "pair {pair:?} certified apart crosses for CGAL");
+        }
+        let (crossing, certified) = (cgal.iter().filter(|&&h| h != 0).count(), apart.iter().filter(|&&a| a).count());
+        assert!(crossing > 20, "the fans overlap at only {crossing} pairs");
+        // Most pairs CGAL calls apart here touch or lie in a plane: the edge planes must certify most of them.
+        assert!(
+            2 * certified > pairs.len() - crossing,
+            "{certified} of {} pairs apart certified",
+            pairs.len() - crossing
+        );
+    }
+
     #[test]
     fn leaving_out_added_pairs_drops_exactly_those() {
         let (positions, faces) = soup(400);
