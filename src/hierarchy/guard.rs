@@ -4,6 +4,8 @@
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
+use super::crossings::KnownCrossings;
+use super::face_key;
 use super::intersections::{AddedPairs, listed_pairs_intersect, triangle_intersections_across};
 use super::plan::{ClusterPlan, apply_plan, plan_still_applies};
 use super::rings::Rings;
@@ -17,18 +19,29 @@ use crate::error::Result;
 /// the dropped ones ([`plan_still_applies`]); the faces that come back are then checked
 /// against the planned triangles still kept, until nothing offends. Plans are never
 /// re-planned, so each round after the first checks only the restored faces. Returns the
-/// plans kept and the vertices whose plans offended.
+/// plans kept and the vertices whose plans offended. `known` lists the level's crossings
+/// once that pays, and learns the new ones the rounds find.
 pub(super) fn guard_plans(
     positions: &[glam::DVec3],
     level_faces: &[[u32; 3]],
     mut plans: Vec<ClusterPlan>,
     rings: &mut Rings,
+    known: &mut KnownCrossings,
 ) -> Result<(Vec<ClusterPlan>, FxHashSet<u32>)> {
+    known.list_when_it_pays(positions, level_faces)?;
     let mut restored = None;
     let mut offenders = FxHashSet::default();
+    let mut found = Vec::new();
     loop {
-        let offending = intersecting_plans(positions, level_faces, &plans, restored.as_ref())?;
+        let offending = intersecting_plans(positions, level_faces, &plans, restored.as_ref(), known, &mut found)?;
         if offending.is_empty() {
+            // The level's new crossings: those of the planned triangles kept.
+            let kept: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
+            for (faces, owners) in found {
+                if owners.iter().flatten().all(|v| kept.contains(v)) {
+                    known.add(faces[0], faces[1]);
+                }
+            }
             return Ok((plans, offenders));
         }
         offenders.extend(&offending);
@@ -62,6 +75,8 @@ fn intersecting_plans(
     level_faces: &[[u32; 3]],
     plans: &[ClusterPlan],
     restored: Option<&FxHashSet<u32>>,
+    known: &mut KnownCrossings,
+    found: &mut Vec<FoundCrossing>,
 ) -> Result<FxHashSet<u32>> {
     let planned: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
     let mut level_side = Vec::new();
@@ -114,7 +129,10 @@ fn intersecting_plans(
         }
     };
     let sides: Vec<[Side; 2]> = pairs.iter().map(|&[a, b]| [side(a), side(b)]).collect();
-    let before = crossings_before(positions, &sides, &region)?;
+    let before = crossings_before(positions, &sides, &region, known)?;
+    if known.listed() {
+        found.extend(pairs.iter().map(|&[a, b]| ([combined[a as usize], combined[b as usize]], [owner(a), owner(b)])));
+    }
     let mut offending = FxHashSet::default();
     for (k, pair) in pairs.iter().enumerate() {
         if !before[k] {
@@ -123,6 +141,9 @@ fn intersecting_plans(
     }
     Ok(offending)
 }
+
+/// An intersecting pair of faces a round found, with the plans whose triangles they are.
+type FoundCrossing = ([[u32; 3]; 2], [Option<u32>; 2]);
 
 /// What a face of an intersecting pair stands for in the level before the plans.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -138,16 +159,60 @@ enum Side {
 /// `region` (the faces it replaces, or itself) intersects a face of the other's in the level
 /// before the plans. Inputs whose parts interpenetrate or touch (assemblies, scans with
 /// overlapping sheets) keep those crossings at every level; the guard refuses only
-/// crossings the plans would make (#34). Each distinct pair of sides is looked at once,
-/// and each pair of their faces tested once.
+/// crossings the plans would make (#34). Each distinct pair of sides is looked at once:
+/// in the `known` crossings once they are listed, else by testing each pair of their faces
+/// once.
 fn crossings_before(
     positions: &[glam::DVec3],
     pairs: &[[Side; 2]],
     region: &dyn Fn(Side) -> Vec<[u32; 3]>,
+    known: &mut KnownCrossings,
 ) -> Result<Vec<bool>> {
     let mut distinct = pairs.to_vec();
     distinct.sort_unstable();
     distinct.dedup();
+    let crossed = match known.listed() {
+        true => {
+            // Debug builds check the list against the tests it replaces.
+            #[cfg(debug_assertions)]
+            let tested = crossed_as_tested(positions, distinct.clone(), region, known)?;
+            let listed = crossed_as_listed(distinct, region, known);
+            #[cfg(debug_assertions)]
+            assert_eq!(listed, tested, "the listed crossings answer as the exact tests do");
+            listed
+        }
+        false => crossed_as_tested(positions, distinct, region, known)?,
+    };
+    Ok(pairs.iter().map(|pair| crossed.contains(pair)).collect())
+}
+
+/// The pairs of sides (distinct) a face of one of which intersects a face of the other, as
+/// the complete list of the level's crossings says.
+fn crossed_as_listed(
+    distinct: Vec<[Side; 2]>,
+    region: &dyn Fn(Side) -> Vec<[u32; 3]>,
+    known: &KnownCrossings,
+) -> FxHashSet<[Side; 2]> {
+    let mut regions: FxHashMap<Side, Vec<[u32; 3]>> = FxHashMap::default();
+    for side in distinct.iter().flatten() {
+        regions.entry(*side).or_insert_with(|| region(*side).into_iter().map(face_key).collect());
+    }
+    // A face is never listed as crossing itself, so a face on both sides does not count.
+    let crossing = |[x, y]: &[Side; 2]| {
+        let other = &regions[y];
+        regions[x].iter().any(|&a| known.crossing(a).iter().any(|c| other.contains(c)))
+    };
+    distinct.into_iter().filter(|pair| crossing(pair)).collect()
+}
+
+/// [`crossed_as_listed`] by CGAL's exact test of every pair of their faces (each pair once),
+/// counted in `known`.
+fn crossed_as_tested(
+    positions: &[glam::DVec3],
+    distinct: Vec<[Side; 2]>,
+    region: &dyn Fn(Side) -> Vec<[u32; 3]>,
+    known: &mut KnownCrossings,
+) -> Result<FxHashSet<[Side; 2]>> {
     let mut faces: Vec<[u32; 3]> = Vec::new();
     let mut index: FxHashMap<[u32; 3], u32> = FxHashMap::default();
     let mut regions: FxHashMap<Side, Vec<u32>> = FxHashMap::default();
@@ -171,12 +236,11 @@ fn crossings_before(
     let mut tests: Vec<[u32; 2]> = distinct.iter().flat_map(across).collect();
     tests.sort_unstable();
     tests.dedup();
+    known.asked(tests.len());
     let crossing: FxHashSet<[u32; 2]> = listed_pairs_intersect(positions, &faces, &tests)?
         .into_iter()
         .zip(&tests)
         .filter_map(|(hit, pair)| hit.then_some(*pair))
         .collect();
-    let crossed: FxHashSet<[Side; 2]> =
-        distinct.into_iter().filter(|pair| across(pair).any(|p| crossing.contains(&p))).collect();
-    Ok(pairs.iter().map(|pair| crossed.contains(pair)).collect())
+    Ok(distinct.into_iter().filter(|pair| across(pair).any(|p| crossing.contains(&p))).collect())
 }

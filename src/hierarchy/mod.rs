@@ -14,6 +14,7 @@ pub mod compare;
 mod compare_request;
 mod conformal;
 mod cost;
+mod crossings;
 mod give_way;
 mod guard;
 mod intersections;

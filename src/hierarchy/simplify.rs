@@ -12,6 +12,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use smallvec::SmallVec;
 
 use super::cluster::{ClusterRules, LevelGeometry, plan_cluster};
+use super::crossings::KnownCrossings;
 use super::give_way::{GiveWay, Rung, topological_floor};
 use super::guard::guard_plans;
 use super::lines::FeatureLines;
@@ -198,6 +199,7 @@ fn build_with(
         params,
         slivers: SliverBudget::new(&working_positions, &mesh.triangles),
         cache: PlanCache::new(n),
+        crossings: KnownCrossings::new(options.obstacles.faces.is_empty()),
     };
     // Planning runs here; the record (the removal records, and the OpenMesh replay when
     // asked) follows a level behind on its own thread. The channel holds nothing: a level's
@@ -310,6 +312,8 @@ struct Planner<'a> {
     slivers: SliverBudget,
     /// Each vertex's plan while nothing it reads has changed.
     cache: PlanCache,
+    /// The level's faces that intersect one another, for the guard.
+    crossings: KnownCrossings,
 }
 
 /// What the level loop carries from one level to the next.
@@ -488,7 +492,8 @@ impl Planner<'_> {
         lap(clock, &mut stages.planning);
         let mut offenders = FxHashSet::default();
         if options.prevent_intersections {
-            (plans, offenders) = guard_plans(self.model_positions, &level_faces, plans, &mut self.rings)?;
+            (plans, offenders) =
+                guard_plans(self.model_positions, &level_faces, plans, &mut self.rings, &mut self.crossings)?;
             lap(clock, &mut stages.guard);
         }
         self.rings.commit();
