@@ -51,8 +51,12 @@ pub fn certain_orientation(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> i32 {
 /// so): two triangles each of whose planes cuts the other mostly do cross, and testing
 /// their edge planes would cost more than the exact test it saves.
 pub fn certainly_apart(positions: &[DVec3], s: [u32; 3], t: [u32; 3]) -> bool {
-    let (t_against_s, s_against_t) = (one_side_of(positions, s, t), one_side_of(positions, t, s));
-    if t_against_s == Side::Apart || s_against_t == Side::Apart {
+    let t_against_s = one_side_of(positions, s, t);
+    if t_against_s == Side::Apart {
+        return true;
+    }
+    let s_against_t = one_side_of(positions, t, s);
+    if s_against_t == Side::Apart {
         return true;
     }
     let sharing = s.iter().any(|v| t.contains(v));
