@@ -933,6 +933,7 @@ fn select_clusters(
         });
     }
     let mut plans: Vec<ClusterPlan> = Vec::new();
+    let mut counted = 0;
     for candidate in &mut ranked[..within] {
         let (v, plan) = (candidate.vertex, candidate.plan.take().map(|p| *p));
         if options.target_vertices.is_some_and(|t| live - plans.len() <= t) {
@@ -948,8 +949,18 @@ fn select_clusters(
                 _ => continue,
             },
         };
-        if !slivers.take(&plan, geometry.positions) {
-            continue;
+        // Only a cluster under the angle floor asks the budget, so the others are counted
+        // when one does (in the same order: the same counts), and not at all on a level
+        // that has none.
+        if plan.under_floor {
+            for before in &plans[counted..] {
+                slivers.take(before, geometry.positions);
+            }
+            counted = plans.len();
+            if !slivers.take(&plan, geometry.positions) {
+                continue;
+            }
+            counted += 1;
         }
         apply_plan(&plan, rings)?;
         locked[v as usize] = true;
