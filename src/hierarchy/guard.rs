@@ -78,13 +78,19 @@ fn intersecting_plans(
     known: &mut KnownCrossings,
     found: &mut Vec<FoundCrossing>,
 ) -> Result<FxHashSet<u32>> {
-    let planned: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
+    // Each vertex's role in this round, looked up by the passes over the level's faces.
+    let mut role = vec![0u8; positions.len()];
+    for plan in plans {
+        role[plan.vertex as usize] |= PLANNED;
+    }
+    for &v in restored.into_iter().flatten() {
+        role[v as usize] |= RESTORED;
+    }
+    let has =
+        |t: &[u32; 3], bit: u8, role: &[u8]| t.iter().any(|&v| role.get(v as usize).is_some_and(|r| r & bit != 0));
     let mut level_side = Vec::new();
     for t in level_faces {
-        if t.iter().any(|v| planned.contains(v)) {
-            continue;
-        }
-        if restored.is_none_or(|r| t.iter().any(|v| r.contains(v))) {
+        if !has(t, PLANNED, &role) && (restored.is_none() || has(t, RESTORED, &role)) {
             level_side.push(*t);
         }
     }
@@ -110,7 +116,10 @@ fn intersecting_plans(
     let stars: FxHashMap<u32, Vec<[u32; 3]>> = {
         let offending: FxHashSet<u32> = pairs.iter().flatten().filter_map(|&t| owner(t)).collect();
         let mut stars: FxHashMap<u32, Vec<[u32; 3]>> = offending.iter().map(|&v| (v, Vec::new())).collect();
-        for t in level_faces {
+        for &v in &offending {
+            role[v as usize] |= OFFENDING;
+        }
+        for t in level_faces.iter().filter(|t| has(t, OFFENDING, &role)) {
             for v in t {
                 if let Some(star) = stars.get_mut(v) {
                     star.push(*t);
@@ -141,6 +150,12 @@ fn intersecting_plans(
     }
     Ok(offending)
 }
+
+/// A vertex's roles in a guard round: its plan is in the round, its faces come back, its
+/// plan offends.
+const PLANNED: u8 = 1;
+const RESTORED: u8 = 2;
+const OFFENDING: u8 = 4;
 
 /// An intersecting pair of faces a round found, with the plans whose triangles they are.
 type FoundCrossing = ([[u32; 3]; 2], [Option<u32>; 2]);
