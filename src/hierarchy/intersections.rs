@@ -141,15 +141,19 @@ fn face_box(positions: &[DVec3], t: [u32; 3]) -> Aabb {
 mod tests {
     use super::*;
 
-    /// A soup of `n` small triangles in the unit cube, many crossing, some sharing corners.
-    fn soup(n: usize) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-        let mut state = 0x9E37_79B9_7F4A_7C15_u64;
-        let mut unit = move || {
+    /// Uniform numbers in [0, 1) from a xorshift sequence seeded with `state` (not zero).
+    fn numbers(mut state: u64) -> impl FnMut() -> f64 {
+        move || {
             state ^= state << 13;
             state ^= state >> 7;
             state ^= state << 17;
             (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        }
+    }
+
+    /// A soup of `n` small triangles in the unit cube, many crossing, some sharing corners.
+    fn soup(n: usize) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        let mut unit = numbers(0x9E37_79B9_7F4A_7C15);
         let mut positions = Vec::new();
         for _ in 0..n {
             let centre = DVec3::new(unit(), unit(), unit());
@@ -164,17 +168,12 @@ mod tests {
         (positions, faces)
     }
 
-    /// Fans of triangles around shared centres, on axis planes (exactly coplanar, as CAD
-    /// parts are) and on tilted ones, their rims in random order so that some of a fan's
-    /// triangles overlap and most only touch.
+    /// Fans of triangles around shared centres: every other one flat in the plane z = 0
+    /// beside the flat ones next to it (exactly coplanar, as CAD parts are, and overlapping
+    /// them), the others tilted and apart; some spokes skip two rim points, so that some of
+    /// a fan's triangles overlap and most only touch.
     fn fans(n: usize) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-        let mut state = 0x2545_F491_4F6C_DD1D_u64;
-        let mut unit = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut unit = numbers(0x2545_F491_4F6C_DD1D);
         let (mut positions, mut faces) = (Vec::new(), Vec::new());
         for f in 0..n {
             // The flat fans side by side in one plane, overlapping their neighbours.
