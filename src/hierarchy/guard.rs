@@ -35,11 +35,14 @@ pub(super) fn guard_plans(
     loop {
         let offending = intersecting_plans(positions, level_faces, &plans, restored.as_ref(), known, &mut found)?;
         if offending.is_empty() {
-            // The level's new crossings: those of the planned triangles kept.
-            let kept: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
-            for (faces, owners) in found {
-                if owners.iter().flatten().all(|v| kept.contains(v)) {
-                    known.add(faces[0], faces[1]);
+            // The level's new crossings: those of the planned triangles kept (found only
+            // once the crossings are listed).
+            if !found.is_empty() {
+                let kept: FxHashSet<u32> = plans.iter().map(|p| p.vertex).collect();
+                for (faces, owners) in found {
+                    if owners.iter().flatten().all(|v| kept.contains(v)) {
+                        known.add(faces[0], faces[1]);
+                    }
                 }
             }
             return Ok((plans, offenders));
