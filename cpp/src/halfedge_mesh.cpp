@@ -21,18 +21,19 @@ void require_multiple(std::size_t n, std::size_t k, const char* what) {
   }
 }
 
-/// Silences OpenMesh's "complex edge" chatter on std::cerr for the scope; the
-/// rejected faces are reported to the caller instead.
-class QuietOmerr {
- public:
-  QuietOmerr() : was_enabled_(omerr().is_enabled()) { omerr().disable(); }
-  ~QuietOmerr() {
-    if (was_enabled_) omerr().enable();
-  }
-
- private:
-  bool was_enabled_;
-};
+/// Silences OpenMesh's "complex edge" chatter on std::cerr, once for the process: the
+/// rejected faces are reported to the caller instead. OpenMesh connects its error stream
+/// to std::cerr on first use without a lock, so stores built side by side (a partitioned
+/// build's parts, #40) that both met their first refused face raced there and crashed
+/// (1 run in 15 on the shared anchor in 4 parts); toggling the stream per call raced too.
+/// C++'s static initialisation runs this once, whichever thread comes first.
+void silence_openmesh_errors() {
+  static const bool silenced = [] {
+    omerr().disable();
+    return true;
+  }();
+  (void)silenced;
+}
 
 TriMesh::Normal face_normal_with(const TriMesh& m, FH f, VH moved, const TriMesh::Point& to) {
   TriMesh::Point p[3];
@@ -44,6 +45,7 @@ TriMesh::Normal face_normal_with(const TriMesh& m, FH f, VH moved, const TriMesh
 }  // namespace
 
 HalfEdgeMesh::HalfEdgeMesh() {
+  silence_openmesh_errors();
   mesh_.request_vertex_status();
   mesh_.request_edge_status();
   mesh_.request_halfedge_status();
@@ -79,7 +81,7 @@ std::vector<std::uint32_t> HalfEdgeMesh::add_geometry(const double* xyz, std::si
     mesh_.add_vertex(TriMesh::Point(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]));
 
   std::vector<std::uint32_t> rejected;
-  QuietOmerr quiet;
+  silence_openmesh_errors();
   for (std::size_t f = 0; f < n_indices / 3; ++f) {
     const VH a(static_cast<int>(tris[3 * f])), b(static_cast<int>(tris[3 * f + 1])),
         c(static_cast<int>(tris[3 * f + 2]));
