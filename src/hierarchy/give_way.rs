@@ -283,6 +283,11 @@ impl GiveWay {
         }
     }
 
+    /// Vertex `v`'s feature strength (0 when features are not asked for).
+    pub(super) fn strength(&self, v: u32) -> f64 {
+        self.strength.get(v as usize).copied().unwrap_or(0.0)
+    }
+
     /// Sorts `vertices` weakest first by feature strength, ties by id.
     fn weakest_first(&self, vertices: &mut [u32]) {
         vertices.sort_by(|&a, &b| self.strength[a as usize].total_cmp(&self.strength[b as usize]).then(a.cmp(&b)));

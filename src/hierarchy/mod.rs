@@ -33,6 +33,7 @@ mod simplify;
 mod sliver_budget;
 mod store;
 mod target;
+mod vertex_class;
 mod wedges;
 
 use glam::DVec3;
@@ -46,8 +47,9 @@ pub use refine::{LevelMesh, LevelReport, Refiner, connectivity_match};
 pub use report::BuildReport;
 pub use request::HierarchyRequest;
 pub use rings::{RingVec, Rings};
-pub use simplify::{build, build_with_openmesh_replay};
+pub use simplify::{BOUNDARY_WEIGHT, build, build_with_openmesh_replay};
 pub use target::VertexTarget;
+pub use vertex_class::{VertexClass, vertex_classes};
 pub use wedges::Wedges;
 
 pub use crate::mesh::used_vertices;
@@ -284,6 +286,9 @@ pub struct Hierarchy {
     pub wedges: Option<Wedges>,
     /// Whether the vertex target was reached, and what gave way to reach it.
     pub target: TargetReport,
+    /// The feature class of each base vertex, by vertex id, as the build found it: what a
+    /// partitioned build's parts hand to its continuation (#40).
+    pub classes: Vec<(u32, VertexClass)>,
 }
 
 /// Seconds [`build`] spent in each stage (summed over levels): a one-line report of where

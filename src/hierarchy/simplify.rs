@@ -23,15 +23,29 @@ use super::record::{Recorded, Recorder};
 use super::rings::Rings;
 use super::sliver_budget::SliverBudget;
 use super::store::exported_triangles;
+use super::vertex_class::{VertexClass, vertex_classes};
 use super::wedges::Wedges;
-use super::{BuildStages, FeatureVertices, Hierarchy, KeepFeatures, Removal, SimplifyOptions, used_vertices};
-use crate::analysis::{
-    FaceGeometry, FeatureClass, FeatureOptions, classify_at_two_scales, voting_tensors, wide_voting_tensors,
-};
+use super::{BuildStages, FeatureVertices, Hierarchy, KeepFeatures, SimplifyOptions, used_vertices};
+use crate::analysis::{FeatureClass, FeatureOptions, Quadric};
 use crate::error::{Error, Result};
 use crate::ffi::{self, HalfEdgeMesh};
-use crate::mesh::{Adjacency, FaceId, Mesh, UnitFrame, ValidationReport, is_degenerate_face};
+use crate::mesh::{FaceId, Mesh, UnitFrame, ValidationReport, is_degenerate_face};
 use glam::DVec3;
+
+/// What earlier builds handed over for some of `n` vertices, by vertex, as one value per
+/// vertex (the default for the others, which no build reads).
+///
+/// # Errors
+/// [`Error::InvalidInput`] for a vertex out of range, naming `what` was handed over.
+fn handed_over<T: Copy + Default>(given: &[(u32, T)], n: usize, what: &str) -> Result<Vec<T>> {
+    let mut dense = vec![T::default(); n];
+    for &(v, value) in given {
+        *dense
+            .get_mut(v as usize)
+            .ok_or_else(|| Error::InvalidInput(format!("a {what} handed over for vertex {v} of {n}")))? = value;
+    }
+    Ok(dense)
+}
 
 /// Builds the 4-k hierarchy of `mesh`: simplification down to the base domain, with the
 /// parametrization of every removed vertex.
@@ -56,8 +70,11 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
 /// [`build`] continuing a hierarchy whose removed vertices lie on `mesh`'s faces: the
 /// vertices with a point in `seeds` are on no face of `mesh` and are carried, as MAPS
 /// carries the build's own removed vertices, to the base domain; every cluster's error
-/// measures them too, and the quadrics are those of `input` (the mesh the earlier
-/// `removals` simplified, over the same vertices) accumulated along those removals. What a
+/// measures them too. What the earlier builds found for the vertices they left is handed
+/// over: their `quadrics` (the input's, accumulated along the earlier removals, in the
+/// input's unit frame, which is `mesh`'s: same positions) and their feature `classes`, so
+/// the continuation neither classifies nor measures the input again; `input` (the mesh the
+/// earlier builds simplified, over the same vertices) gives the texture seams. What a
 /// partitioned build (#40) continues its joined parts with.
 ///
 /// # Errors
@@ -68,9 +85,10 @@ pub(super) fn build_seeded(
     options: &SimplifyOptions,
     seeds: &[Option<ParamPoint>],
     input: &Mesh,
-    removals: &[Removal],
+    quadrics: &[(u32, Quadric)],
+    classes: &[(u32, VertexClass)],
 ) -> Result<Hierarchy> {
-    build_with(mesh, options, cfg!(debug_assertions), Some(Continuation { seeds, input, removals }))
+    build_with(mesh, options, cfg!(debug_assertions), Some(Continuation { seeds, input, quadrics, classes }))
 }
 
 /// What a continued build ([`build_seeded`]) starts from: the removed vertices' points on
@@ -80,9 +98,10 @@ pub(super) fn build_seeded(
 struct Continuation<'a> {
     seeds: &'a [Option<ParamPoint>],
     input: &'a Mesh,
-    /// The earlier removals, in order: their quadrics are accumulated as a build
-    /// accumulates its own.
-    removals: &'a [Removal],
+    /// The quadrics of the vertices the earlier builds left, by vertex.
+    quadrics: &'a [(u32, Quadric)],
+    /// The classes of the vertices the earlier builds left, by vertex.
+    classes: &'a [(u32, VertexClass)],
 }
 
 /// [`build`], with every level's plans also carried out on an OpenMesh store (flips and
@@ -99,6 +118,10 @@ pub fn build_with_openmesh_replay(mesh: &Mesh, options: &SimplifyOptions) -> Res
     }
     build_with(mesh, options, true, None)
 }
+
+/// CGAL's discontinuity multiplier for the quadrics' boundary planes (its default):
+/// every build's quadrics, and the ones a partitioned build's parts hand over.
+pub const BOUNDARY_WEIGHT: f64 = 100.0;
 
 /// Peak bytes of a build (and its refinement) per input triangle, rounded up from the
 /// measured 336–374 (`cargo bench --bench hierarchy`, #35).
@@ -128,35 +151,32 @@ fn build_with(
     // the hierarchy keeps the input's own positions.
     let unit = UnitFrame::of(mesh)?;
     let working = unit.apply(mesh);
-    // A continued build reads the input's quadrics and feature classes (same vertices).
-    let input_working = continuing.map(|c| unit.apply(c.input));
+    // A continued build takes the quadrics the earlier builds handed over.
     let (prepared, (store, quadrics)) = rayon::join(
         || prepare_input(mesh, seeds),
         || {
             rayon::join(
                 || HalfEdgeMesh::from_mesh(mesh),
-                || ffi::vertex_quadrics(input_working.as_ref().unwrap_or(&working), 100.0),
+                || match continuing {
+                    Some(c) => handed_over(c.quadrics, mesh.vertex_count(), "quadric"),
+                    None => ffi::vertex_quadrics(&working, BOUNDARY_WEIGHT),
+                },
             )
         },
     );
     prepared?;
-    let (store, mut quadrics) = (store?, quadrics?);
-    if let Some(c) = continuing {
-        // The earlier removals' quadrics, shared by their diagonals' ends as
-        // `Planner::apply_level` shares them.
-        for r in c.removals {
-            let q = quadrics[r.vertex as usize];
-            for end in r.diagonal {
-                quadrics[end as usize].add_scaled(&q, 0.5);
-            }
-        }
-    }
+    let (store, quadrics) = (store?, quadrics?);
     let n = mesh.vertex_count();
     // Texture seams and material borders: lines of the build, and what each level's
     // faces take their UVs by (found once for both).
     let (seams, wedges) = seams_and_wedges(mesh, continuing.map(|c| c.input))?;
-    let Features { feature, kept, lines, give_way } =
-        features_and_kept(&working, input_working.as_ref().unwrap_or(&working), options, &seams)?;
+    let classes = match continuing {
+        _ if options.keep_features == KeepFeatures::None => Vec::new(),
+        Some(c) => handed_over(c.classes, n, "class")?,
+        None => vertex_classes(&working),
+    };
+    let Features { feature, kept, lines, give_way, class, directions } =
+        features_and_kept(&working, classes, options, &seams)?;
     // Planning needs only the working positions; the copy's faces go now.
     let working_positions = {
         let copy = working;
@@ -240,6 +260,18 @@ fn build_with(
         stopped_by,
     );
     let kept = std::mem::take(&mut planner.kept);
+    let classes = planner
+        .live
+        .iter()
+        .map(|&v| {
+            let class = VertexClass {
+                class: class.get(v as usize).copied().unwrap_or(FeatureClass::Face),
+                strength: planner.give_way.strength(v),
+                direction: directions.get(&v).copied().unwrap_or(DVec3::ZERO),
+            };
+            (v, class)
+        })
+        .collect();
     lap(&mut clock, &mut stages.export);
     Ok(Hierarchy {
         positions: mesh.positions.clone(),
@@ -257,6 +289,7 @@ fn build_with(
         stages,
         wedges,
         target,
+        classes,
     })
 }
 
@@ -689,7 +722,7 @@ pub(super) fn prepare_input(mesh: &Mesh, seeds: Option<&[Option<ParamPoint>]>) -
 /// coarser faces would make more features), the lines on `mesh`'s edges.
 fn features_and_kept(
     mesh: &Mesh,
-    classified: &Mesh,
+    classes: Vec<VertexClass>,
     options: &SimplifyOptions,
     seams: &[[u32; 2]],
 ) -> Result<Features> {
@@ -698,24 +731,20 @@ fn features_and_kept(
     let mut corner = vec![false; n];
     let mut strength = vec![0.0; n];
     let mut direction: Vec<Option<DVec3>> = vec![None; n];
+    let mut class = Vec::new();
     if options.keep_features != KeepFeatures::None {
-        let adjacency = Adjacency::of(classified);
-        let geometry = FaceGeometry::of(classified);
-        let tensors = voting_tensors(classified, &adjacency, &geometry);
-        let wide = wide_voting_tensors(classified, &adjacency, &geometry);
-        for (v, t) in tensors.iter().enumerate() {
-            strength[v] = t.strength().min(wide[v].strength());
-        }
-        let classes = classify_at_two_scales(&classified.positions, &adjacency, &tensors, &wide, &Default::default());
-        for (v, class) in classes.into_iter().enumerate() {
+        class.reserve(n);
+        for (v, c) in classes.into_iter().enumerate() {
+            strength[v] = c.strength;
             feature[v] = match options.keep_features {
                 KeepFeatures::None => false,
-                KeepFeatures::Corners => class == FeatureClass::Corner,
-                KeepFeatures::Strong => class.is_sharp(),
-                KeepFeatures::All => class != FeatureClass::Face,
+                KeepFeatures::Corners => c.class == FeatureClass::Corner,
+                KeepFeatures::Strong => c.class.is_sharp(),
+                KeepFeatures::All => c.class != FeatureClass::Face,
             };
-            corner[v] = class == FeatureClass::Corner;
-            direction[v] = (feature[v] && !corner[v]).then_some(tensors[v].diffusion);
+            corner[v] = c.class == FeatureClass::Corner;
+            direction[v] = (feature[v] && !corner[v]).then_some(c.direction);
+            class.push(c.class);
         }
     }
     let along = options.feature_vertices == FeatureVertices::AlongLines;
@@ -733,7 +762,8 @@ fn features_and_kept(
         *slot = true;
         fixed[v as usize] = true;
     }
-    Ok(Features { feature, kept, lines, give_way: GiveWay::new(strength, fixed) })
+    let directions = (0..n as u32).filter_map(|v| direction[v as usize].map(|d| (v, d))).collect();
+    Ok(Features { feature, kept, lines, give_way: GiveWay::new(strength, fixed), class, directions })
 }
 
 /// Whether the edge a–b between two feature vertices runs along their feature (#34): within
@@ -782,6 +812,11 @@ struct Features {
     lines: FeatureLines,
     /// The ladder of what may give way to the target, with each vertex's feature strength.
     give_way: GiveWay,
+    /// Each vertex's class (empty when features are not asked for), and the crease's
+    /// direction at each feature vertex off a corner: with the strength, what the build
+    /// reports of its base vertices ([`Hierarchy::classes`]).
+    class: Vec<FeatureClass>,
+    directions: FxHashMap<u32, DVec3>,
 }
 
 /// How often a level whose every plan offended the intersection guard is tried again.

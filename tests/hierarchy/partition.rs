@@ -95,6 +95,52 @@ fn a_part_pinched_at_a_vertex_is_split_into_one_copy_per_fan() {
     assert!(Partition::with_owners(&mesh, vec![2; mesh.face_count()], 2).is_err());
 }
 
+/// Each part's own share of its vertices' quadrics, in input ids: the input's quadrics
+/// over the part's faces in the input's frame, its border vertices' taken from the part.
+fn own_shares(part: &asperity::hierarchy::partition::Part) -> Vec<(u32, asperity::analysis::Quadric)> {
+    let in_frame = part.input_frame.apply(&part.mesh);
+    let mut quadrics = asperity::ffi::vertex_quadrics(&in_frame, asperity::hierarchy::BOUNDARY_WEIGHT).unwrap();
+    for (&b, &own) in part.border.iter().zip(&part.border_quadrics) {
+        quadrics[b as usize] = own;
+    }
+    part.ids.iter().copied().zip(quadrics).collect()
+}
+
+#[test]
+fn the_parts_shares_of_the_quadrics_sum_to_the_input_s() {
+    // What the continuation of a partitioned build starts from: every vertex's quadric
+    // (faces' planes, and boundary planes where the input has a boundary) split between
+    // the parts. A part alone would see a boundary plane on every cut edge, and a border
+    // vertex's star cut in two.
+    use asperity::mesh::UnitFrame;
+    let pinched = {
+        let mesh = grid(2);
+        let owner: Vec<u32> = (0..mesh.face_count() as u32).map(|f| u32::from(f % 3 == 0)).collect();
+        (mesh, Some(owner))
+    };
+    for (name, (mesh, owner)) in
+        [("open grid", (grid(12), None)), ("torus", (torus(1.0, 0.35, 40, 18), None)), ("pinched", pinched)]
+    {
+        let partition = match owner {
+            Some(owner) => Partition::with_owners(&mesh, owner, 2).unwrap(),
+            None => Partition::of(&mesh, 4).unwrap(),
+        };
+        let input = asperity::ffi::vertex_quadrics(&UnitFrame::of(&mesh).unwrap().apply(&mesh), 100.0).unwrap();
+        let mut summed = vec![asperity::analysis::Quadric::default(); mesh.vertex_count()];
+        for k in 0..partition.parts() {
+            for (v, q) in own_shares(&partition.part(&mesh, k).unwrap()) {
+                summed[v as usize].add_scaled(&q, 1.0);
+            }
+        }
+        for (v, (a, b)) in input.iter().zip(&summed).enumerate() {
+            let scale = a.0.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+            let apart = a.0.iter().zip(b.0).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+            assert!(apart <= 1e-12 * scale, "{name}: vertex {v}: {:?} against the input's {:?}", b.0, a.0);
+        }
+        assert!(partition.border_count() > 0, "{name} has a border");
+    }
+}
+
 #[test]
 fn fenced_parts_join_into_a_manifold_that_a_build_continues_to_the_target() {
     // The bunny scan (genus 0), a torus (genus 1) and a displaced sphere in 8 parts, each
@@ -211,8 +257,22 @@ fn a_part_and_its_build_read_back_from_their_files_bit_for_bit() {
         write_part(&part, &part_file).unwrap();
         let read = read_part(&part_file, mesh.vertex_count()).unwrap();
         assert_eq!(
-            (&read.mesh.positions, &read.mesh.triangles, &read.ids, &read.border, read.input_diagonal),
-            (&part.mesh.positions, &part.mesh.triangles, &part.ids, &part.border, part.input_diagonal)
+            (
+                &read.mesh.positions,
+                &read.mesh.triangles,
+                &read.ids,
+                &read.border,
+                read.input_frame,
+                &read.border_quadrics
+            ),
+            (
+                &part.mesh.positions,
+                &part.mesh.triangles,
+                &part.ids,
+                &part.border,
+                part.input_frame,
+                &part.border_quadrics
+            )
         );
         let built = build_part(&read, &options, mesh.vertex_count()).unwrap();
         write_build(&built, &build_file).unwrap();
@@ -255,7 +315,7 @@ fn a_broken_part_file_is_refused_by_name_and_byte() {
     assert!(read_build(&build_file, 10).unwrap_err().to_string().contains("out of range"));
     assert!(read_part(&part_file, 10).unwrap_err().to_string().contains("out of range"));
     // Counts larger than the file are refused before anything is allocated.
-    let mut huge = b"asperity-built1\n".to_vec();
+    let mut huge = b"asperity-built2\n".to_vec();
     huge.extend(u64::MAX.to_le_bytes());
     let hash = asperity::io::manifest::fnv1a(asperity::io::manifest::FNV_OFFSET, &huge);
     huge.extend(hash.to_le_bytes());

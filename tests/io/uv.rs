@@ -279,8 +279,9 @@ fn a_partitioned_build_keeps_the_uvs_and_materials_on_every_level() {
     // the material's byte (its hash made to match: a file written so, not cut short).
     let file = tmp.path().join("0.part");
     let mut bytes = std::fs::read(&file).unwrap();
-    let faces = partition.part(&sphere, 0).unwrap().mesh.face_count();
-    let at = bytes.len() - 8 - 4 * faces;
+    let part = partition.part(&sphere, 0).unwrap();
+    // The materials come before the border quadrics (a count, ten f64 each) and the hash.
+    let at = bytes.len() - 8 - (8 + 80 * part.border.len()) - 4 * part.mesh.face_count();
     bytes[at..at + 4].copy_from_slice(&5u32.to_le_bytes());
     let body = bytes.len() - 8;
     let hash = asperity::io::manifest::fnv1a(asperity::io::manifest::FNV_OFFSET, &bytes[..body]);

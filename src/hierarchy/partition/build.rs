@@ -11,8 +11,11 @@ use glam::DVec3;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::{Part, Partition};
+use crate::analysis::Quadric;
 use crate::error::{Error, Result};
-use crate::hierarchy::{Hierarchy, Obstacles, ParamPoint, Removal, SimplifyOptions, face_key};
+use crate::hierarchy::{
+    BOUNDARY_WEIGHT, Hierarchy, Obstacles, ParamPoint, Removal, SimplifyOptions, VertexClass, face_key,
+};
 use crate::mesh::Mesh;
 
 /// How much of a part's inside its build keeps, as a multiple of the share of the input
@@ -34,6 +37,13 @@ pub struct PartBuild {
     pub step_starts: Vec<usize>,
     /// Each removed vertex's point on the part's base domain.
     pub seeds: Vec<(u32, ParamPoint)>,
+    /// The feature class the part found for each vertex of its base (a border vertex once
+    /// per copy), which the continuation takes instead of classifying the input again.
+    pub classes: Vec<(u32, VertexClass)>,
+    /// Each vertex of its base (a border vertex once per copy) with its share of the
+    /// quadric a one-piece build would have for it there ([`Part::border_quadrics`],
+    /// `handed_over_quadrics`): the continuation sums the shares.
+    pub quadrics: Vec<(u32, Quadric)>,
 }
 
 impl PartBuild {
@@ -55,7 +65,7 @@ pub fn part_goal(part: &Part, target: usize, input_vertices: usize) -> usize {
 /// Builds `part` of an input of `input_vertices` vertices with its border fenced, to its
 /// [`part_goal`] for `options`' vertex target and within its error bound (the input's
 /// vertices it marks kept are kept). The error bound is a fraction of the input's diagonal
-/// ([`Part::input_diagonal`]), so the part's, a fraction of its own, is scaled to match.
+/// ([`Part::input_frame`]), so the part's, a fraction of its own, is scaled to match.
 ///
 /// # Errors
 /// [`Error::InvalidInput`] without a vertex target or an error bound; as
@@ -114,7 +124,7 @@ fn build_part_beside(
 ) -> Result<PartBuild> {
     require_stop(options)?;
     let max_error = match options.max_error {
-        Some(e) => Some(e * part.input_diagonal / crate::mesh::UnitFrame::of(&part.mesh)?.diagonal),
+        Some(e) => Some(e * part.input_frame.diagonal / crate::mesh::UnitFrame::of(&part.mesh)?.diagonal),
         None => None,
     };
     let marked: std::collections::HashSet<u32> = options.keep_vertices.iter().copied().collect();
@@ -139,6 +149,7 @@ fn build_part_beside(
         ..options.clone()
     };
     let h = crate::hierarchy::build(&part.mesh, &part_options)?;
+    let quadrics = handed_over_quadrics(part, &h)?;
     let id = |v: u32| part.ids[v as usize];
     let mut records = Records::default();
     for step in 0..h.steps() {
@@ -154,7 +165,33 @@ fn build_part_beside(
         restore: records.restore,
         step_starts: records.step_starts,
         seeds,
+        classes: h.classes.iter().map(|&(v, class)| (id(v), class)).collect(),
+        quadrics,
     })
+}
+
+/// The quadrics `part` hands over for the vertices of its base `h`, in input ids: what a
+/// one-piece build accumulates there (Garland & Heckbert's quadrics of the input's faces
+/// in the input's unit frame, each removed vertex's shared by its diagonal's ends as
+/// `Planner::apply_level` shares it), split between the parts by linearity. An inside
+/// vertex's star is whole in the part and has no cut edge, so its quadric is the input's; a
+/// border vertex's own quadric is its [`Part::border_quadrics`] entry (in one part only), to
+/// which every part adds what its removals gave the vertex.
+///
+/// # Errors
+/// As [`crate::ffi::vertex_quadrics`].
+fn handed_over_quadrics(part: &Part, h: &Hierarchy) -> Result<Vec<(u32, Quadric)>> {
+    let mut quadrics = crate::ffi::vertex_quadrics(&part.input_frame.apply(&part.mesh), BOUNDARY_WEIGHT)?;
+    for (&b, &own) in part.border.iter().zip(&part.border_quadrics) {
+        quadrics[b as usize] = own;
+    }
+    for r in &h.removals {
+        let q = quadrics[r.vertex as usize];
+        for end in r.diagonal {
+            quadrics[end as usize].add_scaled(&q, 0.5);
+        }
+    }
+    Ok(h.classes.iter().map(|&(v, _)| (part.ids[v as usize], quadrics[v as usize])).collect())
 }
 
 /// Joins the parts' bases of `mesh` and continues the build on them to `options`' target
@@ -199,7 +236,9 @@ pub fn join_parts(
     }
     let joined = parts.iter().flat_map(|p| p.base_triangles.iter().copied()).collect();
     let joined = Mesh::new(mesh.positions.clone(), joined);
-    let continued = crate::hierarchy::simplify::build_seeded(&joined, options, &seeds, mesh, &records.removals)?;
+    let classes = handed_over_classes(parts);
+    let continued =
+        crate::hierarchy::simplify::build_seeded(&joined, options, &seeds, mesh, &summed_quadrics(parts), &classes)?;
     for step in 0..continued.steps() {
         let removals = &continued.removals[continued.step_starts[step]..continued.step_starts[step + 1]];
         records.push(removals, &continued.restore, |v| v, steps + step);
@@ -214,6 +253,30 @@ pub fn join_parts(
         seconds: started.elapsed().as_secs_f64(),
         ..continued
     })
+}
+
+/// The classes the parts found for their bases' vertices, by vertex: where a vertex is on
+/// several parts' borders (each classified it seeing only its own side), the sharpest.
+fn handed_over_classes(parts: &[PartBuild]) -> Vec<(u32, VertexClass)> {
+    let mut all: Vec<(u32, VertexClass)> = parts.iter().flat_map(|p| p.classes.iter().copied()).collect();
+    // A stable sort: a vertex's classes stay in part order, for `sharpest`'s ties.
+    all.sort_by_key(|&(v, _)| v);
+    all.chunk_by(|a, b| a.0 == b.0)
+        .map(|group| (group[0].0, VertexClass::sharpest(group.iter().map(|&(_, c)| c)).expect("a group has a class")))
+        .collect()
+}
+
+/// The quadrics the parts handed over, summed by vertex in part order.
+fn summed_quadrics(parts: &[PartBuild]) -> Vec<(u32, Quadric)> {
+    let mut all: Vec<(u32, Quadric)> = parts.iter().flat_map(|p| p.quadrics.iter().copied()).collect();
+    all.sort_by_key(|&(v, _)| v);
+    all.chunk_by(|a, b| a.0 == b.0)
+        .map(|group| {
+            let mut sum = group[0].1;
+            group[1..].iter().for_each(|(_, q)| sum.add_scaled(q, 1.0));
+            (group[0].0, sum)
+        })
+        .collect()
 }
 
 /// Builds again, one after the other in order, each part whose base cuts another part's,

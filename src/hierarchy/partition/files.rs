@@ -12,17 +12,19 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::{Part, PartBuild};
+use crate::analysis::{FeatureClass, Quadric};
 use crate::error::{Error, Location, Result};
-use crate::hierarchy::{ParamPoint, Removal};
+use crate::hierarchy::{ParamPoint, Removal, VertexClass};
 use crate::io::manifest::{FNV_OFFSET, fnv1a};
-use crate::mesh::Mesh;
 use crate::mesh::uv::{CornerUvs, Materials};
+use crate::mesh::{Mesh, UnitFrame};
 
-/// The tag of a part's mesh file (layout 3: the input's diagonal first; corner UVs and
-/// face materials last, empty arrays where the input has none).
-const PART_TAG: &[u8; 16] = b"asperity-part-3\n";
-/// The tag of a part's build file (layout 1).
-const BUILD_TAG: &[u8; 16] = b"asperity-built1\n";
+/// The tag of a part's mesh file (layout 4: the input's unit frame first; corner UVs and
+/// face materials, empty arrays where the input has none, then the border quadrics).
+const PART_TAG: &[u8; 16] = b"asperity-part-4\n";
+/// The tag of a part's build file (layout 2: its base vertices' feature classes and
+/// quadrics last).
+const BUILD_TAG: &[u8; 16] = b"asperity-built2\n";
 
 /// Writes `part` to `path` (atomically: a reader never sees half a file).
 ///
@@ -30,7 +32,8 @@ const BUILD_TAG: &[u8; 16] = b"asperity-built1\n";
 /// [`Error::Io`] naming the file.
 pub fn write_part(part: &Part, path: &Path) -> Result<()> {
     let mut out = Out::new(PART_TAG);
-    out.f64(part.input_diagonal);
+    part.input_frame.centre.to_array().into_iter().for_each(|c| out.f64(c));
+    out.f64(part.input_frame.diagonal);
     out.array(&part.mesh.positions, |o, p| p.to_array().into_iter().for_each(|c| o.f64(c)));
     out.array(&part.mesh.triangles, |o, t| t.iter().for_each(|&v| o.u32(v)));
     out.array(&part.ids, |o, &v| o.u32(v));
@@ -39,6 +42,7 @@ pub fn write_part(part: &Part, path: &Path) -> Result<()> {
     out.array(uvs.map_or(&[][..], |u| &u.values), |o, uv| uv.iter().for_each(|&c| o.f64(c)));
     out.array(uvs.map_or(&[][..], |u| &u.corners), |o, c| c.iter().for_each(|&i| o.u32(i)));
     out.array(part.mesh.materials.as_ref().map_or(&[][..], |m| &m.faces), |o, &i| o.u32(i));
+    out.array(&part.border_quadrics, |o, q| q.0.iter().for_each(|&x| o.f64(x)));
     out.write(path).map(|_| ())
 }
 
@@ -51,9 +55,10 @@ pub fn write_part(part: &Part, path: &Path) -> Result<()> {
 pub fn read_part(path: &Path, input_vertices: usize) -> Result<Part> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     let mut r = In::new(&bytes, path, PART_TAG)?;
-    let input_diagonal = r.f64()?;
-    if input_diagonal <= 0.0 {
-        return Err(r.fault("the input's diagonal is not positive"));
+    let centre = DVec3::new(r.f64()?, r.f64()?, r.f64()?);
+    let diagonal = r.f64()?;
+    if !(diagonal > 0.0 && diagonal.is_finite() && centre.is_finite()) {
+        return Err(r.fault("the input's frame is not a finite centre and a positive diagonal"));
     }
     let positions = r.array(24, |r| Ok(DVec3::new(r.f64()?, r.f64()?, r.f64()?)))?;
     let n = positions.len();
@@ -88,6 +93,14 @@ pub fn read_part(path: &Path, input_vertices: usize) -> Result<Part> {
     if !material.is_empty() && material.len() != faces {
         return Err(r.fault(&format!("materials for {} of {faces} faces", material.len())));
     }
+    let border_quadrics = r.array(80, |r| r.quadric())?;
+    if border_quadrics.len() != border.len() {
+        return Err(r.fault(&format!(
+            "{} border quadrics for {} border vertices",
+            border_quadrics.len(),
+            border.len()
+        )));
+    }
     r.end()?;
     let mut mesh = Mesh::new(positions, triangles);
     mesh.uvs = (!corners.is_empty()).then_some(CornerUvs { values, corners });
@@ -96,7 +109,7 @@ pub fn read_part(path: &Path, input_vertices: usize) -> Result<Part> {
         names: (0..used).map(|i| i.to_string()).collect(),
         faces: material,
     });
-    Ok(Part { mesh, ids, border, input_diagonal })
+    Ok(Part { mesh, ids, border, input_frame: UnitFrame { centre, diagonal }, border_quadrics })
 }
 
 /// Writes a part's build to `path` (atomically); returns the file's size in bytes.
@@ -116,6 +129,16 @@ pub fn write_build(build: &PartBuild, path: &Path) -> Result<u64> {
     out.array(&build.seeds, |o, (v, p)| {
         o.u32(*v);
         o.point(p);
+    });
+    out.array(&build.classes, |o, (v, c)| {
+        o.u32(*v);
+        o.u32(c.class as u32);
+        o.f64(c.strength);
+        c.direction.to_array().into_iter().for_each(|x| o.f64(x));
+    });
+    out.array(&build.quadrics, |o, (v, q)| {
+        o.u32(*v);
+        q.0.iter().for_each(|&x| o.f64(x));
     });
     out.write(path)
 }
@@ -150,8 +173,21 @@ pub fn read_build(path: &Path, input_vertices: usize) -> Result<PartBuild> {
         return Err(r.fault("the steps do not cover the removals in order"));
     }
     let seeds = r.array(4 + POINT_BYTES, |r| Ok((r.index(n)?, r.point(n)?)))?;
+    let classes = r.array(8 + 32, |r| {
+        let v = r.index(n)?;
+        let class = match r.index(4)? {
+            0 => FeatureClass::Face,
+            1 => FeatureClass::Weak,
+            2 => FeatureClass::StrongEdge,
+            _ => FeatureClass::Corner,
+        };
+        let strength = r.f64()?;
+        let direction = DVec3::new(r.f64()?, r.f64()?, r.f64()?);
+        Ok((v, VertexClass { class, strength, direction }))
+    })?;
+    let quadrics = r.array(4 + 80, |r| Ok((r.index(n)?, r.quadric()?)))?;
     r.end()?;
-    Ok(PartBuild { base_triangles, removals, restore, step_starts, seeds })
+    Ok(PartBuild { base_triangles, removals, restore, step_starts, seeds, classes, quadrics })
 }
 
 /// A [`ParamPoint`]'s bytes: three u32 and three f64.
@@ -257,6 +293,15 @@ impl<'a> In<'a> {
         let v = self.u32()?;
         self.below(u64::from(v), n, at)?;
         Ok(v)
+    }
+
+    /// A quadric's ten f64.
+    fn quadric(&mut self) -> Result<Quadric> {
+        let mut q = Quadric::default();
+        for x in &mut q.0 {
+            *x = self.f64()?;
+        }
+        Ok(q)
     }
 
     /// A u64 offset below `n`.

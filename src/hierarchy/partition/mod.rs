@@ -25,7 +25,10 @@ pub mod plan;
 pub use build::{PartBuild, build_part, build_part_among, build_partitioned, join_parts, part_goal, separate_parts};
 
 use rayon::prelude::*;
-use rustc_hash::FxHashMap;
+use rustc_hash::{FxHashMap, FxHashSet};
+
+use crate::analysis::Quadric;
+use crate::hierarchy::BOUNDARY_WEIGHT;
 
 use crate::error::{Error, Result};
 use crate::mesh::uv::{CornerUvs, Materials};
@@ -43,8 +46,14 @@ pub struct Partition {
     /// `faces[starts[k]..starts[k + 1]]` are part k's.
     faces: Vec<u32>,
     starts: Vec<usize>,
-    /// The input's bounding-box diagonal, which each part's error bound is a fraction of.
-    diagonal: f64,
+    /// The input's unit frame: each part's error bound is a fraction of its diagonal, and
+    /// the quadrics a part hands over are in it.
+    frame: UnitFrame,
+    /// The part of each vertex's first face (in input order): the part that hands over a
+    /// border vertex's own quadric.
+    first: Vec<u32>,
+    /// The input's quadric of each border vertex, by input id ([`border_quadrics`]).
+    border_quadrics: FxHashMap<u32, Quadric>,
 }
 
 impl Partition {
@@ -75,7 +84,7 @@ impl Partition {
         for (i, &(_, f)) in keys.iter().enumerate() {
             owner[f as usize] = (i * parts / faces) as u32;
         }
-        Ok(Partition::grouped(mesh, owner, parts, unit.diagonal))
+        Partition::grouped(mesh, owner, parts, unit)
     }
 
     /// The partition giving face f to part `owner[f]` (any cut: components, materials, a
@@ -92,12 +101,16 @@ impl Partition {
             return Err(Error::InvalidInput(format!("face {f} is given part {} of {parts}", owner[f])));
         }
         mesh.check()?;
-        Ok(Partition::grouped(mesh, owner, parts, UnitFrame::of(mesh)?.diagonal))
+        Partition::grouped(mesh, owner, parts, UnitFrame::of(mesh)?)
     }
 
     /// The partition of a checked `mesh` by checked owners: its border vertices, and its
-    /// faces grouped by part (a counting sort, so a part's faces keep their input order).
-    fn grouped(mesh: &Mesh, owner: Vec<u32>, parts: usize, diagonal: f64) -> Partition {
+    /// faces grouped by part (a counting sort, so a part's faces keep their input order),
+    /// and the border vertices' quadrics.
+    ///
+    /// # Errors
+    /// As [`border_quadrics`].
+    fn grouped(mesh: &Mesh, owner: Vec<u32>, parts: usize, frame: UnitFrame) -> Result<Partition> {
         let mut first = vec![u32::MAX; mesh.vertex_count()];
         let mut border = vec![false; mesh.vertex_count()];
         let mut starts = vec![0usize; parts + 1];
@@ -120,7 +133,8 @@ impl Partition {
             faces[next[part as usize]] = f as u32;
             next[part as usize] += 1;
         }
-        Partition { owner, parts, border, faces, starts, diagonal }
+        let border_quadrics = border_quadrics(mesh, &border, &frame)?;
+        Ok(Partition { owner, parts, border, faces, starts, frame, first, border_quadrics })
     }
 
     /// Number of parts.
@@ -178,8 +192,21 @@ impl Partition {
         split_non_manifold_fans(&mut part);
         let ids: Vec<u32> =
             part.scalars.remove(INPUT_ID).expect("the ids' scalar").into_iter().map(|v| v as u32).collect();
-        let border = (0..ids.len() as u32).filter(|&v| self.border[ids[v as usize] as usize]).collect();
-        Ok(Part { mesh: part, ids, border, input_diagonal: self.diagonal })
+        let border: Vec<u32> = (0..ids.len() as u32).filter(|&v| self.border[ids[v as usize] as usize]).collect();
+        // Each border vertex's own quadric goes with one part (its first face's) and one
+        // copy there; the continuation sums what the parts hand over.
+        let mut handed: FxHashSet<u32> = FxHashSet::default();
+        let border_quadrics = border
+            .iter()
+            .map(|&b| {
+                let v = ids[b as usize];
+                match self.first[v as usize] == k as u32 && handed.insert(v) {
+                    true => self.border_quadrics.get(&v).copied().unwrap_or_default(),
+                    false => Quadric::default(),
+                }
+            })
+            .collect();
+        Ok(Part { mesh: part, ids, border, input_frame: self.frame, border_quadrics })
     }
 }
 
@@ -232,9 +259,13 @@ pub struct Part {
     pub ids: Vec<u32>,
     /// The part's vertices on its border (to fence in its build).
     pub border: Vec<u32>,
-    /// The input's bounding-box diagonal: an error bound is a fraction of it, in every
-    /// part (a part's own box is smaller).
-    pub input_diagonal: f64,
+    /// The input's unit frame: an error bound is a fraction of its diagonal, in every
+    /// part (a part's own box is smaller), and the quadrics the part hands over are in it.
+    pub input_frame: UnitFrame,
+    /// The input's quadric of each border vertex (in `border`'s order) that this part
+    /// hands over, zero where another part or another copy hands it over: a part sees only
+    /// its side of a border vertex's star.
+    pub border_quadrics: Vec<Quadric>,
 }
 
 impl Part {
@@ -242,6 +273,39 @@ impl Part {
     pub fn input_triangles(&self, triangles: &[[u32; 3]]) -> Vec<[u32; 3]> {
         triangles.iter().map(|t| t.map(|v| self.ids[v as usize])).collect()
     }
+}
+
+/// The input's quadric of each border vertex (`vertex_quadrics` in the input's unit
+/// frame, with a build's boundary weight), computed on the border vertices' stars alone: a
+/// border vertex's star is whole there, and an edge at it is a boundary there only where it
+/// is the input's, so its quadric is the one a build of the whole input starts from. A
+/// vertex of the stars' outer rim where they meet only at it is split into one copy per
+/// fan, which leaves the border vertices' stars as they are.
+///
+/// # Errors
+/// As [`crate::ffi::vertex_quadrics`].
+fn border_quadrics(mesh: &Mesh, border: &[bool], frame: &UnitFrame) -> Result<FxHashMap<u32, Quadric>> {
+    let mut local: FxHashMap<u32, u32> = FxHashMap::default();
+    let mut ids: Vec<u32> = Vec::new();
+    let mut triangles = Vec::new();
+    for t in mesh.triangles.iter().filter(|t| t.iter().any(|&v| border[v as usize])) {
+        triangles.push(t.map(|v| {
+            *local.entry(v).or_insert_with(|| {
+                ids.push(v);
+                ids.len() as u32 - 1
+            })
+        }));
+    }
+    if triangles.is_empty() {
+        return Ok(FxHashMap::default());
+    }
+    let positions = ids.iter().map(|&v| frame.to_unit(mesh.positions[v as usize])).collect();
+    let mut stars = Mesh::new(positions, triangles);
+    stars.scalars.insert(INPUT_ID.to_string(), ids.iter().map(|&v| f64::from(v)).collect());
+    split_non_manifold_fans(&mut stars);
+    let ids = stars.scalars.remove(INPUT_ID).expect("the ids' scalar");
+    let quadrics = crate::ffi::vertex_quadrics(&stars, BOUNDARY_WEIGHT)?;
+    Ok(ids.into_iter().zip(quadrics).map(|(v, q)| (v as u32, q)).filter(|&(v, _)| border[v as usize]).collect())
 }
 
 /// The Morton key of a point of the unit cube: its coordinates' 21 bits interleaved.
