@@ -6,8 +6,13 @@
 //! its diagonal) and their ratio (target ≤ 1.1), the wall times and their ratio (target
 //! ≤ 0.6 on 2 threads).
 //!
-//! Not measured yet (#40 continues): parts as separate processes and their peaks, 50M
-//! triangles.
+//! `-- --large [STEPS]`: the mesh plan's three stages as separate processes would run them,
+//! one after another in this process with the peak resident memory reset between them:
+//! fandisk after STEPS Loop steps (6: 53.0M triangles; a scan-like smooth surface of CAD
+//! size, since Loop smooths the creases) written as binary PLY, `MeshPlan::make` with
+//! K = 16 chunks, each chunk built (`run_chunk`), and the merge (`join_plan`), to 0.1 % of
+//! the vertices. Printed: each stage's peak (bytes per triangle it handles) and time, and
+//! the same run at STEPS − 2 (1/16 of the triangles) for the time per triangle's ratio.
 //!
 //! `cargo bench --bench hierarchy_scale` (`-- --quick`: the 327k-triangle sphere).
 
@@ -17,8 +22,9 @@ use std::time::Instant;
 
 use asperity::Mesh;
 use asperity::hierarchy::compare::relative_hausdorff;
+use asperity::hierarchy::partition::plan::{MeshPlan, join_plan, run_chunk};
 use asperity::hierarchy::partition::{Partition, build_partitioned};
-use asperity::hierarchy::{KeepFeatures, SimplifyOptions, build};
+use asperity::hierarchy::{HierarchyRequest, KeepFeatures, SimplifyOptions, VertexTarget, build};
 
 /// Parts of the partitioned build.
 const PARTS: usize = 8;
@@ -34,7 +40,23 @@ fn options(target: usize, border: Vec<u32>) -> SimplifyOptions {
 
 fn main() {
     asperity::memory::return_large_buffers_to_the_os();
-    let quick = std::env::args().any(|a| a == "--quick");
+    let args: Vec<String> = std::env::args().collect();
+    if let Some(i) = args.iter().position(|a| a == "--stage") {
+        return run_stage(&args[i + 1..]);
+    }
+    if let Some(i) = args.iter().position(|a| a == "--large") {
+        let steps: u32 = args.get(i + 1).and_then(|s| s.parse().ok()).unwrap_or(6);
+        let small = planned_stages(steps.saturating_sub(2));
+        let large = planned_stages(steps);
+        println!(
+            "  #40: time per triangle at {}M / at {}M triangles: {:.3}x (target: within 1.2x)",
+            large.0 / 1_000_000,
+            small.0 / 1_000_000,
+            (large.1 / large.0 as f64) / (small.1 / small.0 as f64)
+        );
+        return;
+    }
+    let quick = args.iter().any(|a| a == "--quick");
     let shared = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/meshes/bunny00.off");
     let scan = asperity::io::read(&shared)
         .unwrap_or_else(|e| panic!("the bunny scan belongs at {}: {e}", shared.display()))
@@ -79,4 +101,111 @@ fn compare(name: &str, mesh: &Mesh) {
         parted_s / one_s,
         rayon::current_num_threads()
     );
+}
+
+/// Chunks of the large run.
+const LARGE_CHUNKS: usize = 16;
+
+/// One stage of the large run, in a process of its own (this bench run again with
+/// `--stage plan|chunk K|merge DIR`), as a job runner would run it: it prints its seconds
+/// and its peak resident memory (VmHWM, KiB) as its last line.
+fn run_stage(args: &[String]) {
+    asperity::memory::return_large_buffers_to_the_os();
+    let dir = std::path::PathBuf::from(&args[1]);
+    let (input, plan_dir) = (dir.join("input.ply"), dir.join("plan"));
+    let start = Instant::now();
+    let detail = match args[0].as_str() {
+        "plan" => {
+            let request = HierarchyRequest {
+                target_vertices: Some(VertexTarget::Percent(0.1)),
+                chunks: Some(LARGE_CHUNKS),
+                ..Default::default()
+            };
+            let read = asperity::io::read(&input).expect("the input read").mesh;
+            MeshPlan::make(&read, &input, false, &request, &plan_dir).expect("the plan");
+            0
+        }
+        "chunk" => {
+            run_chunk(&plan_dir, args[2].parse().expect("a chunk index")).expect("a chunk built");
+            0
+        }
+        "merge" => {
+            let plan = MeshPlan::read(&plan_dir).expect("the plan");
+            let read = asperity::io::read(&input).expect("the input read").mesh;
+            join_plan(&plan_dir, &plan, &read).expect("the merge").base_vertex_count()
+        }
+        other => panic!("no stage {other}"),
+    };
+    let peak = common::peak_rss_kib().expect("VmHWM in /proc/self/status");
+    println!("{} {peak} {detail}", start.elapsed().as_secs_f64());
+}
+
+/// Runs one stage as a process of its own: (seconds, peak MB, the stage's figure).
+fn stage(args: &[&str]) -> (f64, f64, usize) {
+    let exe = std::env::current_exe().expect("this bench's path");
+    let output = std::process::Command::new(exe).arg("--stage").args(args).output().expect("the stage ran");
+    assert!(output.status.success(), "stage {args:?} failed: {}", String::from_utf8_lossy(&output.stderr));
+    let text = String::from_utf8_lossy(&output.stdout);
+    let fields: Vec<&str> = text.lines().last().unwrap_or("").split_whitespace().collect();
+    let parse = |i: usize| fields.get(i).and_then(|f| f.parse::<f64>().ok()).expect("the stage's report");
+    (parse(0), parse(1) / 1024.0, parse(2) as usize)
+}
+
+/// Fandisk after `steps` Loop steps through plan, chunks (one after another) and merge, each
+/// a process of its own; prints each stage's peak and time and returns (triangles, seconds
+/// of the three stages).
+fn planned_stages(steps: u32) -> (usize, f64) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/meshes/fandisk.off");
+    let mut mesh =
+        asperity::io::read(&path).unwrap_or_else(|e| panic!("fandisk belongs at {}: {e}", path.display())).mesh;
+    for _ in 0..steps {
+        mesh = asperity::mesh::loop_subdivide(&mesh).expect("fandisk is a closed manifold");
+    }
+    let triangles = mesh.face_count();
+    let dir = tempfile::tempdir_in(env!("CARGO_TARGET_TMPDIR")).expect("a folder for the plan");
+    let input = dir.path().join("input.ply");
+    asperity::io::write(&mesh, &input, Default::default()).expect("the input written");
+    let input_mb = std::fs::metadata(&input).map(|m| m.len() as f64 / 1e6).unwrap_or(0.0);
+    drop(mesh);
+    println!(
+        "fandisk after {steps} Loop steps: {triangles} triangles ({input_mb:.0} MB binary PLY); {LARGE_CHUNKS} chunks, to 0.1 %, each stage a process"
+    );
+    let per_triangle = |mb: f64, tris: usize| mb * 1024.0 * 1024.0 / tris.max(1) as f64;
+    let dir_arg = dir.path().to_string_lossy().to_string();
+
+    let (plan_s, plan_mb, _) = stage(&["plan", &dir_arg]);
+    println!(
+        "  plan: {plan_s:.1} s, peak {plan_mb:.0} MB ({:.0} B per input triangle)",
+        per_triangle(plan_mb, triangles)
+    );
+    let plan = MeshPlan::read(&dir.path().join("plan")).expect("the plan");
+
+    let (mut chunks_s, mut worst) = (0.0, (0.0f64, 0usize, 0.0f64));
+    for (k, chunk) in plan.chunks.iter().enumerate() {
+        let (seconds, mb, _) = stage(&["chunk", &dir_arg, &k.to_string()]);
+        chunks_s += seconds;
+        if mb > worst.0 {
+            worst = (mb, chunk.faces, per_triangle(mb, chunk.faces));
+        }
+    }
+    let built_mb: f64 = plan
+        .chunks
+        .iter()
+        .map(|c| std::fs::metadata(dir.path().join("plan").join(&c.build)).map(|m| m.len() as f64 / 1e6).unwrap_or(0.0))
+        .sum();
+    println!(
+        "  chunks one after another: {chunks_s:.1} s; highest peak {:.0} MB for {} faces ({:.0} B per triangle of its share); the built chunks {built_mb:.0} MB",
+        worst.0, worst.1, worst.2
+    );
+
+    let (merge_s, merge_mb, base) = stage(&["merge", &dir_arg]);
+    println!(
+        "  merge: {merge_s:.1} s, {base} base vertices (target {}), peak {merge_mb:.0} MB ({:.0} B per input triangle; {:.1}x the built chunks' bytes)",
+        plan.input_vertices / 1000,
+        per_triangle(merge_mb, triangles),
+        merge_mb * 1.048_576 / built_mb.max(f64::MIN_POSITIVE)
+    );
+    let total = plan_s + chunks_s + merge_s;
+    println!("  total {total:.1} s: {:.2} us per triangle", total * 1e6 / triangles as f64);
+    (triangles, total)
 }

@@ -25,6 +25,7 @@ use super::lines::FeatureLines;
 use super::param::ParamBuckets;
 use super::plan::ClusterPlan;
 use super::rings::{RingVec, Rings};
+use super::vertex_table::VertexTable;
 use crate::analysis::Quadric;
 
 /// Weights and thresholds of the cluster selection.
@@ -49,7 +50,7 @@ pub struct LevelGeometry<'a> {
     /// Vertex positions (never moved by simplification).
     pub positions: &'a [DVec3],
     /// Garland–Heckbert quadrics, accumulated over removed vertices.
-    pub quadrics: &'a [Quadric],
+    pub quadrics: &'a VertexTable<Quadric>,
     /// Errors closer than this (a squared distance far below the model's size) are equal.
     pub tolerance: f64,
     /// Where the vertices removed so far lie on the level's faces.

@@ -34,6 +34,7 @@ mod sliver_budget;
 mod store;
 mod target;
 mod vertex_class;
+mod vertex_table;
 mod wedges;
 
 use glam::DVec3;

@@ -70,14 +70,17 @@ impl ParamBuckets {
         self.points[vertex as usize] = Some(point);
     }
 
-    /// Puts each vertex with a point in `seeds` there (a hierarchy continued from removals
-    /// made before: a partitioned build's parts, #40).
-    pub fn seed(&mut self, seeds: &[Option<ParamPoint>], positions: &[DVec3]) {
-        for (v, point) in seeds.iter().enumerate() {
-            if let Some(point) = *point {
-                self.insert(v as u32, point, distance_to(positions, v as u32, point.face));
+    /// Each vertex with a point in `seeds` (one entry per vertex) put there: a hierarchy
+    /// continued from removals made before (a partitioned build's parts, #40). The seeds
+    /// become the points, so they are not held twice.
+    pub fn seeded(seeds: Vec<Option<ParamPoint>>, positions: &[DVec3]) -> Self {
+        let mut buckets = ParamBuckets { heads: FxHashMap::default(), next: vec![END; seeds.len()], points: seeds };
+        for v in 0..buckets.points.len() {
+            if let Some(point) = buckets.points[v] {
+                buckets.insert(v as u32, point, distance_to(positions, v as u32, point.face));
             }
         }
+        buckets
     }
 
     /// Calls `f` with the vertices parametrized onto `face` (any rotation) that lie farthest

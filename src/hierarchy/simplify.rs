@@ -24,6 +24,7 @@ use super::rings::Rings;
 use super::sliver_budget::SliverBudget;
 use super::store::exported_triangles;
 use super::vertex_class::{VertexClass, vertex_classes};
+use super::vertex_table::VertexTable;
 use super::wedges::Wedges;
 use super::{BuildStages, FeatureVertices, Hierarchy, KeepFeatures, SimplifyOptions, used_vertices};
 use crate::analysis::{FeatureClass, FeatureOptions, Quadric};
@@ -31,21 +32,6 @@ use crate::error::{Error, Result};
 use crate::ffi::{self, HalfEdgeMesh};
 use crate::mesh::{FaceId, Mesh, UnitFrame, ValidationReport, is_degenerate_face};
 use glam::DVec3;
-
-/// What earlier builds handed over for some of `n` vertices, by vertex, as one value per
-/// vertex (the default for the others, which no build reads).
-///
-/// # Errors
-/// [`Error::InvalidInput`] for a vertex out of range, naming `what` was handed over.
-fn handed_over<T: Copy + Default>(given: &[(u32, T)], n: usize, what: &str) -> Result<Vec<T>> {
-    let mut dense = vec![T::default(); n];
-    for &(v, value) in given {
-        *dense
-            .get_mut(v as usize)
-            .ok_or_else(|| Error::InvalidInput(format!("a {what} handed over for vertex {v} of {n}")))? = value;
-    }
-    Ok(dense)
-}
 
 /// Builds the 4-k hierarchy of `mesh`: simplification down to the base domain, with the
 /// parametrization of every removed vertex.
@@ -83,20 +69,19 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
 pub(super) fn build_seeded(
     mesh: &Mesh,
     options: &SimplifyOptions,
-    seeds: &[Option<ParamPoint>],
+    seeds: Vec<Option<ParamPoint>>,
     input: &Mesh,
     quadrics: &[(u32, Quadric)],
     classes: &[(u32, VertexClass)],
 ) -> Result<Hierarchy> {
-    build_with(mesh, options, cfg!(debug_assertions), Some(Continuation { seeds, input, quadrics, classes }))
+    build_with(mesh, options, cfg!(debug_assertions), Some((seeds, Continuation { input, quadrics, classes })))
 }
 
-/// What a continued build ([`build_seeded`]) starts from: the removed vertices' points on
-/// the mesh, and the input those removals simplified, whose faces give the vertices'
-/// quadrics (the mesh's coarse faces would give planes the removed vertices left).
+/// What a continued build ([`build_seeded`]) starts from besides the removed vertices'
+/// points on the mesh (which the parametrization takes over): the input those removals
+/// simplified, whose seams the build keeps, and what the earlier builds found.
 #[derive(Clone, Copy)]
 struct Continuation<'a> {
-    seeds: &'a [Option<ParamPoint>],
     input: &'a Mesh,
     /// The quadrics of the vertices the earlier builds left, by vertex.
     quadrics: &'a [(u32, Quadric)],
@@ -131,9 +116,12 @@ fn build_with(
     mesh: &Mesh,
     options: &SimplifyOptions,
     replay: bool,
-    continuing: Option<Continuation<'_>>,
+    continuing: Option<(Vec<Option<ParamPoint>>, Continuation<'_>)>,
 ) -> Result<Hierarchy> {
-    let seeds = continuing.map(|c| c.seeds);
+    let (seeds, continuing) = match continuing {
+        Some((seeds, c)) => (Some(seeds), Some(c)),
+        None => (None, None),
+    };
     let started = Instant::now();
     let mut stages = BuildStages::default();
     let mut clock = Instant::now();
@@ -151,15 +139,16 @@ fn build_with(
     // the hierarchy keeps the input's own positions.
     let unit = UnitFrame::of(mesh)?;
     let working = unit.apply(mesh);
-    // A continued build takes the quadrics the earlier builds handed over.
+    // A continued build takes the quadrics the earlier builds handed over (below, once
+    // its live vertices are known).
     let (prepared, (store, quadrics)) = rayon::join(
-        || prepare_input(mesh, seeds),
+        || prepare_input(mesh, seeds.as_deref()),
         || {
             rayon::join(
                 || HalfEdgeMesh::from_mesh(mesh),
                 || match continuing {
-                    Some(c) => handed_over(c.quadrics, mesh.vertex_count(), "quadric"),
-                    None => ffi::vertex_quadrics(&working, BOUNDARY_WEIGHT),
+                    Some(_) => Ok(None),
+                    None => ffi::vertex_quadrics(&working, BOUNDARY_WEIGHT).map(Some),
                 },
             )
         },
@@ -170,13 +159,17 @@ fn build_with(
     // Texture seams and material borders: lines of the build, and what each level's
     // faces take their UVs by (found once for both).
     let (seams, wedges) = seams_and_wedges(mesh, continuing.map(|c| c.input))?;
-    let classes = match continuing {
-        _ if options.keep_features == KeepFeatures::None => Vec::new(),
-        Some(c) => handed_over(c.classes, n, "class")?,
-        None => vertex_classes(&working),
+    // A continued build takes the classes handed over, for the vertices they name.
+    let Features { feature, kept, lines, give_way, class, directions } = match continuing {
+        _ if options.keep_features == KeepFeatures::None => {
+            features_and_kept(&working, std::iter::empty(), options, &seams)?
+        }
+        Some(c) => features_and_kept(&working, c.classes.iter().copied(), options, &seams)?,
+        None => {
+            let classes = vertex_classes(&working).into_iter().enumerate().map(|(v, c)| (v as u32, c));
+            features_and_kept(&working, classes, options, &seams)?
+        }
     };
-    let Features { feature, kept, lines, give_way, class, directions } =
-        features_and_kept(&working, classes, options, &seams)?;
     // Planning needs only the working positions; the copy's faces go now.
     let working_positions = {
         let copy = working;
@@ -184,14 +177,20 @@ fn build_with(
     };
     let referenced = used_vertices(n, &mesh.triangles);
     let live: Vec<u32> = (0..n as u32).filter(|&v| referenced[v as usize]).collect();
+    let quadrics = match (continuing, quadrics) {
+        (Some(c), _) => VertexTable::sparse(n, c.quadrics, &live, "quadric")?,
+        (None, Some(computed)) => VertexTable::dense(computed),
+        (None, None) => return Err(Error::Internal("a one-piece build without its quadrics".into())),
+    };
     let mut rings = Rings::fetch(&store, &live, n)?;
     rings.fence(&options.border_vertices);
     rings.twin(&options.border_copies);
     let recorder = Recorder::new(&mesh.positions, &mesh.triangles, replay.then_some(store), options.record_levels);
-    let mut params = ParamBuckets::new(n);
-    if let Some(seeds) = seeds {
-        params.seed(seeds, &working_positions);
-    }
+    // The seeds become the parametrization's points (no second copy of them).
+    let params = match seeds {
+        Some(seeds) => ParamBuckets::seeded(seeds, &working_positions),
+        None => ParamBuckets::new(n),
+    };
     lap(&mut clock, &mut stages.prepare);
 
     // The guard decides on the input's own positions, then the obstacles' points.
@@ -333,7 +332,7 @@ struct Planner<'a> {
     give_way: GiveWay,
     /// Why the build stopped short of its target, when it did.
     stopped_by: Option<String>,
-    quadrics: Vec<crate::analysis::Quadric>,
+    quadrics: VertexTable<crate::analysis::Quadric>,
     rings: Rings,
     live: Vec<u32>,
     locked: Vec<bool>,
@@ -622,7 +621,7 @@ impl Planner<'_> {
 /// apart so that the planner's other fields stay free).
 fn level_geometry<'g>(
     positions: &'g [DVec3],
-    quadrics: &'g [crate::analysis::Quadric],
+    quadrics: &'g VertexTable<crate::analysis::Quadric>,
     params: &'g ParamBuckets,
     lines: &'g FeatureLines,
 ) -> LevelGeometry<'g> {
@@ -722,7 +721,7 @@ pub(super) fn prepare_input(mesh: &Mesh, seeds: Option<&[Option<ParamPoint>]>) -
 /// coarser faces would make more features), the lines on `mesh`'s edges.
 fn features_and_kept(
     mesh: &Mesh,
-    classes: Vec<VertexClass>,
+    classes: impl Iterator<Item = (u32, VertexClass)>,
     options: &SimplifyOptions,
     seams: &[[u32; 2]],
 ) -> Result<Features> {
@@ -730,11 +729,16 @@ fn features_and_kept(
     let mut feature = vec![false; n];
     let mut corner = vec![false; n];
     let mut strength = vec![0.0; n];
-    let mut direction: Vec<Option<DVec3>> = vec![None; n];
+    let mut directions: FxHashMap<u32, DVec3> = FxHashMap::default();
     let mut class = Vec::new();
     if options.keep_features != KeepFeatures::None {
-        class.reserve(n);
-        for (v, c) in classes.into_iter().enumerate() {
+        class = vec![VertexClass::FLAT.class; n];
+        for (v, c) in classes {
+            let slot = class
+                .get_mut(v as usize)
+                .ok_or_else(|| Error::InvalidInput(format!("a class handed over for vertex {v} of {n}")))?;
+            *slot = c.class;
+            let v = v as usize;
             strength[v] = c.strength;
             feature[v] = match options.keep_features {
                 KeepFeatures::None => false,
@@ -743,12 +747,14 @@ fn features_and_kept(
                 KeepFeatures::All => c.class != FeatureClass::Face,
             };
             corner[v] = c.class == FeatureClass::Corner;
-            direction[v] = (feature[v] && !corner[v]).then_some(c.direction);
-            class.push(c.class);
+            match feature[v] && !corner[v] {
+                true => directions.insert(v as u32, c.direction),
+                false => directions.remove(&(v as u32)),
+            };
         }
     }
     let along = options.feature_vertices == FeatureVertices::AlongLines;
-    let follows = follows_feature(mesh, &corner, &direction);
+    let follows = follows_feature(mesh, &corner, &directions);
     let lines = FeatureLines::new(&feature, &corner, &mesh.triangles, along, seams, follows);
     let line_like = |v: u32| feature[v as usize] || lines.is_boundary(v) || lines.is_on_seam(v);
     let mut kept: Vec<bool> = (0..n as u32).map(|v| line_like(v) && !lines.is_on_line(v)).collect();
@@ -762,7 +768,6 @@ fn features_and_kept(
         *slot = true;
         fixed[v as usize] = true;
     }
-    let directions = (0..n as u32).filter_map(|v| direction[v as usize].map(|d| (v, d))).collect();
     Ok(Features { feature, kept, lines, give_way: GiveWay::new(strength, fixed), class, directions })
 }
 
@@ -775,7 +780,7 @@ fn features_and_kept(
 fn follows_feature<'a>(
     mesh: &'a Mesh,
     corner: &'a [bool],
-    direction: &'a [Option<DVec3>],
+    direction: &'a FxHashMap<u32, DVec3>,
 ) -> impl Fn(u32, u32) -> bool + 'a {
     let cos_along = FeatureOptions::default().nvc_along_degrees.to_radians().cos();
     let mut corner_edges: FxHashMap<[u32; 2], SmallVec<[DVec3; 2]>> = FxHashMap::default();
@@ -792,7 +797,7 @@ fn follows_feature<'a>(
     let cos_corner = CORNER_EDGE_DEGREES.to_radians().cos();
     move |a, b| {
         let along = (mesh.positions[b as usize] - mesh.positions[a as usize]).normalize_or_zero();
-        match (direction[a as usize], direction[b as usize]) {
+        match (direction.get(&a).copied(), direction.get(&b).copied()) {
             (None, None) => {
                 corner_edges.get(&[a.min(b), a.max(b)]).is_some_and(|n| n.len() == 2 && n[0].dot(n[1]) <= cos_corner)
             }

@@ -220,8 +220,12 @@ pub fn join_parts(
     if options.prevent_intersections {
         separate_parts(mesh, &mut parts, part_of, options)?;
     }
-    let parts = &parts;
+    // What the parts hand over is taken out of them as it is used, and the parts are gone
+    // before the continuation starts: a merge holds each removal's record once.
     let mut records = Records::default();
+    let removed: usize = parts.iter().map(|p| p.removals.len()).sum();
+    records.removals.reserve_exact(removed);
+    records.restore.reserve_exact(parts.iter().map(|p| p.restore.len()).sum());
     let steps = parts.iter().map(PartBuild::steps).max().unwrap_or(0);
     for step in 0..steps {
         for part in parts.iter().filter(|p| step < p.steps()) {
@@ -231,21 +235,27 @@ pub fn join_parts(
         records.step_starts.push(records.removals.len());
     }
     let mut seeds: Vec<Option<ParamPoint>> = vec![None; mesh.vertex_count()];
-    for &(v, point) in parts.iter().flat_map(|p| &p.seeds) {
-        seeds[v as usize] = Some(point);
+    for part in &mut parts {
+        (part.removals, part.restore) = (Vec::new(), Vec::new());
+        for (v, point) in std::mem::take(&mut part.seeds) {
+            seeds[v as usize] = Some(point);
+        }
     }
     let joined = parts.iter().flat_map(|p| p.base_triangles.iter().copied()).collect();
     let joined = Mesh::new(mesh.positions.clone(), joined);
-    let classes = handed_over_classes(parts);
-    let continued =
-        crate::hierarchy::simplify::build_seeded(&joined, options, &seeds, mesh, &summed_quadrics(parts), &classes)?;
+    let (classes, quadrics) = (handed_over_classes(&parts), summed_quadrics(&parts));
+    drop(parts);
+    let continued = crate::hierarchy::simplify::build_seeded(&joined, options, seeds, mesh, &quadrics, &classes)?;
+    drop(joined);
+    records.removals.reserve_exact(continued.removals.len());
+    records.restore.reserve_exact(continued.restore.len());
     for step in 0..continued.steps() {
         let removals = &continued.removals[continued.step_starts[step]..continued.step_starts[step + 1]];
         records.push(removals, &continued.restore, |v| v, steps + step);
         records.step_starts.push(records.removals.len());
     }
+    // The continuation's positions are the input's (its mesh had them all).
     Ok(Hierarchy {
-        positions: mesh.positions.clone(),
         input_triangles: mesh.triangles.clone(),
         removals: records.removals,
         restore: records.restore,
