@@ -6,13 +6,14 @@
 //! its diagonal) and their ratio (target ≤ 1.1), the wall times and their ratio (target
 //! ≤ 0.6 on 2 threads).
 //!
-//! `-- --large [STEPS]`: the mesh plan's three stages as separate processes would run them,
-//! one after another in this process with the peak resident memory reset between them:
-//! fandisk after STEPS Loop steps (6: 53.0M triangles; a scan-like smooth surface of CAD
-//! size, since Loop smooths the creases) written as binary PLY, `MeshPlan::make` with
+//! `-- --large [STEPS]`: the mesh plan's three stages as a job runner runs them, each a
+//! process of its own (this bench run again with `--stage`, printing its VmHWM), the
+//! chunks one after another: fandisk after STEPS Loop steps (6: 53.0M triangles; a smooth
+//! surface, since Loop smooths the creases) written as binary PLY, `MeshPlan::make` with
 //! K = 16 chunks, each chunk built (`run_chunk`), and the merge (`join_plan`), to 0.1 % of
 //! the vertices. Printed: each stage's peak (bytes per triangle it handles) and time, and
-//! the same run at STEPS − 2 (1/16 of the triangles) for the time per triangle's ratio.
+//! the same run at STEPS − 2 (1/16 of the triangles) for the time per triangle's ratio
+//! (target ≤ 1.2).
 //!
 //! `cargo bench --bench hierarchy_scale` (`-- --quick`: the 327k-triangle sphere).
 
@@ -49,9 +50,9 @@ fn main() {
         let small = planned_stages(steps.saturating_sub(2));
         let large = planned_stages(steps);
         println!(
-            "  #40: time per triangle at {}M / at {}M triangles: {:.3}x (target: within 1.2x)",
-            large.0 / 1_000_000,
-            small.0 / 1_000_000,
+            "  #40: time per triangle at {:.1}M / at {:.1}M triangles: {:.3}x (target: within 1.2x)",
+            large.0 as f64 / 1e6,
+            small.0 as f64 / 1e6,
             (large.1 / large.0 as f64) / (small.1 / small.0 as f64)
         );
         return;
@@ -107,10 +108,11 @@ fn compare(name: &str, mesh: &Mesh) {
 const LARGE_CHUNKS: usize = 16;
 
 /// One stage of the large run, in a process of its own (this bench run again with
-/// `--stage plan|chunk K|merge DIR`), as a job runner would run it: it prints its seconds
-/// and its peak resident memory (VmHWM, KiB) as its last line.
+/// `--stage plan DIR`, `--stage chunk DIR K` or `--stage merge DIR`), as a job runner would
+/// run it: it prints its seconds and its peak resident memory (VmHWM, KiB) as its last line.
 fn run_stage(args: &[String]) {
     asperity::memory::return_large_buffers_to_the_os();
+    assert!(args.len() >= 2, "--stage plan DIR, --stage chunk DIR K or --stage merge DIR");
     let dir = std::path::PathBuf::from(&args[1]);
     let (input, plan_dir) = (dir.join("input.ply"), dir.join("plan"));
     let start = Instant::now();
@@ -126,7 +128,8 @@ fn run_stage(args: &[String]) {
             0
         }
         "chunk" => {
-            run_chunk(&plan_dir, args[2].parse().expect("a chunk index")).expect("a chunk built");
+            let index = args.get(2).and_then(|k| k.parse().ok()).expect("--stage chunk DIR K");
+            run_chunk(&plan_dir, index).expect("a chunk built");
             0
         }
         "merge" => {
@@ -201,7 +204,7 @@ fn planned_stages(steps: u32) -> (usize, f64) {
     let (merge_s, merge_mb, base) = stage(&["merge", &dir_arg]);
     println!(
         "  merge: {merge_s:.1} s, {base} base vertices (target {}), peak {merge_mb:.0} MB ({:.0} B per input triangle; {:.1}x the built chunks' bytes)",
-        plan.input_vertices / 1000,
+        plan.options().expect("the plan's options").target_vertices.unwrap_or(0),
         per_triangle(merge_mb, triangles),
         merge_mb * 1.048_576 / built_mb.max(f64::MIN_POSITIVE)
     );
