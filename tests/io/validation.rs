@@ -110,3 +110,46 @@ fn boundary_loops_follow_edges_whatever_the_orientation_and_twists_are_not_orien
     let torus = torus(1.0, 0.3, 12, 8).validate();
     assert_eq!((torus.orientable, torus.genus, torus.boundary_loops), (true, Some(1), 0));
 }
+
+/// A strip of `n` quads (two triangles each) around a circle, its last edge glued to the
+/// first with a half twist or without; every `k`-th face written backwards.
+fn band(n: u32, twisted: bool, flip_every: usize) -> Mesh {
+    let mut positions = Vec::new();
+    for i in 0..n {
+        let a = std::f64::consts::TAU * f64::from(i) / f64::from(n);
+        let radial = DVec3::new(a.cos(), a.sin(), 0.0);
+        positions.push(radial * 3.0 + DVec3::Z * 0.5);
+        positions.push(radial * 3.0 - DVec3::Z * 0.5);
+    }
+    let mut triangles = Vec::new();
+    for i in 0..n {
+        let (top, bottom) = (2 * i, 2 * i + 1);
+        let (next_top, next_bottom) = match (i + 1 == n, twisted) {
+            (true, true) => (1, 0),
+            (true, false) => (0, 1),
+            _ => (2 * i + 2, 2 * i + 3),
+        };
+        triangles.push([top, bottom, next_bottom]);
+        triangles.push([top, next_bottom, next_top]);
+    }
+    for (f, t) in triangles.iter_mut().enumerate() {
+        if flip_every > 0 && f % flip_every == 0 {
+            t.swap(1, 2);
+        }
+    }
+    Mesh::new(positions, triangles)
+}
+
+#[test]
+fn orientability_holds_along_long_bands_whatever_faces_are_written_backwards() {
+    // The union-find with parity joins faces far apart before the band closes: only the
+    // half twist makes it non-orientable, however many faces are flipped.
+    for flip_every in [0, 1, 3, 7] {
+        let plain = band(400, false, flip_every).validate();
+        assert!(plain.orientable && plain.is_manifold(), "plain band, every {flip_every}th face flipped");
+        assert_eq!(plain.boundary_loops, 2);
+        let twisted = band(400, true, flip_every).validate();
+        assert!(!twisted.orientable && twisted.is_manifold(), "twisted band, every {flip_every}th face flipped");
+        assert_eq!((twisted.boundary_loops, twisted.genus), (1, None));
+    }
+}
