@@ -220,8 +220,8 @@ pub fn join_parts(
     if options.prevent_intersections {
         separate_parts(mesh, &mut parts, part_of, options)?;
     }
-    // What the parts hand over is taken out of them as it is used, and the parts are gone
-    // before the continuation starts: a merge holds each removal's record once.
+    // The parts' records and seeds are freed once copied, and the parts are gone before
+    // the continuation starts, which then holds each removal's record once.
     let mut records = Records::default();
     let removed: usize = parts.iter().map(|p| p.removals.len()).sum();
     records.removals.reserve_exact(removed);
