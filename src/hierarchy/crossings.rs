@@ -20,7 +20,7 @@ use rustc_hash::FxHashMap;
 use smallvec::SmallVec;
 
 use super::face_key;
-use super::intersections::{AddedPairs, triangle_intersections_across};
+use super::intersections::{AddedPairs, AddedRuns, triangle_intersections_across};
 use crate::error::Result;
 
 /// Each face (its key) with the faces it intersects.
@@ -63,7 +63,7 @@ impl KnownCrossings {
         if self.by_face.is_some() || !self.allowed || !pays {
             return Ok(());
         }
-        let pairs = triangle_intersections_across(positions, &[], level_faces, AddedPairs::Tested)?;
+        let pairs = triangle_intersections_across(positions, &[], level_faces, AddedPairs::Tested, AddedRuns::Single)?;
         self.by_face = Some(FxHashMap::default());
         for [a, b] in pairs {
             self.add(level_faces[a as usize], level_faces[b as usize]);

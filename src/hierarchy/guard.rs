@@ -6,7 +6,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::crossings::KnownCrossings;
 use super::face_key;
-use super::intersections::{AddedPairs, listed_pairs_intersect, triangle_intersections_across};
+use super::intersections::{AddedPairs, AddedRuns, listed_pairs_intersect, triangle_intersections_across};
 use super::plan::{ClusterPlan, apply_plan, plan_still_applies};
 use super::rings::Rings;
 use crate::error::Result;
@@ -100,18 +100,21 @@ fn intersecting_plans(
     // `owners` names each planned triangle's plan.
     let mut planned_side = Vec::new();
     let mut owners = Vec::new();
+    let mut runs = Vec::with_capacity(plans.len());
     for plan in plans {
         planned_side.extend(&plan.triangles);
         owners.extend(std::iter::repeat_n(plan.vertex, plan.triangles.len()));
+        runs.push(plan.triangles.len());
     }
     // Pairs index `kept` then `added`: the planned triangles are added in the first round
     // (tested among themselves too), kept in the later ones.
-    let (kept, added, among_added, first_planned) = match restored {
-        None => (&level_side, &planned_side, AddedPairs::Tested, level_side.len()),
-        Some(_) => (&planned_side, &level_side, AddedPairs::LeftOut, 0),
+    // The first round boxes each plan's triangles together in the broad phase.
+    let (kept, added, among_added, first_planned, runs) = match restored {
+        None => (&level_side, &planned_side, AddedPairs::Tested, level_side.len(), AddedRuns::Sizes(&runs)),
+        Some(_) => (&planned_side, &level_side, AddedPairs::LeftOut, 0, AddedRuns::Single),
     };
     let owner = |t: u32| (t as usize).checked_sub(first_planned).and_then(|i| owners.get(i).copied());
-    let pairs = triangle_intersections_across(positions, kept, added, among_added)?;
+    let pairs = triangle_intersections_across(positions, kept, added, among_added, runs)?;
     if pairs.is_empty() {
         return Ok(FxHashSet::default());
     }

@@ -27,7 +27,7 @@ pub fn added_triangle_intersections(
     kept: &[[u32; 3]],
     added: &[[u32; 3]],
 ) -> Result<Vec<[u32; 2]>> {
-    triangle_intersections_across(positions, kept, added, AddedPairs::Tested)
+    triangle_intersections_across(positions, kept, added, AddedPairs::Tested, AddedRuns::Single)
 }
 
 /// Whether [`triangle_intersections_across`] tests the pairs of two added triangles.
@@ -40,12 +40,22 @@ pub(super) enum AddedPairs {
     LeftOut,
 }
 
-/// [`added_triangle_intersections`], with the pairs of two added triangles tested or left out.
+/// [`added_triangle_intersections`], with the pairs of two added triangles tested or left
+/// out, and the added triangles taken in `runs`: consecutive triangles that lie close
+/// together (a plan's retriangulation), bucketed in the grid by one box each.
+///
+/// A pair's triangles' boxes overlap only if their runs' boxes do, so the pairs found are
+/// those of [`AddedRuns::Single`], whatever the runs; a run's box saves the grid one
+/// entry, and a query one hit, per triangle it holds beyond the first. The guard's first
+/// round runs its plans' triangles this way: on the 327 k-triangle sphere (#35) each
+/// level's face queries met about eight planned triangles' boxes each, most of them the
+/// neighbouring plans' triangles at a shared corner.
 pub(super) fn triangle_intersections_across(
     positions: &[DVec3],
     kept: &[[u32; 3]],
     added: &[[u32; 3]],
     among_added: AddedPairs,
+    runs: AddedRuns<'_>,
 ) -> Result<Vec<[u32; 2]>> {
     use rayon::prelude::*;
     for (i, t) in kept.iter().chain(added).enumerate() {
@@ -59,33 +69,64 @@ pub(super) fn triangle_intersections_across(
         }
     }
     let bbox = |t: &[u32; 3]| face_box(positions, *t);
-    let grid = BoxGrid::new(added.par_iter().map(bbox).collect());
+    let boxes: Vec<Aabb> = added.par_iter().map(bbox).collect();
+    let runs = RunTable::new(runs, added.len())?;
+    // With one triangle per run, the grid's boxes are the triangles' own.
+    let (grid, own_boxes) = match &runs.starts {
+        None => (BoxGrid::new(boxes), None),
+        Some(starts) => {
+            let run_box = |w: &[u32]| {
+                boxes[w[0] as usize..w[1] as usize]
+                    .iter()
+                    .copied()
+                    .reduce(|a, b| a.union(&b))
+                    .expect("runs are not empty")
+            };
+            (BoxGrid::new(starts.par_windows(2).map(run_box).collect()), Some(boxes))
+        }
+    };
+    let triangle_boxes = own_boxes.as_deref().unwrap_or(grid.boxes());
     let nk = kept.len() as u32;
     // Candidates: kept against added, then added against added (each pair once), whose
     // boxes overlap and which the plane-side filter cannot tell apart.
+    let near =
+        |s: [u32; 3], b: &Aabb, i: usize| b.overlaps(&triangle_boxes[i]) && !certainly_apart(positions, s, added[i]);
     let near_kept = kept.par_chunks(CHUNK).enumerate().map(|(c, part)| {
         let mut pairs = Vec::new();
         for (k, t) in part.iter().enumerate() {
             let k = (c * CHUNK + k) as u32;
-            grid.query(&bbox(t), |i| {
-                if !certainly_apart(positions, *t, added[i as usize]) {
-                    pairs.push([k, nk + i]);
+            let b = bbox(t);
+            grid.query(&b, |r| {
+                for i in runs.range(r) {
+                    if near(*t, &b, i) {
+                        pairs.push([k, nk + i as u32]);
+                    }
                 }
             });
         }
         pairs
     });
-    let added_boxes = if among_added == AddedPairs::Tested { grid.boxes() } else { &[] };
-    let near_added = added_boxes.par_chunks(CHUNK).enumerate().map(|(c, part)| {
-        let mut pairs = Vec::new();
-        for (i, b) in part.iter().enumerate() {
-            let i = (c * CHUNK + i) as u32;
-            grid.query(b, |j| {
-                if j > i && !certainly_apart(positions, added[i as usize], added[j as usize]) {
-                    pairs.push([nk + i, nk + j]);
+    let run_count = if among_added == AddedPairs::Tested { runs.len() } else { 0 };
+    let near_added = (0..run_count).into_par_iter().with_min_len(CHUNK).fold(Vec::new, |mut pairs, r| {
+        let range = runs.range(r as u32);
+        for i in range.clone() {
+            for j in i + 1..range.end {
+                if near(added[j], &triangle_boxes[j], i) {
+                    pairs.push([nk + i as u32, nk + j as u32]);
                 }
-            });
+            }
         }
+        grid.query(&grid.boxes()[r], |q| {
+            if q as usize > r {
+                for i in range.clone() {
+                    for j in runs.range(q) {
+                        if near(added[j], &triangle_boxes[j], i) {
+                            pairs.push([nk + i as u32, nk + j as u32]);
+                        }
+                    }
+                }
+            }
+        });
         pairs
     });
     let candidates: Vec<[u32; 2]> = near_kept.chain(near_added).flatten_iter().collect();
@@ -99,6 +140,53 @@ pub(super) fn triangle_intersections_across(
     let mut pairs: Vec<[u32; 2]> = hits.into_iter().flatten().collect();
     pairs.sort_unstable();
     Ok(pairs)
+}
+
+/// How [`triangle_intersections_across`] groups the added triangles.
+#[derive(Debug, Clone, Copy)]
+pub(super) enum AddedRuns<'a> {
+    /// Each triangle alone.
+    Single,
+    /// Consecutive runs of these many triangles (summing to the added triangles' count).
+    Sizes(&'a [usize]),
+}
+
+/// The added triangles' runs as ranges: `starts` holds each non-empty run's first
+/// triangle and, last, the count (none: one triangle per run).
+struct RunTable {
+    starts: Option<Vec<u32>>,
+    count: usize,
+}
+
+impl RunTable {
+    fn new(runs: AddedRuns<'_>, count: usize) -> Result<Self> {
+        let AddedRuns::Sizes(sizes) = runs else { return Ok(RunTable { starts: None, count }) };
+        let total: usize = sizes.iter().sum();
+        if total != count {
+            return Err(Error::Internal(format!("runs of {total} triangles for {count} added triangles")));
+        }
+        let mut starts = Vec::with_capacity(sizes.len() + 1);
+        let mut at = 0u32;
+        for &size in sizes.iter().filter(|&&s| s > 0) {
+            starts.push(at);
+            at += size as u32;
+        }
+        starts.push(at);
+        Ok(RunTable { starts: Some(starts), count })
+    }
+
+    /// Number of runs.
+    fn len(&self) -> usize {
+        self.starts.as_ref().map_or(self.count, |s| s.len() - 1)
+    }
+
+    /// The added triangles of run `r`.
+    fn range(&self, r: u32) -> std::ops::Range<usize> {
+        match &self.starts {
+            None => r as usize..r as usize + 1,
+            Some(starts) => starts[r as usize] as usize..starts[r as usize + 1] as usize,
+        }
+    }
 }
 
 /// Which of the listed `pairs` of `faces` (indices into `faces`, two distinct faces each)
@@ -225,11 +313,36 @@ mod tests {
         let (kept, added) = faces.split_at(250);
         let nk = kept.len() as u32;
         let all = added_triangle_intersections(&positions, kept, added).unwrap();
-        let across = triangle_intersections_across(&positions, kept, added, AddedPairs::LeftOut).unwrap();
+        let across =
+            triangle_intersections_across(&positions, kept, added, AddedPairs::LeftOut, AddedRuns::Single).unwrap();
         assert!(all.iter().any(|p| p[0] >= nk), "the soup has no crossing between added triangles");
         assert!(!across.is_empty(), "the soup has no crossing between kept and added triangles");
         let expected: Vec<[u32; 2]> = all.into_iter().filter(|p| p[0] < nk).collect();
         assert_eq!(across, expected);
+    }
+
+    #[test]
+    fn runs_of_added_triangles_find_the_pairs_each_alone_finds() {
+        let (positions, faces) = soup(500);
+        let (kept, added) = faces.split_at(200);
+        // Runs of 0 to 6 triangles, the soup's neighbours in index order far apart in space.
+        let mut sizes = Vec::new();
+        let (mut left, mut k) = (added.len(), 0usize);
+        while left > 0 {
+            let size = (k % 7).min(left);
+            sizes.push(size);
+            left -= size;
+            k = (k * 5 + 3) % 1009;
+        }
+        for among in [AddedPairs::Tested, AddedPairs::LeftOut] {
+            let alone = triangle_intersections_across(&positions, kept, added, among, AddedRuns::Single).unwrap();
+            let in_runs =
+                triangle_intersections_across(&positions, kept, added, among, AddedRuns::Sizes(&sizes)).unwrap();
+            assert!(alone.len() > 20, "the soup crosses itself only {} times", alone.len());
+            assert_eq!(in_runs, alone, "{among:?}");
+        }
+        let short = triangle_intersections_across(&positions, kept, added, AddedPairs::Tested, AddedRuns::Sizes(&[3]));
+        assert!(matches!(short, Err(Error::Internal(_))));
     }
 
     #[test]

@@ -25,7 +25,8 @@ impl Aabb {
         self.lo.cmple(o.hi).all() && o.lo.cmple(self.hi).all()
     }
 
-    fn union(&self, o: &Aabb) -> Aabb {
+    /// The smallest box holding both.
+    pub fn union(&self, o: &Aabb) -> Aabb {
         Aabb { lo: self.lo.min(o.lo), hi: self.hi.max(o.hi) }
     }
 }
