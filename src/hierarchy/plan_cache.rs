@@ -28,6 +28,8 @@
 //! vertex: `Rings::twin`), whose `may_join` reads the copies' edges too, forgets the
 //! removed vertices' 2-rings.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use rayon::prelude::*;
 
 use super::cluster::ClusterRules;
@@ -98,27 +100,26 @@ impl PlanCache {
             return;
         }
         // Only the rings' vertices changed degree: a vertex beside one at the least, or
-        // planned beside one, is stale. Found in parallel, then forgotten in one pass.
+        // planned beside one, is stale. Marked in parallel, then forgotten in one pass.
         let roomy = &self.roomy;
-        let mut stale = vec![false; self.entries.len()];
-        let found: Vec<u32> = plans
-            .par_iter()
-            .flat_map_iter(|plan| {
-                let mut found: Vec<u32> = plan.ring.iter().copied().chain([plan.vertex]).collect();
-                for &r in &plan.ring {
-                    let tight = !rings.may_lose_neighbour(r, 0);
-                    found.extend(rings.ring(r).iter().filter(|&&w| tight || !roomy[w as usize]));
-                }
-                for [a, b] in new_edges(plan) {
-                    found.extend(rings.ring(a).iter().filter(|&&w| rings.has_edge(w, b)));
-                }
-                found
-            })
-            .collect();
-        for v in found {
-            stale[v as usize] = true;
-        }
-        self.entries.par_iter_mut().zip(stale).filter(|(_, s)| *s).for_each(|(e, _)| *e = Entry::Stale);
+        let stale: Vec<AtomicBool> = (0..self.entries.len()).map(|_| AtomicBool::new(false)).collect();
+        let mark = |v: u32| stale[v as usize].store(true, Ordering::Relaxed);
+        plans.par_iter().for_each(|plan| {
+            mark(plan.vertex);
+            for &r in &plan.ring {
+                mark(r);
+                let tight = !rings.may_lose_neighbour(r, 0);
+                rings.ring(r).iter().filter(|&&w| tight || !roomy[w as usize]).for_each(|&w| mark(w));
+            }
+            for [a, b] in new_edges(plan) {
+                rings.ring(a).iter().filter(|&&w| rings.has_edge(w, b)).for_each(|&w| mark(w));
+            }
+        });
+        self.entries
+            .par_iter_mut()
+            .zip(stale.par_iter())
+            .filter(|(_, s)| s.load(Ordering::Relaxed))
+            .for_each(|(e, _)| *e = Entry::Stale);
     }
 
     /// Whether `v` must be planned again.
