@@ -29,6 +29,22 @@ pub fn return_large_buffers_to_the_os() -> bool {
     }
 }
 
+/// Gives the allocator's free pages back to the operating system (glibc's `malloc_trim`,
+/// over every arena). Returns whether anything was released.
+pub fn trim() -> bool {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        // SAFETY: malloc_trim only walks the allocator's own free lists.
+        #[allow(unsafe_code)]
+        let released = unsafe { libc::malloc_trim(0) };
+        released == 1
+    }
+    #[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+    {
+        false
+    }
+}
+
 /// The memory this process may still allocate, as far as the system tells: the least of
 /// the kernel's available memory (`MemAvailable`), the room left under the cgroup's limit
 /// (v2 `memory.max`, v1 `memory.limit_in_bytes`) and under the address-space limit

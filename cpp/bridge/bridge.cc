@@ -34,6 +34,10 @@ rust::Vec<std::uint32_t> add_geometry(HalfEdgeMesh& mesh, rust::Slice<const doub
                                    triangles.size()));
 }
 
+void reserve_mesh(HalfEdgeMesh& mesh, std::size_t vertices, std::size_t edges, std::size_t faces) {
+  mesh.reserve(vertices, edges, faces);
+}
+
 MeshCounts mesh_counts(const HalfEdgeMesh& mesh) {
   return MeshCounts{mesh.live_vertex_count(), mesh.live_edge_count(), mesh.live_face_count(),
                     mesh.vertex_slots()};

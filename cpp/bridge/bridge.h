@@ -36,6 +36,7 @@ struct DecimatedMesh;
 std::unique_ptr<HalfEdgeMesh> new_halfedge_mesh();
 rust::Vec<std::uint32_t> add_geometry(HalfEdgeMesh& mesh, rust::Slice<const double> positions,
                                       rust::Slice<const std::uint32_t> triangles);
+void reserve_mesh(HalfEdgeMesh& mesh, std::size_t vertices, std::size_t edges, std::size_t faces);
 MeshCounts mesh_counts(const HalfEdgeMesh& mesh);
 ExportArrays export_arrays(const HalfEdgeMesh& mesh);
 CsrArrays one_rings(const HalfEdgeMesh& mesh, rust::Slice<const std::uint32_t> vertices);

@@ -2,6 +2,7 @@
 #include "asperity/halfedge_mesh.hpp"
 
 #include <cmath>
+#include <algorithm>
 #include <sstream>
 
 #include <OpenMesh/Core/System/omstream.hh>
@@ -89,6 +90,11 @@ std::vector<std::uint32_t> HalfEdgeMesh::add_geometry(const double* xyz, std::si
       rejected.push_back(static_cast<std::uint32_t>(f));
   }
   return rejected;
+}
+
+void HalfEdgeMesh::reserve(std::size_t vertices, std::size_t edges, std::size_t faces) {
+  mesh_.reserve(std::max(vertices, mesh_.n_vertices()), std::max(edges, mesh_.n_edges()),
+                std::max(faces, mesh_.n_faces()));
 }
 
 std::size_t HalfEdgeMesh::live_vertex_count() const {

@@ -153,6 +153,15 @@ impl HalfEdgeMesh {
         self.inner.as_mut().ok_or_else(|| Error::Internal("half-edge mesh is null".into()))
     }
 
+    /// Makes room for `vertices`, `edges` and `faces` (never less than the store holds), so
+    /// a store that will grow to a known size reallocates nothing on the way.
+    ///
+    /// # Errors
+    /// [`Error::Native`] if the native layer fails (out of memory).
+    pub fn reserve(&mut self, vertices: usize, edges: usize, faces: usize) -> Result<()> {
+        Ok(sys::reserve_mesh(self.store_mut()?, vertices, edges, faces)?)
+    }
+
     /// Live vertex, edge and face counts, and the number of vertex slots.
     ///
     /// # Errors

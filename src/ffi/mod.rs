@@ -69,6 +69,7 @@ mod sys {
 
         fn new_halfedge_mesh() -> Result<UniquePtr<HalfEdgeMesh>>;
         fn add_geometry(mesh: Pin<&mut HalfEdgeMesh>, positions: &[f64], triangles: &[u32]) -> Result<Vec<u32>>;
+        fn reserve_mesh(mesh: Pin<&mut HalfEdgeMesh>, vertices: usize, edges: usize, faces: usize) -> Result<()>;
         fn mesh_counts(mesh: &HalfEdgeMesh) -> Result<MeshCounts>;
         fn export_arrays(mesh: &HalfEdgeMesh) -> Result<ExportArrays>;
         fn one_rings(mesh: &HalfEdgeMesh, vertices: &[u32]) -> Result<CsrArrays>;

@@ -118,7 +118,9 @@ fn intersecting_plans(
     if pairs.is_empty() {
         return Ok(FxHashSet::default());
     }
-    let combined: Vec<[u32; 3]> = kept.iter().chain(added.iter()).copied().collect();
+    // A pair's face by its index in the pairs' numbering (`kept` then `added`), read in
+    // place: a joined copy would hold the level's faces a third time at the guard's peak.
+    let combined = |t: u32| kept.get(t as usize).copied().unwrap_or_else(|| added[t as usize - kept.len()]);
     let stars: FxHashMap<u32, Vec<[u32; 3]>> = {
         let offending: FxHashSet<u32> = pairs.iter().flatten().filter_map(|&t| owner(t)).collect();
         let mut stars: FxHashMap<u32, Vec<[u32; 3]>> = offending.iter().map(|&v| (v, Vec::new())).collect();
@@ -140,13 +142,13 @@ fn intersecting_plans(
     let region = |side: Side| -> Vec<[u32; 3]> {
         match side {
             Side::Plan(v) => stars[&v].clone(),
-            Side::Face(t) => vec![combined[t as usize]],
+            Side::Face(t) => vec![combined(t)],
         }
     };
     let sides: Vec<[Side; 2]> = pairs.iter().map(|&[a, b]| [side(a), side(b)]).collect();
     let before = crossings_before(positions, &sides, &region, known)?;
     if known.listed() {
-        found.extend(pairs.iter().map(|&[a, b]| ([combined[a as usize], combined[b as usize]], [owner(a), owner(b)])));
+        found.extend(pairs.iter().map(|&[a, b]| ([combined(a), combined(b)], [owner(a), owner(b)])));
     }
     let mut offending = FxHashSet::default();
     for (k, pair) in pairs.iter().enumerate() {

@@ -12,6 +12,7 @@
 //! (the interpolated face moved from where it was at simplification): without deformation
 //! that displacement is exactly zero and every input position comes back bit for bit.
 
+use std::borrow::Cow;
 use std::collections::HashSet;
 
 use glam::DVec3;
@@ -124,7 +125,9 @@ pub struct Refiner<'h> {
     hierarchy: &'h Hierarchy,
     store: HalfEdgeMesh,
     rings: Rings,
-    positions: Vec<DVec3>,
+    /// The hierarchy's positions until something moves a vertex or adds one (then a copy
+    /// of its own): a plain refinement holds no second copy (#35's peak).
+    positions: Cow<'h, [DVec3]>,
     present: Vec<bool>,
     live: Vec<u32>,
     level: usize,
@@ -146,7 +149,17 @@ impl<'h> Refiner<'h> {
         // Every input vertex gets its slot now (removed ones isolated), so store indices
         // are input ids for the refiner's whole life.
         let all = Mesh::new(hierarchy.positions.clone(), hierarchy.base_triangles.clone());
-        let store = HalfEdgeMesh::from_mesh(&all)?;
+        let mut store = HalfEdgeMesh::from_mesh(&all)?;
+        drop(all);
+        // Room for the input's faces and edges at once: grown by doubling while the levels
+        // are refined, OpenMesh's arrays would hold the old copy beside the new one at the
+        // last growth, at full resolution (reserved pages not yet written are not resident).
+        let faces = hierarchy.input_triangles.len();
+        store.reserve(
+            hierarchy.positions.len(),
+            (faces * 3 / 2 + faces / 8).max(3 * hierarchy.positions.len()),
+            faces,
+        )?;
         let n = hierarchy.positions.len();
         let present = used_vertices(n, &hierarchy.base_triangles);
         let live: Vec<u32> = (0..n as u32).filter(|&v| present[v as usize]).collect();
@@ -155,7 +168,7 @@ impl<'h> Refiner<'h> {
             hierarchy,
             store,
             rings,
-            positions: hierarchy.positions.clone(),
+            positions: Cow::Borrowed(&hierarchy.positions),
             present,
             live,
             level: 0,
@@ -181,7 +194,7 @@ impl<'h> Refiner<'h> {
     /// Mutable positions: deformations applied between levels move vertices here; later
     /// insertions follow the moved surface.
     pub fn positions_mut(&mut self) -> &mut [DVec3] {
-        &mut self.positions
+        self.positions.to_mut()
     }
 
     /// Whether later insertions follow the deformed surface (the parametrization update of
@@ -212,7 +225,7 @@ impl<'h> Refiner<'h> {
                 let Some(v) = vertex.filter(|v| v.index() == self.positions.len()) else {
                     return Err(Error::InvalidInput(format!("cannot split edge {}–{} ({status:?})", edge[0], edge[1])));
                 };
-                self.positions.push(p);
+                self.positions.to_mut().push(p);
                 self.present.push(true);
                 made.push(v.0);
             }
@@ -284,7 +297,10 @@ impl<'h> Refiner<'h> {
                 true => self.rings.split_boundary(edge[0], edge[1], r.vertex)?,
                 false => self.rings.split(edge[0], edge[1], r.vertex)?,
             }
-            self.positions[r.vertex as usize] = point;
+            // Bit for bit: a signed zero is a change too.
+            if self.positions[r.vertex as usize].to_array().map(f64::to_bits) != point.to_array().map(f64::to_bits) {
+                self.positions.to_mut()[r.vertex as usize] = point;
+            }
             self.present[r.vertex as usize] = true;
             report.relocated += usize::from(relocated);
             edges.push(edge);
@@ -498,4 +514,32 @@ pub fn connectivity_match(original: &[[u32; 3]], refined: &[[u32; 3]]) -> f64 {
     }
     let have: HashSet<[u32; 3]> = refined.iter().map(|&t| face_key(t)).collect();
     original.iter().filter(|&&t| have.contains(&face_key(t))).count() as f64 / original.len() as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::hierarchy::{SimplifyOptions, build};
+    use crate::mesh::primitives::torus;
+
+    /// A refinement that moves nothing reads the hierarchy's positions in place; the first
+    /// move (or added vertex) gives the refiner a copy of its own, and the hierarchy keeps
+    /// the input's.
+    #[test]
+    fn positions_are_copied_only_when_something_moves() {
+        let mesh = torus(1.0, 0.35, 24, 12);
+        let h = build(&mesh, &SimplifyOptions::default()).unwrap();
+        let mut refiner = Refiner::new(&h).unwrap();
+        refiner.refine_all().unwrap();
+        assert!(matches!(refiner.positions, Cow::Borrowed(_)), "an undeformed refinement copied the positions");
+        assert_eq!(refiner.positions(), &mesh.positions[..]);
+        let mut moved = Refiner::new(&h).unwrap();
+        moved.refine_level(&|_| true).unwrap();
+        let v = moved.vertices()[0];
+        moved.positions_mut()[v as usize].x += 0.5;
+        moved.refine_all().unwrap();
+        assert!(matches!(moved.positions, Cow::Owned(_)));
+        assert_eq!(moved.positions()[v as usize].x, mesh.positions[v as usize].x + 0.5);
+        assert_eq!(h.positions, mesh.positions, "the hierarchy's positions moved with the refiner's");
+    }
 }

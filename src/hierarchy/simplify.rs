@@ -40,17 +40,25 @@ use glam::DVec3;
 /// [`Error::InvalidInput`] for an inconsistent mesh or options; [`Error::Topology`] for a
 /// non-manifold mesh; [`Error::Native`] if OpenMesh or CGAL refuse it.
 pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
-    if let Some(parts) = options.chunks {
-        // A partitioned build (#40) records no levels while it builds: refinement makes
-        // them afterwards when asked.
-        let inner = SimplifyOptions { chunks: None, record_levels: false, ..options.clone() };
-        let mut hierarchy = super::partition::build_partitioned(mesh, parts, &inner)?;
-        if options.record_levels {
-            hierarchy.levels = hierarchy.levels_by_refinement()?;
+    let hierarchy = match options.chunks {
+        Some(parts) => {
+            // A partitioned build (#40) records no levels while it builds: refinement
+            // makes them afterwards when asked.
+            let inner = SimplifyOptions { chunks: None, record_levels: false, ..options.clone() };
+            super::partition::build_partitioned(mesh, parts, &inner).and_then(|mut hierarchy| {
+                if options.record_levels {
+                    hierarchy.levels = hierarchy.levels_by_refinement()?;
+                }
+                Ok(hierarchy)
+            })
         }
-        return Ok(hierarchy);
-    }
-    build_with(mesh, options, cfg!(debug_assertions), None)
+        None => build_with(mesh, options, cfg!(debug_assertions), None),
+    };
+    // The build's working sets (rings, plans, parameter buckets) were freed on its worker
+    // threads, where they would stay resident: their pages go back before the caller goes
+    // on (refinement at full resolution is the bench's peak otherwise, #35).
+    crate::memory::trim();
+    hierarchy
 }
 
 /// [`build`] continuing a hierarchy whose removed vertices lie on `mesh`'s faces: the
@@ -427,6 +435,9 @@ impl Planner<'_> {
             lap(clock, &mut stages.parametrization);
             let faces = options.record_levels.then(|| self.rings.faces(&self.live));
             let recording = record((plans, faces));
+            // What the level freed goes back to the system before the next one allocates:
+            // freed in the workers' arenas, it would stay resident beside it (#35's peak).
+            crate::memory::trim();
             lap(clock, &mut stages.handoff);
             if !recording {
                 break;
@@ -502,6 +513,7 @@ impl Planner<'_> {
         let geometry = level_geometry(self.positions, &self.quadrics, &self.params, &self.lines);
         // The obstacles stand beside the level's faces: new faces must not cut them either.
         let level_faces = match options.prevent_intersections {
+            true if options.obstacles.faces.is_empty() => self.rings.faces(&self.live),
             true => [self.rings.faces(&self.live), options.obstacles.faces.clone()].concat(),
             false => Vec::new(),
         };

@@ -65,6 +65,9 @@ class HalfEdgeMesh {
   std::vector<std::uint32_t> add_geometry(const double* xyz, std::size_t n_coords,
                                           const std::uint32_t* tris, std::size_t n_indices);
 
+  /// Room for this many vertices, edges and faces in OpenMesh's arrays (never less than
+  /// they hold): a mesh that will grow to a known size reallocates nothing on the way.
+  void reserve(std::size_t vertices, std::size_t edges, std::size_t faces);
   std::size_t live_vertex_count() const;
   std::size_t live_face_count() const;
   std::size_t live_edge_count() const;
