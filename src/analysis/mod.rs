@@ -19,10 +19,10 @@ pub use features::{
     voting_tensors, wide_voting_tensors,
 };
 pub use gradient::face_gradients;
-pub use quadric::Quadric;
-pub use request::AnalysisRequest;
 pub use normals::{FaceGeometry, NormalWeighting, face_normals, vertex_normals};
 pub use orient::orient_line_field;
+pub use quadric::{Quadric, share_removed_quadric};
+pub use request::AnalysisRequest;
 
 use crate::error::Result;
 use crate::mesh::{Adjacency, Mesh, Rgb};

@@ -39,3 +39,18 @@ impl Quadric {
         }
     }
 }
+
+/// Gives a removed vertex's quadric to the two ends of the diagonal its weld leaves, half
+/// to each: they take over the region it stood for (Garland & Heckbert §4 sum the quadrics
+/// of a collapse; a cluster's removal has two heirs). A one-piece build does it level by
+/// level, and a partitioned build's part along its removals before it hands its quadrics
+/// over, so both sum the same shares.
+pub fn share_removed_quadric<T>(quadrics: &mut T, removed: u32, diagonal: [u32; 2])
+where
+    T: std::ops::IndexMut<usize, Output = Quadric> + ?Sized,
+{
+    let q = quadrics[removed as usize];
+    for end in diagonal {
+        quadrics[end as usize].add_scaled(&q, 0.5);
+    }
+}

@@ -100,11 +100,15 @@ fn intersecting_plans(
     // `owners` names each planned triangle's plan.
     let mut planned_side = Vec::new();
     let mut owners = Vec::new();
-    let mut runs = Vec::with_capacity(plans.len());
+    // Each plan's triangle count: the first round's runs (later rounds take them one by one).
+    let first_round = restored.is_none();
+    let mut runs = Vec::with_capacity(if first_round { plans.len() } else { 0 });
     for plan in plans {
         planned_side.extend(&plan.triangles);
         owners.extend(std::iter::repeat_n(plan.vertex, plan.triangles.len()));
-        runs.push(plan.triangles.len());
+        if first_round {
+            runs.push(plan.triangles.len());
+        }
     }
     // Pairs index `kept` then `added`: the planned triangles are added in the first round
     // (tested among themselves too), kept in the later ones.

@@ -436,8 +436,12 @@ impl Planner<'_> {
             let faces = options.record_levels.then(|| self.rings.faces(&self.live));
             let recording = record((plans, faces));
             // What the level freed goes back to the system before the next one allocates:
-            // freed in the workers' arenas, it would stay resident beside it (#35's peak).
-            crate::memory::trim();
+            // freed in the workers' arenas, it would stay resident beside it. Only while the
+            // mesh is at least half its size: the peak is in the first levels (#35), and a
+            // trim walks the whole heap's free pages whatever the level's size.
+            if self.live.len() * 2 >= first_live {
+                crate::memory::trim();
+            }
             lap(clock, &mut stages.handoff);
             if !recording {
                 break;
@@ -614,10 +618,7 @@ impl Planner<'_> {
         self.give_way.under_floor += plans.iter().filter(|p| p.under_floor).count();
         self.slivers.apply(plans, self.positions);
         for plan in plans {
-            let q = self.quadrics[plan.vertex as usize];
-            for end in plan.diagonal {
-                self.quadrics[end as usize].add_scaled(&q, 0.5);
-            }
+            crate::analysis::share_removed_quadric(&mut self.quadrics, plan.vertex, plan.diagonal);
         }
         for plan in plans {
             if let Some((ends, bound)) = plan.along_line {

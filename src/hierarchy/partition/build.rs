@@ -186,10 +186,7 @@ fn handed_over_quadrics(part: &Part, h: &Hierarchy) -> Result<Vec<(u32, Quadric)
         quadrics[b as usize] = own;
     }
     for r in &h.removals {
-        let q = quadrics[r.vertex as usize];
-        for end in r.diagonal {
-            quadrics[end as usize].add_scaled(&q, 0.5);
-        }
+        crate::analysis::share_removed_quadric(&mut quadrics, r.vertex, r.diagonal);
     }
     Ok(h.classes.iter().map(|&(v, _)| (part.ids[v as usize], quadrics[v as usize])).collect())
 }
