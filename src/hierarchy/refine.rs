@@ -154,13 +154,8 @@ impl<'h> Refiner<'h> {
         // Room for the input's faces and edges at once: grown by doubling while the levels
         // are refined, OpenMesh's arrays would hold the old copy beside the new one at the
         // last growth, at full resolution (reserved pages not yet written are not resident).
-        let faces = hierarchy.input_triangles.len();
-        store.reserve(
-            hierarchy.positions.len(),
-            (faces * 3 / 2 + faces / 8).max(3 * hierarchy.positions.len()),
-            faces,
-        )?;
-        let n = hierarchy.positions.len();
+        let (n, faces) = (hierarchy.positions.len(), hierarchy.input_triangles.len());
+        store.reserve(n, (faces * 3 / 2 + faces / 8).max(3 * n), faces)?;
         let present = used_vertices(n, &hierarchy.base_triangles);
         let live: Vec<u32> = (0..n as u32).filter(|&v| present[v as usize]).collect();
         let rings = Rings::fetch(&store, &live, n)?;

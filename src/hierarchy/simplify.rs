@@ -516,11 +516,11 @@ impl Planner<'_> {
         let options = self.options;
         let geometry = level_geometry(self.positions, &self.quadrics, &self.params, &self.lines);
         // The obstacles stand beside the level's faces: new faces must not cut them either.
-        let level_faces = match options.prevent_intersections {
-            true if options.obstacles.faces.is_empty() => self.rings.faces(&self.live),
-            true => [self.rings.faces(&self.live), options.obstacles.faces.clone()].concat(),
-            false => Vec::new(),
-        };
+        let mut level_faces = Vec::new();
+        if options.prevent_intersections {
+            level_faces = self.rings.faces(&self.live);
+            level_faces.extend_from_slice(&options.obstacles.faces);
+        }
         lap(clock, &mut stages.guard);
         self.rings.checkpoint();
         let mut plans = select_clusters(
