@@ -135,7 +135,9 @@ fn run_stage(args: &[String]) {
         "merge" => {
             let plan = MeshPlan::read(&plan_dir).expect("the plan");
             let read = asperity::io::read(&input).expect("the input read").mesh;
-            join_plan(&plan_dir, &plan, &read).expect("the merge").base_vertex_count()
+            // The merge keeps the input it is given: its positions and faces become the
+            // hierarchy's.
+            join_plan(&plan_dir, &plan, std::borrow::Cow::Owned(read)).expect("the merge").base_vertex_count()
         }
         other => panic!("no stage {other}"),
     };

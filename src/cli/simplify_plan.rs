@@ -129,7 +129,7 @@ pub(super) fn merge(args: MergeArgs, ctx: super::Context) -> Result<()> {
     let input = super::input::read_input(&input_path, repair, ctx)?;
     let mesh = &input.read.mesh;
     let mut hierarchy = ctx
-        .spin("simplify", "joining the chunks", || join_plan(&args.plan, &plan, mesh))
+        .spin("simplify", "joining the chunks", || join_plan(&args.plan, &plan, std::borrow::Cow::Borrowed(mesh)))
         .map_err(|e| super::input::after_repair(e, repair).about_file(&input_path))?;
     if args.levels_out.is_some() || args.lod_out.is_some() {
         hierarchy.levels = ctx.spin("simplify", "making the levels", || hierarchy.levels_by_refinement())?;

@@ -35,13 +35,19 @@ pub struct ParamBuckets {
     points: Vec<Option<ParamPoint>>,
 }
 
+/// How many moved points [`ParamBuckets::apply_removals`] holds at once (a batch holds at
+/// least one plan's, however many).
+pub const REMAP_BATCH: usize = 1 << 16;
+
 /// How many of a face's parametrized vertices, the farthest from it, are kept at hand.
 pub const WORST: usize = 2;
 
-/// One face's list and its farthest vertices (squared distance, vertex; `END` unused).
+/// One face's list, its length and its farthest vertices (squared distance, vertex; `END`
+/// unused).
 #[derive(Debug, Clone, Copy)]
 struct Bucket {
     head: u32,
+    len: u32,
     worst: [(f64, u32); WORST],
 }
 
@@ -56,12 +62,14 @@ impl ParamBuckets {
 
     /// Puts `vertex` at `point`, `distance` (squared) from the point's face.
     fn insert(&mut self, vertex: u32, point: ParamPoint, distance: f64) {
-        let bucket = self
-            .heads
-            .entry(face_key(point.face))
-            .or_insert(Bucket { head: END, worst: [(f64::NEG_INFINITY, END); WORST] });
+        let bucket = self.heads.entry(face_key(point.face)).or_insert(Bucket {
+            head: END,
+            len: 0,
+            worst: [(f64::NEG_INFINITY, END); WORST],
+        });
         self.next[vertex as usize] = bucket.head;
         bucket.head = vertex;
+        bucket.len += 1;
         if let Some(slot) = (0..WORST).min_by(|&a, &b| bucket.worst[a].0.total_cmp(&bucket.worst[b].0))
             && distance > bucket.worst[slot].0
         {
@@ -70,14 +78,16 @@ impl ParamBuckets {
         self.points[vertex as usize] = Some(point);
     }
 
-    /// Each vertex with a point in `seeds` (one entry per vertex) put there: a hierarchy
-    /// continued from removals made before (a partitioned build's parts, #40). The seeds
-    /// become the points, so they are not held twice.
-    pub fn seeded(seeds: Vec<Option<ParamPoint>>, positions: &[DVec3]) -> Self {
+    /// Each vertex with a point in `seeds` (one entry per vertex) put there, in the order
+    /// `order` gives them (which decides between points equally far from their face, as
+    /// insertion order does in every bucket): a hierarchy continued from removals made
+    /// before (a partitioned build's parts, #40). The seeds become the points, so they are
+    /// not held twice.
+    pub fn seeded(seeds: Vec<Option<ParamPoint>>, positions: &[DVec3], order: impl Iterator<Item = u32>) -> Self {
         let mut buckets = ParamBuckets { heads: FxHashMap::default(), next: vec![END; seeds.len()], points: seeds };
-        for v in 0..buckets.points.len() {
-            if let Some(point) = buckets.points[v] {
-                buckets.insert(v as u32, point, distance_to(positions, v as u32, point.face));
+        for v in order {
+            if let Some(point) = buckets.points[v as usize] {
+                buckets.insert(v, point, distance_to(positions, v, point.face));
             }
         }
         buckets
@@ -101,19 +111,42 @@ impl ParamBuckets {
     ///
     /// The removed vertices are independent (no two share a face, and a plan's new
     /// triangles hold only its ring vertices), so no plan's star faces hold another's
-    /// re-mapped points: every plan's moves are computed in parallel from the buckets as
-    /// they were, then carried out in plan order, exactly as one removal after the other.
+    /// re-mapped points: the moves of a batch of plans (about [`REMAP_BATCH`] points) are
+    /// computed in parallel from the buckets as they were, then carried out in plan order,
+    /// exactly as one removal after the other. Batches bound the moves held at once: a
+    /// partitioned build's continuation (#40) starts with every vertex its parts removed
+    /// on its few faces, and one level moves most of them.
     pub fn apply_removals(&mut self, plans: &[ClusterPlan], positions: &[DVec3]) {
-        let moves: Vec<Vec<(u32, ParamPoint, f64)>> =
-            plans.par_iter().map(|plan| self.removal_moves(plan, positions)).collect();
-        for (plan, moves) in plans.iter().zip(moves) {
-            for face in star_faces(plan) {
-                self.heads.remove(&face_key(face));
-            }
-            for (w, point, distance) in moves {
-                self.insert(w, point, distance);
+        let mut rest = plans;
+        while !rest.is_empty() {
+            let (batch, after) = rest.split_at(self.batch_length(rest));
+            rest = after;
+            let moves: Vec<Vec<(u32, ParamPoint, f64)>> =
+                batch.par_iter().map(|plan| self.removal_moves(plan, positions)).collect();
+            for (plan, moves) in batch.iter().zip(moves) {
+                for face in star_faces(plan) {
+                    self.heads.remove(&face_key(face));
+                }
+                for (w, point, distance) in moves {
+                    self.insert(w, point, distance);
+                }
             }
         }
+    }
+
+    /// How many of `plans`, from the first, move about [`REMAP_BATCH`] points (at least
+    /// one plan).
+    fn batch_length(&self, plans: &[ClusterPlan]) -> usize {
+        let mut moved = 0;
+        for (k, plan) in plans.iter().enumerate() {
+            let on_star: usize =
+                star_faces(plan).filter_map(|f| self.heads.get(&face_key(f))).map(|b| b.len as usize).sum();
+            moved += on_star + 1;
+            if moved > REMAP_BATCH && k > 0 {
+                return k;
+            }
+        }
+        plans.len()
     }
 
     /// Where one removal sends the vertices on its star faces, in bucket order, and the

@@ -64,37 +64,40 @@ pub fn build(mesh: &Mesh, options: &SimplifyOptions) -> Result<Hierarchy> {
 /// [`build`] continuing a hierarchy whose removed vertices lie on `mesh`'s faces: the
 /// vertices with a point in `seeds` are on no face of `mesh` and are carried, as MAPS
 /// carries the build's own removed vertices, to the base domain; every cluster's error
-/// measures them too. What the earlier builds found for the vertices they left is handed
-/// over: their `quadrics` (the input's, accumulated along the earlier removals, in the
-/// input's unit frame, which is `mesh`'s: same positions) and their feature `classes`, so
-/// the continuation neither classifies nor measures the input again; `input` (the mesh the
-/// earlier builds simplified, over the same vertices) gives the texture seams. What a
-/// partitioned build (#40) continues its joined parts with.
+/// measures them too. `mesh` holds only the vertices of its faces: a seeded vertex's id
+/// follows them (`seeds` has one entry per id, `None` for the mesh's own), so no array of
+/// the planning's is sized by the vertices removed before (#40: a partitioned build's
+/// merge). What the earlier builds found for the vertices they left is handed over in
+/// [`Continuation`], so the continuation neither classifies nor measures the input again.
 ///
 /// # Errors
-/// As [`build`]; [`Error::InvalidInput`] for seeds of another length than the vertices or
-/// a seed on a vertex of a face.
+/// As [`build`]; [`Error::InvalidInput`] for seeds of another length than the ids, a seed
+/// on a vertex of a face or an id with neither.
 pub(super) fn build_seeded(
     mesh: &Mesh,
     options: &SimplifyOptions,
     seeds: Vec<Option<ParamPoint>>,
-    input: &Mesh,
-    quadrics: &[(u32, Quadric)],
-    classes: &[(u32, VertexClass)],
+    continuation: Continuation<'_>,
 ) -> Result<Hierarchy> {
-    build_with(mesh, options, cfg!(debug_assertions), Some((seeds, Continuation { input, quadrics, classes })))
+    build_with(mesh, options, cfg!(debug_assertions), Some((seeds, continuation)))
 }
 
 /// What a continued build ([`build_seeded`]) starts from besides the removed vertices'
 /// points on the mesh (which the parametrization takes over): the input those removals
-/// simplified, whose seams the build keeps, and what the earlier builds found.
+/// simplified, whose seams and unit frame the build keeps, and what the earlier builds
+/// found.
 #[derive(Clone, Copy)]
-struct Continuation<'a> {
-    input: &'a Mesh,
-    /// The quadrics of the vertices the earlier builds left, by vertex.
-    quadrics: &'a [(u32, Quadric)],
-    /// The classes of the vertices the earlier builds left, by vertex.
-    classes: &'a [(u32, VertexClass)],
+pub(super) struct Continuation<'a> {
+    /// The input the earlier builds simplified.
+    pub input: &'a Mesh,
+    /// The input's vertex of each of the continued build's ids: the mesh's vertices in
+    /// ascending input order, then the seeded vertices.
+    pub to_input: &'a [u32],
+    /// The quadrics of the vertices the earlier builds left (the input's, accumulated along
+    /// the earlier removals, in the input's unit frame), by the mesh's vertex id.
+    pub quadrics: &'a [(u32, Quadric)],
+    /// The classes of the vertices the earlier builds left, by the mesh's vertex id.
+    pub classes: &'a [(u32, VertexClass)],
 }
 
 /// [`build`], with every level's plans also carried out on an OpenMesh store (flips and
@@ -144,8 +147,9 @@ fn build_with(
     )?;
     // Every geometric decision is made in the unit frame (bounding box centred, diagonal
     // 1), so none depends on the model's units and no product of coordinates overflows;
-    // the hierarchy keeps the input's own positions.
-    let unit = UnitFrame::of(mesh)?;
+    // the hierarchy keeps the input's own positions. A continued build's frame is its
+    // input's, as the earlier builds' was.
+    let unit = UnitFrame::of(continuing.map_or(mesh, |c| c.input))?;
     let working = unit.apply(mesh);
     // A continued build takes the quadrics the earlier builds handed over (below, once
     // its live vertices are known).
@@ -166,7 +170,7 @@ fn build_with(
     let n = mesh.vertex_count();
     // Texture seams and material borders: lines of the build, and what each level's
     // faces take their UVs by (found once for both).
-    let (seams, wedges) = seams_and_wedges(mesh, continuing.map(|c| c.input))?;
+    let (seams, wedges) = seams_and_wedges(mesh, continuing)?;
     // A continued build takes the classes handed over, for the vertices they name.
     let Features { feature, kept, lines, give_way, class, directions } = match continuing {
         _ if options.keep_features == KeepFeatures::None => {
@@ -178,10 +182,14 @@ fn build_with(
             features_and_kept(&working, classes, options, &seams)?
         }
     };
-    // Planning needs only the working positions; the copy's faces go now.
+    // Planning needs only the working positions (a continued build's seeded vertices' after
+    // the mesh's); the copy's faces go now.
     let working_positions = {
-        let copy = working;
-        copy.positions
+        let mut positions = working.positions;
+        if let (Some(c), Some(seeds)) = (continuing, &seeds) {
+            push_seeded_positions(&mut positions, c, n..seeds.len(), &unit)?;
+        }
+        positions
     };
     let referenced = used_vertices(n, &mesh.triangles);
     let live: Vec<u32> = (0..n as u32).filter(|&v| referenced[v as usize]).collect();
@@ -196,7 +204,15 @@ fn build_with(
     let recorder = Recorder::new(&mesh.positions, &mesh.triangles, replay.then_some(store), options.record_levels);
     // The seeds become the parametrization's points (no second copy of them).
     let params = match seeds {
-        Some(seeds) => ParamBuckets::seeded(seeds, &working_positions),
+        Some(seeds) => {
+            // In input order, whatever order the ids were given in (ties between equally
+            // far points then fall as in a build over the input's ids).
+            let mut order: Vec<u32> = (0..seeds.len() as u32).collect();
+            if let Some(c) = continuing {
+                order.sort_unstable_by_key(|&v| c.to_input[v as usize]);
+            }
+            ParamBuckets::seeded(seeds, &working_positions, order.into_iter())
+        }
         None => ParamBuckets::new(n),
     };
     lap(&mut clock, &mut stages.prepare);
@@ -304,19 +320,51 @@ fn build_with(
 /// continued build's mesh is a level of `input` (a partitioned build's joined parts, #40):
 /// its seams are the input's seams as they run along its edges, and its levels take the
 /// input's attributes.
-fn seams_and_wedges(mesh: &Mesh, input: Option<&Mesh>) -> Result<(Vec<[u32; 2]>, Option<Wedges>)> {
-    match input {
+fn seams_and_wedges(mesh: &Mesh, continuing: Option<Continuation>) -> Result<(Vec<[u32; 2]>, Option<Wedges>)> {
+    match continuing {
         None => {
             let seams = crate::mesh::uv::seam_edges(mesh);
             let wedges = Wedges::of(mesh, &seams);
             Ok((seams, wedges))
         }
-        Some(input) => {
-            let wedges = Wedges::of(input, &crate::mesh::uv::seam_edges(input));
-            let seams = wedges.as_ref().map(|w| w.level_seam_edges(&mesh.triangles)).transpose()?;
-            Ok((seams.unwrap_or_default(), wedges))
+        Some(c) => {
+            let wedges = Wedges::of(c.input, &crate::mesh::uv::seam_edges(c.input));
+            let Some(w) = &wedges else { return Ok((Vec::new(), None)) };
+            // The mesh's vertices are the input's in ascending order (`to_input`), so
+            // ascending ids stay ascending and the seams stay sorted.
+            let own = &c.to_input[..mesh.vertex_count().min(c.to_input.len())];
+            let in_input: Vec<[u32; 3]> = mesh.triangles.iter().map(|t| t.map(|v| own[v as usize])).collect();
+            let local = |v: u32| match own.binary_search(&v) {
+                Ok(i) => Ok(i as u32),
+                Err(_) => Err(Error::Internal(format!("seam vertex {v} is not the continued mesh's"))),
+            };
+            let seams = w.level_seam_edges(&in_input)?.into_iter().map(|[a, b]| Ok([local(a)?, local(b)?]));
+            Ok((seams.collect::<Result<_>>()?, wedges))
         }
     }
+}
+
+/// Appends to `positions` the positions, in the `unit` frame, of a continued build's ids in
+/// `ids` (its seeded vertices), read from its input.
+///
+/// # Errors
+/// [`Error::InvalidInput`] for ids `to_input` does not map, or maps beyond the input.
+fn push_seeded_positions(
+    positions: &mut Vec<DVec3>,
+    c: Continuation,
+    ids: std::ops::Range<usize>,
+    unit: &UnitFrame,
+) -> Result<()> {
+    let beyond = || Error::InvalidInput(format!("{} input ids for {} continued vertices", c.to_input.len(), ids.end));
+    let seeded = c.to_input.get(ids.clone()).ok_or_else(beyond)?;
+    positions.reserve_exact(seeded.len());
+    for &v in seeded {
+        let p = c.input.positions.get(v as usize);
+        positions.push(
+            unit.to_unit(*p.ok_or_else(|| Error::InvalidInput(format!("seeded vertex {v} is beyond the input's")))?),
+        );
+    }
+    Ok(())
 }
 
 /// One level's plans for the recorder, with the level's faces after them when levels are
@@ -705,12 +753,14 @@ pub(super) fn prepare_input(mesh: &Mesh, seeds: Option<&[Option<ParamPoint>]>) -
         );
     }
     let used = used_vertices(mesh.vertex_count(), &mesh.triangles);
+    // A continued build's seeded vertices may also follow the mesh's (`build_seeded`).
     if let Some(seeds) = seeds {
-        if seeds.len() != mesh.vertex_count() {
+        if seeds.len() < mesh.vertex_count() {
             return Err(Error::InvalidInput(format!("{} seeds for {} vertices", seeds.len(), mesh.vertex_count())));
         }
-        if let Some(v) = (0..seeds.len()).find(|&v| seeds[v].is_some() == used[v]) {
-            let what = if used[v] { "a vertex of a face has a seed" } else { "a vertex on no face has no seed" };
+        let on_face = |v: usize| used.get(v).copied().unwrap_or(false);
+        if let Some(v) = (0..seeds.len()).find(|&v| seeds[v].is_some() == on_face(v)) {
+            let what = if on_face(v) { "a vertex of a face has a seed" } else { "a vertex on no face has no seed" };
             return Err(Error::InvalidInput(format!("{what}: vertex {v}")));
         }
         return Ok(());

@@ -279,7 +279,14 @@ fn a_part_and_its_build_read_back_from_their_files_bit_for_bit() {
         assert_eq!(read_build(&build_file, mesh.vertex_count()).unwrap(), built, "part {k}");
         builds.push(built);
     }
-    let joined = join_parts(&mesh, builds, |k| partition.part(&mesh, k), &options, std::time::Instant::now()).unwrap();
+    let joined = join_parts(
+        std::borrow::Cow::Borrowed(&mesh),
+        builds,
+        |k| partition.part(&mesh, k),
+        &options,
+        std::time::Instant::now(),
+    )
+    .unwrap();
     let threaded = build_partitioned(&mesh, 3, &options).unwrap();
     assert_eq!(joined.base_triangles, threaded.base_triangles);
     assert_eq!(joined.removals, threaded.removals);

@@ -3,6 +3,7 @@
 //! ([`join_parts`]); [`build_partitioned`] runs both in one process, the parts in
 //! parallel.
 
+use std::borrow::Cow;
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -13,6 +14,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use super::{Part, Partition};
 use crate::analysis::Quadric;
 use crate::error::{Error, Result};
+use crate::hierarchy::simplify::Continuation;
 use crate::hierarchy::{
     BOUNDARY_WEIGHT, Hierarchy, Obstacles, ParamPoint, Removal, SimplifyOptions, VertexClass, face_key,
 };
@@ -191,13 +193,19 @@ fn handed_over_quadrics(part: &Part, h: &Hierarchy) -> Result<Vec<(u32, Quadric)
     Ok(h.classes.iter().map(|&(v, _)| (part.ids[v as usize], quadrics[v as usize])).collect())
 }
 
-/// Joins the parts' bases of `mesh` and continues the build on them to `options`' target
+/// Joins the parts' bases of `input` and continues the build on them to `options`' target
 /// with the parts' removed vertices carried on it (MAPS). The parts' levels, in step order
 /// (the parts' removals of one step are independent: they lie in different parts), then
-/// the continuation's make one hierarchy of `mesh`: its base domain, removal records and
+/// the continuation's make one hierarchy of the input: its base domain, removal records and
 /// parametrization are those of a one-piece build, so refinement restores the input
 /// exactly. Its `seconds` count from `started`; its `stages`, `target` report and kept
-/// vertices are the continuation's.
+/// vertices are the continuation's. An input given to keep (`Cow::Owned`) becomes the
+/// hierarchy's positions and faces, not a copy of them.
+///
+/// The continuation runs on the joined bases' vertices alone, numbered apart
+/// (`ContinuedIds`), so its rings, plan cache, store and feature arrays are the size of
+/// the joined bases, not of the input; the parts' records and points are moved, never held
+/// twice (#40: the merge's peak).
 ///
 /// A part's intersection guard sees only its own faces, so two parts close in space can
 /// cut each other (the two sheets of a thin plate cut apart). With the guard on, parts
@@ -208,58 +216,208 @@ fn handed_over_quadrics(part: &Part, h: &Hierarchy) -> Result<Vec<(u32, Quadric)
 /// As [`crate::hierarchy::build`] for the continuation ([`Error::InvalidInput`] for parts
 /// whose seeds do not cover the vertices their bases left) and as [`separate_parts`].
 pub fn join_parts(
-    mesh: &Mesh,
+    input: Cow<'_, Mesh>,
     mut parts: Vec<PartBuild>,
     part_of: impl Fn(usize) -> Result<Part>,
     options: &SimplifyOptions,
     started: Instant,
 ) -> Result<Hierarchy> {
+    let mesh = input.as_ref();
     if options.prevent_intersections {
         separate_parts(mesh, &mut parts, part_of, options)?;
     }
-    // The parts' records and seeds are freed once copied, and the parts are gone before
-    // the continuation starts, which then holds each removal's record once.
-    let mut records = Records::default();
-    let removed: usize = parts.iter().map(|p| p.removals.len()).sum();
-    records.removals.reserve_exact(removed);
-    records.restore.reserve_exact(parts.iter().map(|p| p.restore.len()).sum());
-    let steps = parts.iter().map(PartBuild::steps).max().unwrap_or(0);
-    for step in 0..steps {
-        for part in parts.iter().filter(|p| step < p.steps()) {
-            let removals = &part.removals[part.step_starts[step]..part.step_starts[step + 1]];
-            records.push(removals, &part.restore, |v| v, step);
-        }
-        records.step_starts.push(records.removals.len());
-    }
-    let mut seeds: Vec<Option<ParamPoint>> = vec![None; mesh.vertex_count()];
-    for part in &mut parts {
-        (part.removals, part.restore) = (Vec::new(), Vec::new());
-        for (v, point) in std::mem::take(&mut part.seeds) {
-            seeds[v as usize] = Some(point);
-        }
-    }
-    let joined = parts.iter().flat_map(|p| p.base_triangles.iter().copied()).collect();
-    let joined = Mesh::new(mesh.positions.clone(), joined);
-    let (classes, quadrics) = (handed_over_classes(&parts), summed_quadrics(&parts));
+    let n = mesh.vertex_count();
+    // The parts' records are moved into the hierarchy's (room for every vertex's: the
+    // continuation's follow without copying them again), then their seeds into the
+    // continuation's points: the parts are gone before the continuation starts.
+    let mut records = parts_records(&mut parts, n);
+    let steps = records.step_starts.len() - 1;
+    let (ids, seeds, to_compact) = ContinuedIds::with_seeds(&mut parts, n)?;
+    let compact = |v: u32| to_compact[v as usize];
+    let joined = parts.iter().flat_map(|p| p.base_triangles.iter().map(|t| t.map(compact))).collect();
+    let positions = ids.to_input[..ids.on_faces].iter().map(|&v| mesh.positions[v as usize]).collect();
+    let joined = Mesh::new(positions, joined);
+    let classes: Vec<(u32, VertexClass)> =
+        handed_over_classes(&parts).into_iter().map(|(v, c)| (compact(v), c)).collect();
+    let quadrics: Vec<(u32, Quadric)> = summed_quadrics(&parts).into_iter().map(|(v, q)| (compact(v), q)).collect();
     drop(parts);
-    let continued = crate::hierarchy::simplify::build_seeded(&joined, options, seeds, mesh, &quadrics, &classes)?;
+    // The user's marked vertices that the parts kept, by the continuation's ids.
+    let keep_vertices = options.keep_vertices.iter().filter_map(|&v| to_compact.get(v as usize).copied());
+    let keep_vertices = keep_vertices.filter(|&c| (c as usize) < ids.on_faces).collect();
+    drop(to_compact);
+    // Levels are made by refinement afterwards (`build_partitioned`).
+    let options = SimplifyOptions { keep_vertices, record_levels: false, ..options.clone() };
+    let continuation = Continuation { input: mesh, to_input: &ids.to_input, quadrics: &quadrics, classes: &classes };
+    let continued = crate::hierarchy::simplify::build_seeded(&joined, &options, seeds, continuation)?;
     drop(joined);
-    records.removals.reserve_exact(continued.removals.len());
+    let to_input = |v: u32| ids.to_input[v as usize];
     records.restore.reserve_exact(continued.restore.len());
     for step in 0..continued.steps() {
         let removals = &continued.removals[continued.step_starts[step]..continued.step_starts[step + 1]];
-        records.push(removals, &continued.restore, |v| v, steps + step);
+        records.push(removals, &continued.restore, to_input, steps + step);
         records.step_starts.push(records.removals.len());
     }
-    // The continuation's positions are the input's (its mesh had them all).
+    let mut kept = vec![false; n];
+    for (c, &k) in continued.kept.iter().enumerate() {
+        kept[ids.to_input[c] as usize] = k;
+    }
+    // An input given to keep gives its positions and faces up, not a copy of them.
+    let (positions, input_triangles) = match input {
+        Cow::Owned(mesh) => (mesh.positions, mesh.triangles),
+        Cow::Borrowed(mesh) => (mesh.positions.clone(), mesh.triangles.clone()),
+    };
     Ok(Hierarchy {
-        input_triangles: mesh.triangles.clone(),
+        positions,
+        input_triangles,
+        base_triangles: continued.base_triangles.iter().map(|t| t.map(to_input)).collect(),
         removals: records.removals,
         restore: records.restore,
         step_starts: records.step_starts,
+        params: ids.params_by_input(continued.params),
+        kept,
+        classes: continued.classes.iter().map(|&(v, c)| (to_input(v), c)).collect(),
         seconds: started.elapsed().as_secs_f64(),
+        levels: Vec::new(),
         ..continued
     })
+}
+
+/// The ids of a partitioned build's continuation (#40): the joined bases' vertices first,
+/// in ascending input order (so every order the build takes among them is a one-piece
+/// build's), then the parts' removed vertices, part after part. Arrays the planning sizes
+/// by its ids then hold only the joined bases' vertices, not every input vertex.
+struct ContinuedIds {
+    /// Each id's input vertex.
+    to_input: Vec<u32>,
+    /// How many ids are vertices of the joined bases' faces.
+    on_faces: usize,
+}
+
+/// An input vertex without an id yet.
+const NO_ID: u32 = u32::MAX;
+
+impl ContinuedIds {
+    /// The ids of `parts` over an input of `n` vertices and the parts' seeds by them, each
+    /// part's moved out and freed before the next part's (so they are never held twice);
+    /// the seeds are `None` for the joined bases' vertices, and have room for every input
+    /// vertex so that the continuation's points come back by input id in place
+    /// ([`ContinuedIds::params_by_input`]). Also each input vertex's id.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for a vertex of a base face that a part also removed, a
+    /// vertex two parts removed, or an input vertex neither on a base face nor removed.
+    fn with_seeds(parts: &mut [PartBuild], n: usize) -> Result<(Self, Vec<Option<ParamPoint>>, Vec<u32>)> {
+        let mut to_compact = vec![NO_ID; n];
+        for t in parts.iter().flat_map(|p| &p.base_triangles) {
+            t.iter().for_each(|&v| to_compact[v as usize] = 0);
+        }
+        let mut to_input: Vec<u32> = (0..n as u32).filter(|&v| to_compact[v as usize] == 0).collect();
+        for (c, &v) in to_input.iter().enumerate() {
+            to_compact[v as usize] = c as u32;
+        }
+        let on_faces = to_input.len();
+        let mut seeds: Vec<Option<ParamPoint>> = Vec::with_capacity(n);
+        seeds.resize(on_faces, None);
+        for part in parts {
+            for (v, point) in std::mem::take(&mut part.seeds) {
+                let id = &mut to_compact[v as usize];
+                if *id != NO_ID {
+                    let what = if (*id as usize) < on_faces {
+                        "a vertex of a face has a seed"
+                    } else {
+                        "a vertex has two seeds"
+                    };
+                    return Err(Error::InvalidInput(format!("{what}: vertex {v}")));
+                }
+                *id = seeds.len() as u32;
+                to_input.push(v);
+                let face = point.face.map(|f| to_compact[f as usize]);
+                if face.iter().any(|&f| f as usize >= on_faces) {
+                    return Err(Error::InvalidInput(format!("vertex {v}'s seed is on no face of the joined bases")));
+                }
+                seeds.push(Some(ParamPoint { face, ..point }));
+            }
+        }
+        if let Some(v) = to_compact.iter().position(|&c| c == NO_ID) {
+            return Err(Error::InvalidInput(format!("a vertex on no face has no seed: vertex {v}")));
+        }
+        Ok((ContinuedIds { to_input, on_faces }, seeds, to_compact))
+    }
+
+    /// The continuation's final points (by these ids, faces too) by input vertex, moved in
+    /// place.
+    fn params_by_input(&self, mut params: Vec<Option<ParamPoint>>) -> Vec<Option<ParamPoint>> {
+        params.resize(self.to_input.len(), None);
+        for point in params.iter_mut().flatten() {
+            point.face = point.face.map(|c| self.to_input[c as usize]);
+        }
+        move_to_places(&mut params, &self.to_input);
+        params
+    }
+}
+
+/// Moves `items[i]` to `items[to[i]]` for every i, in place (`to` a permutation), along
+/// the permutation's cycles.
+fn move_to_places<T>(items: &mut [T], to: &[u32]) {
+    let mut placed = vec![false; items.len()];
+    for start in 0..items.len() {
+        let mut at = start;
+        while !placed[at] {
+            placed[at] = true;
+            let next = to[at] as usize;
+            if next == start {
+                break;
+            }
+            // `items[start]` holds what belongs at `next`'s source's place: swap it there.
+            items.swap(start, next);
+            at = next;
+        }
+    }
+}
+
+/// The parts' removal records as one hierarchy's: the parts' steps in order, within a step
+/// the parts in order (their removals of one step lie in different parts, so they are
+/// independent). Each part's records are moved out and freed before the next part's, then
+/// put in step order in place; the removals have room for `capacity` (every vertex's).
+fn parts_records(parts: &mut [PartBuild], capacity: usize) -> Records {
+    let steps = parts.iter().map(PartBuild::steps).max().unwrap_or(0);
+    // Where each part's removals of each of its steps go.
+    let mut block_starts: Vec<Vec<usize>> = vec![Vec::new(); parts.len()];
+    let mut step_starts = vec![0];
+    for step in 0..steps {
+        let mut at = *step_starts.last().expect("a start");
+        for (starts, part) in block_starts.iter_mut().zip(parts.iter()).filter(|(_, p)| step < p.steps()) {
+            starts.push(at);
+            at += part.step_starts[step + 1] - part.step_starts[step];
+        }
+        step_starts.push(at);
+    }
+    let mut removals = Vec::with_capacity(capacity.max(step_starts[steps]));
+    let mut restore = Vec::with_capacity(parts.iter().map(|p| p.restore.len()).sum());
+    let mut to = Vec::with_capacity(step_starts[steps]);
+    for (part, starts) in parts.iter_mut().zip(&block_starts) {
+        let offset = restore.len() as u32;
+        restore.append(&mut part.restore);
+        for (step, &start) in starts.iter().enumerate() {
+            let (first, last) = (part.step_starts[step], part.step_starts[step + 1]);
+            to.extend((first..last).map(|j| (start + j - first) as u32));
+            removals.extend(part.removals[first..last].iter().map(|r| Removal {
+                step: step as u32,
+                restore: r.restore.map(|i| i + offset),
+                ..*r
+            }));
+        }
+        (part.removals, part.restore) = (Vec::new(), Vec::new());
+    }
+    move_to_places(&mut removals, &to);
+    // Each removal's link edges, in removal order.
+    let mut ordered = Vec::with_capacity(restore.len());
+    for r in &mut removals {
+        let start = ordered.len() as u32;
+        ordered.extend_from_slice(&restore[r.restore[0] as usize..r.restore[1] as usize]);
+        r.restore = [start, ordered.len() as u32];
+    }
+    Records { removals, restore: ordered, step_starts }
 }
 
 /// The classes the parts found for their bases' vertices, by vertex: where a vertex is on
@@ -388,7 +546,7 @@ pub fn build_partitioned(mesh: &Mesh, parts: usize, options: &SimplifyOptions) -
         .into_par_iter()
         .map(|k| build_part(&partition.part(mesh, k)?, options, mesh.vertex_count()))
         .collect::<Result<_>>()?;
-    join_parts(mesh, built, |k| partition.part(mesh, k), options, started)
+    join_parts(Cow::Borrowed(mesh), built, |k| partition.part(mesh, k), options, started)
 }
 
 /// Refuses what a partitioned build of `mesh` does not take yet, and names the input's
@@ -457,5 +615,24 @@ impl Records {
                 ..*r
             });
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::move_to_places;
+
+    #[test]
+    fn items_move_to_their_places_along_every_cycle() {
+        // Cycles of lengths 1, 2 and 4.
+        let to = [0u32, 2, 1, 5, 6, 3, 4];
+        let mut items: Vec<char> = "abcdefg".chars().collect();
+        move_to_places(&mut items, &to);
+        let mut expected = [' '; 7];
+        for (i, c) in "abcdefg".chars().enumerate() {
+            expected[to[i] as usize] = c;
+        }
+        assert_eq!(items, expected);
+        assert_eq!(items.iter().collect::<String>(), "acbfgde");
     }
 }

@@ -9,6 +9,7 @@
 //! fingerprint and the file's size: a rerun skips it, and builds again a chunk whose file
 //! is missing, stale (another plan) or cut short.
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -244,15 +245,17 @@ pub fn chunk_complete(output: &Path, fingerprint: &str) -> bool {
     sidecar.plan == fingerprint && size == Some(sidecar.bytes)
 }
 
-/// Joins the chunks of `plan` (read from `dir`) over `mesh` (the plan's input, read
-/// again): checks that `mesh` is the mesh the plan cut and that every chunk is complete,
-/// then continues the build on the joined bases ([`super::join_parts`]).
+/// Joins the chunks of `plan` (read from `dir`) over `input` (the plan's input, read
+/// again): checks that it is the mesh the plan cut and that every chunk is complete,
+/// then continues the build on the joined bases ([`super::join_parts`]). An input given
+/// to keep (`Cow::Owned`) becomes the hierarchy's positions and faces, not a copy of them.
 ///
 /// # Errors
 /// [`Error::InvalidInput`] for another mesh than the plan's, or chunks not complete (named,
 /// with the command that builds them); as [`read_build`] and [`super::join_parts`].
-pub fn join_plan(dir: &Path, plan: &MeshPlan, mesh: &Mesh) -> Result<Hierarchy> {
+pub fn join_plan(dir: &Path, plan: &MeshPlan, input: Cow<'_, Mesh>) -> Result<Hierarchy> {
     let started = std::time::Instant::now();
+    let mesh = input.as_ref();
     if mesh_fingerprint(mesh) != plan.mesh_fingerprint {
         return Err(Error::InvalidInput(format!(
             "{}: the input is not the mesh this plan cut ({} changed since `simplify plan`): make the plan again",
@@ -281,5 +284,5 @@ pub fn join_plan(dir: &Path, plan: &MeshPlan, mesh: &Mesh) -> Result<Hierarchy> 
         )));
     }
     let part_of = |k: usize| read_part(&dir.join(&plan.chunks[k].part), plan.input_vertices);
-    super::join_parts(mesh, builds, part_of, &plan.options()?, started)
+    super::join_parts(input, builds, part_of, &plan.options()?, started)
 }
