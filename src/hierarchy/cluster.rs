@@ -22,7 +22,7 @@ use super::cost::{
     spoke_crossing,
 };
 use super::lines::FeatureLines;
-use super::param::ParamBuckets;
+use super::param::{ParamBuckets, PointPositions};
 use super::plan::ClusterPlan;
 use super::rings::{RingVec, Rings};
 use super::vertex_table::VertexTable;
@@ -49,6 +49,8 @@ pub struct ClusterRules {
 pub struct LevelGeometry<'a> {
     /// Vertex positions (never moved by simplification).
     pub positions: &'a [DVec3],
+    /// The positions of the level's vertices and of its parametrized points.
+    pub points: PointPositions<'a>,
     /// Garland–Heckbert quadrics, accumulated over removed vertices.
     pub quadrics: &'a VertexTable<Quadric>,
     /// Errors closer than this (a squared distance far below the model's size) are equal.
@@ -422,7 +424,7 @@ impl Star<'_> {
             let image = interpolate(weld[t].map(|i| p[i]), w);
             let points = self.star_points();
             let on_ears = on_ears.get_or_insert_with(|| EarPlaces::of(points, flat, &ears.cut));
-            let mapped = on_ears.mapped_error(points, ring, flat, &weld, self.geometry.positions);
+            let mapped = on_ears.mapped_error(points, ring, flat, &weld, self.geometry.points);
             let mut removal = self.geometry.quadrics[self.v as usize].mean_error(image).max(mapped);
             if let Some(bound) = self.line_bound(c[0], c[2]) {
                 removal = removal.max(bound * bound);
@@ -498,7 +500,7 @@ impl Star<'_> {
         let mut made: RingVec<[usize; 3]> = ears.cut.clone();
         made.push(c);
         let points = self.star_points();
-        let mapped = mapped_error(points, ring, flat, &made, self.geometry.positions);
+        let mapped = mapped_error(points, ring, flat, &made, self.geometry.points);
         let bound = self.line_bound(c[0], c[2])?;
         let removal = self.geometry.quadrics[self.v as usize].mean_error(image).max(mapped).max(bound * bound);
         let error = self.rules.removal_weight * removal + self.rules.swap_weight * ears.swap_error;
@@ -551,12 +553,12 @@ impl EarPlaces {
         ring: &[u32],
         flat: &[DVec2],
         weld: &[[usize; 3]; 2],
-        pos: &[DVec3],
+        pos: PointPositions,
     ) -> f64 {
         let flat_weld = weld.map(|t| t.map(|i| flat[i]));
         let ears = &self.ears;
         let distance = |t: [usize; 3], p: DVec3| {
-            let [a, b, c] = t.map(|i| pos[ring[i] as usize]);
+            let [a, b, c] = t.map(|i| pos.own[ring[i] as usize]);
             point_triangle_distance_squared(p, a, b, c)
         };
         points
@@ -564,7 +566,7 @@ impl EarPlaces {
             .zip(&mut self.places)
             .map(|(&(w, image), (on_ears, measured))| {
                 let (t, _, _) = locate_from(image, &flat_weld, ears.len(), *on_ears);
-                let p = pos[w as usize];
+                let p = pos.of(w);
                 match ears.get(t) {
                     Some(&ear) => *measured.get_or_insert_with(|| distance(ear, p)),
                     None => distance(weld[t - ears.len()], p),
@@ -576,14 +578,14 @@ impl EarPlaces {
 
 /// The largest squared distance from each of `points` to the new triangle (ring-index
 /// triples `made`) its image lands on in the flattening.
-fn mapped_error(points: &StarPoints, ring: &[u32], flat: &[DVec2], made: &[[usize; 3]], pos: &[DVec3]) -> f64 {
+fn mapped_error(points: &StarPoints, ring: &[u32], flat: &[DVec2], made: &[[usize; 3]], pos: PointPositions) -> f64 {
     let flat_made: RingVec<[DVec2; 3]> = made.iter().map(|t| t.map(|i| flat[i])).collect();
     points
         .iter()
         .map(|&(w, image)| {
             let (t, _) = locate(image, &flat_made);
-            let [a, b, c] = made[t].map(|i| pos[ring[i] as usize]);
-            point_triangle_distance_squared(pos[w as usize], a, b, c)
+            let [a, b, c] = made[t].map(|i| pos.own[ring[i] as usize]);
+            point_triangle_distance_squared(pos.of(w), a, b, c)
         })
         .fold(0.0, f64::max)
 }
@@ -622,10 +624,11 @@ mod tests {
         let welds = [[[0, 3, 4], [0, 4, 6]], [[3, 4, 4], [0, 3, 6]], [[3, 4, 4], [6, 6, 0]]];
         for cut in [&ears[..], &ears[..0]] {
             let mut places = EarPlaces::of(&points, &flat, cut);
+            let pos = PointPositions { own: &pos, seeded: None };
             for weld in welds {
                 let made: Vec<[usize; 3]> = cut.iter().copied().chain(weld).collect();
-                let all = mapped_error(&points, &ring, &flat, &made, &pos);
-                let shared = places.mapped_error(&points, &ring, &flat, &weld, &pos);
+                let all = mapped_error(&points, &ring, &flat, &made, pos);
+                let shared = places.mapped_error(&points, &ring, &flat, &weld, pos);
                 assert_eq!(shared.to_bits(), all.to_bits(), "{} ears, weld {weld:?}", cut.len());
             }
         }

@@ -12,6 +12,7 @@ use super::conformal::locate;
 use super::cost::point_triangle_distance_squared;
 use super::face_key;
 use super::plan::ClusterPlan;
+use crate::mesh::UnitFrame;
 
 /// A point on a level of the hierarchy: a face (counter-clockwise vertex ids) and
 /// barycentric coordinates (non-negative, summing to one).
@@ -33,6 +34,37 @@ pub struct ParamBuckets {
     heads: FxHashMap<[u32; 3], Bucket>,
     next: Vec<u32>,
     points: Vec<Option<ParamPoint>>,
+}
+
+/// Where the vertices of a level and of its parametrized points are, in the unit frame:
+/// the level's own vertices' positions, then (a continued build, #40) its seeded vertices',
+/// found in the input as they are needed, so the planning holds no copy of the input's
+/// positions.
+#[derive(Debug, Clone, Copy)]
+pub struct PointPositions<'a> {
+    /// The positions of the ids below its length (every id of a build that continues
+    /// nothing).
+    pub own: &'a [DVec3],
+    /// A continued build's other ids: each id's input vertex, the input's positions and
+    /// its unit frame.
+    pub seeded: Option<(&'a [u32], &'a [DVec3], UnitFrame)>,
+}
+
+impl PointPositions<'_> {
+    /// The position of `w`.
+    ///
+    /// # Panics
+    /// For an id neither the level's nor seeded (a planning invariant).
+    #[inline]
+    pub fn of(&self, w: u32) -> DVec3 {
+        match self.own.get(w as usize) {
+            Some(&p) => p,
+            None => {
+                let (to_input, input, frame) = self.seeded.expect("a parametrized vertex beyond the level's is seeded");
+                frame.to_unit(input[to_input[w as usize] as usize])
+            }
+        }
+    }
 }
 
 /// How many moved points [`ParamBuckets::apply_removals`] holds at once (a batch holds at
@@ -83,7 +115,7 @@ impl ParamBuckets {
     /// insertion order does in every bucket): a hierarchy continued from removals made
     /// before (a partitioned build's parts, #40). The seeds become the points, so they are
     /// not held twice.
-    pub fn seeded(seeds: Vec<Option<ParamPoint>>, positions: &[DVec3], order: impl Iterator<Item = u32>) -> Self {
+    pub fn seeded(seeds: Vec<Option<ParamPoint>>, positions: PointPositions, order: impl Iterator<Item = u32>) -> Self {
         let mut buckets = ParamBuckets { heads: FxHashMap::default(), next: vec![END; seeds.len()], points: seeds };
         for v in order {
             if let Some(point) = buckets.points[v as usize] {
@@ -116,7 +148,7 @@ impl ParamBuckets {
     /// exactly as one removal after the other. Batches bound the moves held at once: a
     /// partitioned build's continuation (#40) starts with every vertex its parts removed
     /// on its few faces, and one level moves most of them.
-    pub fn apply_removals(&mut self, plans: &[ClusterPlan], positions: &[DVec3]) {
+    pub fn apply_removals(&mut self, plans: &[ClusterPlan], positions: PointPositions) {
         let mut rest = plans;
         while !rest.is_empty() {
             let (batch, after) = rest.split_at(self.batch_length(rest));
@@ -151,8 +183,8 @@ impl ParamBuckets {
 
     /// Where one removal sends the vertices on its star faces, in bucket order, and the
     /// removed vertex itself (last), each with its squared distance from its new face.
-    fn removal_moves(&self, plan: &ClusterPlan, positions: &[DVec3]) -> Vec<(u32, ParamPoint, f64)> {
-        let flat = plan.flattening(positions);
+    fn removal_moves(&self, plan: &ClusterPlan, positions: PointPositions) -> Vec<(u32, ParamPoint, f64)> {
+        let flat = plan.flattening(positions.own);
         let flat_triangles = plan.flat_triangles(&flat);
         let mut moves = Vec::new();
         for star_face in star_faces(plan) {
@@ -189,7 +221,7 @@ fn star_faces(plan: &ClusterPlan) -> impl Iterator<Item = [u32; 3]> + '_ {
 }
 
 /// Squared distance from vertex `w` to the triangle `face`.
-fn distance_to(positions: &[DVec3], w: u32, face: [u32; 3]) -> f64 {
-    let [a, b, c] = face.map(|v| positions[v as usize]);
-    point_triangle_distance_squared(positions[w as usize], a, b, c)
+fn distance_to(positions: PointPositions, w: u32, face: [u32; 3]) -> f64 {
+    let [a, b, c] = face.map(|v| positions.own[v as usize]);
+    point_triangle_distance_squared(positions.of(w), a, b, c)
 }

@@ -16,7 +16,7 @@ use super::crossings::KnownCrossings;
 use super::give_way::{GiveWay, Rung, topological_floor};
 use super::guard::guard_plans;
 use super::lines::FeatureLines;
-use super::param::{ParamBuckets, ParamPoint};
+use super::param::{ParamBuckets, ParamPoint, PointPositions};
 use super::plan::{ClusterPlan, apply_plan, plan_still_applies};
 use super::plan_cache::{PlanCache, Planned, kept_within, ring_is_roomy};
 use super::record::{Recorded, Recorder};
@@ -182,14 +182,12 @@ fn build_with(
             features_and_kept(&working, classes, options, &seams)?
         }
     };
-    // Planning needs only the working positions (a continued build's seeded vertices' after
-    // the mesh's); the copy's faces go now.
-    let working_positions = {
-        let mut positions = working.positions;
-        if let (Some(c), Some(seeds)) = (continuing, &seeds) {
-            push_seeded_positions(&mut positions, c, n..seeds.len(), &unit)?;
-        }
-        positions
+    // Planning needs only the working positions; the copy's faces go now. A continued
+    // build's seeded vertices are found in its input as they are needed.
+    let working_positions = working.positions;
+    let points = match (continuing, &seeds) {
+        (Some(c), Some(seeds)) => seeded_positions(&working_positions, c, n..seeds.len(), unit)?,
+        _ => PointPositions { own: &working_positions, seeded: None },
     };
     let referenced = used_vertices(n, &mesh.triangles);
     let live: Vec<u32> = (0..n as u32).filter(|&v| referenced[v as usize]).collect();
@@ -211,7 +209,7 @@ fn build_with(
             if let Some(c) = continuing {
                 order.sort_unstable_by_key(|&v| c.to_input[v as usize]);
             }
-            ParamBuckets::seeded(seeds, &working_positions, order.into_iter())
+            ParamBuckets::seeded(seeds, points, order.into_iter())
         }
         None => ParamBuckets::new(n),
     };
@@ -229,6 +227,7 @@ fn build_with(
     };
     let mut planner = Planner {
         positions: &working_positions,
+        points,
         model_positions: &guard_positions,
         options,
         kept,
@@ -344,27 +343,24 @@ fn seams_and_wedges(mesh: &Mesh, continuing: Option<Continuation>) -> Result<(Ve
     }
 }
 
-/// Appends to `positions` the positions, in the `unit` frame, of a continued build's ids in
-/// `ids` (its seeded vertices), read from its input.
+/// The positions of a continued build's ids: the mesh's (`own`, in the `unit` frame), then
+/// the seeded vertices' (`seeded`, ids after them), read from its input as needed.
 ///
 /// # Errors
-/// [`Error::InvalidInput`] for ids `to_input` does not map, or maps beyond the input.
-fn push_seeded_positions(
-    positions: &mut Vec<DVec3>,
-    c: Continuation,
-    ids: std::ops::Range<usize>,
-    unit: &UnitFrame,
-) -> Result<()> {
-    let beyond = || Error::InvalidInput(format!("{} input ids for {} continued vertices", c.to_input.len(), ids.end));
-    let seeded = c.to_input.get(ids.clone()).ok_or_else(beyond)?;
-    positions.reserve_exact(seeded.len());
-    for &v in seeded {
-        let p = c.input.positions.get(v as usize);
-        positions.push(
-            unit.to_unit(*p.ok_or_else(|| Error::InvalidInput(format!("seeded vertex {v} is beyond the input's")))?),
-        );
+/// [`Error::InvalidInput`] for seeded ids `to_input` does not map, or maps beyond the input.
+fn seeded_positions<'a>(
+    own: &'a [DVec3],
+    c: Continuation<'a>,
+    seeded: std::ops::Range<usize>,
+    unit: UnitFrame,
+) -> Result<PointPositions<'a>> {
+    let ids = c.to_input.get(seeded.clone()).ok_or_else(|| {
+        Error::InvalidInput(format!("{} input ids for {} continued vertices", c.to_input.len(), seeded.end))
+    })?;
+    if let Some(&v) = ids.iter().find(|&&v| v as usize >= c.input.positions.len()) {
+        return Err(Error::InvalidInput(format!("seeded vertex {v} is beyond the input's")));
     }
-    Ok(())
+    Ok(PointPositions { own, seeded: Some((c.to_input, &c.input.positions, unit)) })
 }
 
 /// One level's plans for the recorder, with the level's faces after them when levels are
@@ -375,6 +371,8 @@ type LevelPlans = (Vec<ClusterPlan>, Option<Vec<[u32; 3]>>);
 struct Planner<'a> {
     /// Positions in the unit frame (the build's working copy).
     positions: &'a [DVec3],
+    /// Those positions, then a continued build's seeded vertices'.
+    points: PointPositions<'a>,
     /// The input's own positions, which every level keeps, then the obstacles' points
     /// ([`SimplifyOptions::obstacles`]): the intersection guard decides on them, since the
     /// unit frame's rounding can part faces that touch in the model (#34: a Menger
@@ -479,7 +477,7 @@ impl Planner<'_> {
             state.steps += 1;
             crate::progress::report("simplify", (first_live - self.live.len()) as u64, to_remove);
             lap(clock, &mut stages.planning);
-            self.params.apply_removals(&plans, self.positions);
+            self.params.apply_removals(&plans, self.points);
             lap(clock, &mut stages.parametrization);
             let faces = options.record_levels.then(|| self.rings.faces(&self.live));
             let recording = record((plans, faces));
@@ -505,7 +503,7 @@ impl Planner<'_> {
     /// remove are released to join them.
     fn rank_level(&mut self, state: &mut LevelLoop) -> (Vec<Candidate>, f64) {
         let options = self.options;
-        let geometry = level_geometry(self.positions, &self.quadrics, &self.params, &self.lines);
+        let geometry = level_geometry(self.points, &self.quadrics, &self.params, &self.lines);
         state.rules.under_floor = self.slivers.has_room();
         let need = options.target_vertices.map_or(usize::MAX, |t| self.live.len().saturating_sub(t));
         let mut ranked = ranked_candidates(
@@ -562,7 +560,7 @@ impl Planner<'_> {
         clock: &mut Instant,
     ) -> Result<(Vec<ClusterPlan>, FxHashSet<u32>)> {
         let options = self.options;
-        let geometry = level_geometry(self.positions, &self.quadrics, &self.params, &self.lines);
+        let geometry = level_geometry(self.points, &self.quadrics, &self.params, &self.lines);
         // The obstacles stand beside the level's faces: new faces must not cut them either.
         let mut level_faces = Vec::new();
         if options.prevent_intersections {
@@ -681,12 +679,12 @@ impl Planner<'_> {
 /// The level's geometry as cluster planning reads it (from the planner's fields, borrowed
 /// apart so that the planner's other fields stay free).
 fn level_geometry<'g>(
-    positions: &'g [DVec3],
+    points: PointPositions<'g>,
     quadrics: &'g VertexTable<crate::analysis::Quadric>,
     params: &'g ParamBuckets,
     lines: &'g FeatureLines,
 ) -> LevelGeometry<'g> {
-    LevelGeometry { positions, quadrics, tolerance: PLAN_TOLERANCE, params, lines }
+    LevelGeometry { positions: points.own, points, quadrics, tolerance: PLAN_TOLERANCE, params, lines }
 }
 
 /// Planning is in the unit frame (diagonal 1): fractions of the input's diagonal are
