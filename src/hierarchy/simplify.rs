@@ -316,9 +316,9 @@ fn build_with(
 }
 
 /// The seam edges of `mesh` and the wedges its levels take their UVs and materials by. A
-/// continued build's mesh is a level of `input` (a partitioned build's joined parts, #40):
-/// its seams are the input's seams as they run along its edges, and its levels take the
-/// input's attributes.
+/// continued build's mesh is a level of its input (a partitioned build's joined parts, #40,
+/// its ids mapped to the input's by `to_input`): its seams are the input's seams as they
+/// run along its edges, and its levels take the input's attributes.
 fn seams_and_wedges(mesh: &Mesh, continuing: Option<Continuation>) -> Result<(Vec<[u32; 2]>, Option<Wedges>)> {
     match continuing {
         None => {
