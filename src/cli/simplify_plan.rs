@@ -55,8 +55,9 @@ pub(crate) struct MergeArgs {
     force: bool,
 }
 
-/// `asperity simplify plan`: reads the input, checks the settings as the chunks will, cuts
-/// it and writes the parts and the manifest.
+/// `asperity simplify plan`: reads the input (binary PLY and STL as a stream, keeping only
+/// what the parts need: [`crate::io::read_lean`]), checks the settings as the chunks will,
+/// cuts it and writes the parts and the manifest.
 pub(super) fn plan(args: PlanArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     if args.hierarchy.chunks.is_none() {
@@ -64,8 +65,16 @@ pub(super) fn plan(args: PlanArgs, ctx: super::Context) -> Result<()> {
             "simplify plan needs --chunks K (the parts to cut the mesh into)".into(),
         ));
     }
-    let input = super::input::read_input(&args.input, args.repair, ctx)?;
-    let mesh = &input.read.mesh;
+    // --repair needs the whole mesh as read; otherwise the plan keeps only what it cuts.
+    let (read, streamed) = match args.repair.repair {
+        true => (super::input::read_input(&args.input, args.repair, ctx)?.read, false),
+        false => {
+            let (read, streamed) = crate::io::read_lean(&args.input)?;
+            read.notes.iter().for_each(|note| ctx.note(note));
+            (read, streamed)
+        }
+    };
+    let mesh = &read.mesh;
     let plan = MeshPlan::make(mesh, &args.input, args.repair.repair, &args.hierarchy, &args.output)
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;
     let dir = args.output.display();
@@ -75,10 +84,11 @@ pub(super) fn plan(args: PlanArgs, ctx: super::Context) -> Result<()> {
             let faces: Vec<usize> = plan.chunks.iter().map(|c| c.faces).collect();
             let border: usize = plan.chunks.iter().map(|c| c.border).sum();
             format!(
-                "simplify plan: {count} chunks of {}–{} faces ({border} border vertices) of {} => {dir}/plan.json in {} ms; build each with: asperity simplify --plan {dir} --chunk-index K (K = 0..{}), then: asperity simplify merge {dir} -o BASE",
+                "simplify plan: {count} chunks of {}–{} faces ({border} border vertices) of {}{} => {dir}/plan.json in {} ms; build each with: asperity simplify --plan {dir} --chunk-index K (K = 0..{}), then: asperity simplify merge {dir} -o BASE",
                 faces.iter().min().unwrap_or(&0),
                 faces.iter().max().unwrap_or(&0),
                 args.input.display(),
+                if streamed { ", read as a stream" } else { "" },
                 super::millis(start),
                 count - 1,
             )
@@ -86,7 +96,7 @@ pub(super) fn plan(args: PlanArgs, ctx: super::Context) -> Result<()> {
         || {
             serde_json::json!({
                 "plan": args.output.join("plan.json"), "chunks": count, "fingerprint": plan.fingerprint,
-                "input": args.input, "input_vertices": plan.input_vertices, "input_faces": plan.input_faces,
+                "input": args.input, "streamed": streamed, "input_vertices": plan.input_vertices, "input_faces": plan.input_faces,
                 "chunk_faces": plan.chunks.iter().map(|c| c.faces).collect::<Vec<_>>(),
                 "chunk_border_vertices": plan.chunks.iter().map(|c| c.border).collect::<Vec<_>>(),
             })

@@ -30,7 +30,7 @@ use super::{BuildStages, FeatureVertices, Hierarchy, KeepFeatures, SimplifyOptio
 use crate::analysis::{FeatureClass, FeatureOptions, Quadric};
 use crate::error::{Error, Result};
 use crate::ffi::{self, HalfEdgeMesh};
-use crate::mesh::{FaceId, Mesh, UnitFrame, ValidationReport, is_degenerate_face};
+use crate::mesh::{FaceId, Mesh, TopologyCounts, UnitFrame, ValidationReport, is_degenerate_face};
 use glam::DVec3;
 
 /// Builds the 4-k hierarchy of `mesh`: simplification down to the base domain, with the
@@ -725,29 +725,42 @@ pub(super) fn prepare_input(mesh: &Mesh, seeds: Option<&[Option<ParamPoint>]>) -
         return Err(Error::InvalidInput("the mesh has no faces to simplify".into()));
     }
     let report = ValidationReport::of(mesh);
-    let refuse =
-        |msg: String, faces: Vec<FaceId>| Err(Error::Topology { msg: format!("{msg}; --repair fixes it"), faces });
-    if report.is_manifold() && !report.orientable {
+    check_oriented_manifold(&TopologyCounts::of_report(&report), Some(report.orientable))?;
+    check_faces_and_vertices(mesh, seeds)
+}
+
+/// Refuses a mesh whose `counts` make it other than an oriented manifold; `orientable`,
+/// where it is known, tells a Möbius-like twist from faces merely flipped.
+pub(crate) fn check_oriented_manifold(counts: &TopologyCounts, orientable: Option<bool>) -> Result<()> {
+    if counts.is_manifold() && orientable == Some(false) {
         let msg = "the surface is not orientable (a Möbius-like twist): the hierarchy needs an oriented manifold, and no orientation of its faces exists".to_string();
         return Err(Error::Topology { msg, faces: Vec::new() });
     }
-    if !report.is_manifold() || report.inconsistently_oriented_edges > 0 {
+    if !counts.is_manifold() || counts.inconsistently_oriented_edges > 0 {
         let msg = format!(
             "the mesh is not an oriented manifold ({} non-manifold edges, {} non-manifold vertices, {} inconsistently oriented edges); --repair splits and orients it where the surface is orientable",
-            report.non_manifold_edges, report.non_manifold_vertices, report.inconsistently_oriented_edges
+            counts.non_manifold_edges, counts.non_manifold_vertices, counts.inconsistently_oriented_edges
         );
         return Err(Error::Topology { msg, faces: Vec::new() });
     }
-    if report.degenerate_faces > 0 {
-        let faces: Vec<FaceId> =
-            (0..mesh.face_count()).filter(|&f| is_degenerate_face(mesh, f)).map(|f| FaceId(f as u32)).collect();
+    Ok(())
+}
+
+/// Refuses faces of zero area and vertices on no face (a continued build's seeded vertices
+/// excepted, which must be exactly those).
+pub(crate) fn check_faces_and_vertices(mesh: &Mesh, seeds: Option<&[Option<ParamPoint>]>) -> Result<()> {
+    let refuse =
+        |msg: String, faces: Vec<FaceId>| Err(Error::Topology { msg: format!("{msg}; --repair fixes it"), faces });
+    let degenerate: Vec<FaceId> =
+        (0..mesh.face_count()).filter(|&f| is_degenerate_face(mesh, f)).map(|f| FaceId(f as u32)).collect();
+    if let Some(first) = degenerate.first() {
         return refuse(
             format!(
                 "{} face(s) have zero area, first face {} (the hierarchy cannot parametrize over them)",
-                faces.len(),
-                faces[0].0
+                degenerate.len(),
+                first.0
             ),
-            faces,
+            degenerate,
         );
     }
     let used = used_vertices(mesh.vertex_count(), &mesh.triangles);
@@ -763,12 +776,10 @@ pub(super) fn prepare_input(mesh: &Mesh, seeds: Option<&[Option<ParamPoint>]>) -
         }
         return Ok(());
     }
-    if report.unreferenced_vertices > 0 {
+    let unreferenced = used.iter().filter(|&&u| !u).count();
+    if unreferenced > 0 {
         let first = used.iter().position(|u| !u).expect("an unreferenced vertex");
-        return refuse(
-            format!("{} vertex/vertices belong to no face, first vertex {first}", report.unreferenced_vertices),
-            Vec::new(),
-        );
+        return refuse(format!("{unreferenced} vertex/vertices belong to no face, first vertex {first}"), Vec::new());
     }
     Ok(())
 }

@@ -102,6 +102,18 @@ pub fn read(path: &Path) -> Result<ReadOutcome> {
 /// it cannot be read.
 pub fn read_regular_file(path: &Path) -> Result<Vec<u8>> {
     use std::io::Read;
+    let (file, size) = open_regular_file(path)?;
+    let mut bytes = Vec::with_capacity(usize::try_from(size).unwrap_or(0).min(1 << 30));
+    file.take(size).read_to_end(&mut bytes).map_err(|e| Error::io(path, e))?;
+    Ok(bytes)
+}
+
+/// The regular file at `path`, opened, and its size; anything else is refused as
+/// [`read_regular_file`] refuses it.
+///
+/// # Errors
+/// As [`read_regular_file`].
+pub(crate) fn open_regular_file(path: &Path) -> Result<(std::fs::File, u64)> {
     let metadata = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     if !metadata.is_file() {
         let kind = describe_file_type(&metadata.file_type());
@@ -110,10 +122,32 @@ pub fn read_regular_file(path: &Path) -> Result<Vec<u8>> {
             path.display()
         )));
     }
-    let size = metadata.len();
-    let mut bytes = Vec::with_capacity(usize::try_from(size).unwrap_or(0).min(1 << 30));
-    std::fs::File::open(path).and_then(|f| f.take(size).read_to_end(&mut bytes)).map_err(|e| Error::io(path, e))?;
-    Ok(bytes)
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    Ok((file, metadata.len()))
+}
+
+/// Reads what a plan cuts of a mesh — positions, faces, UVs and materials — as
+/// [`read`] reads it, and whether it was read as a stream: binary PLY and binary STL are
+/// read as their elements come, so neither the file's bytes nor the attributes a plan does
+/// not use (normals, colours, other scalars) are ever held whole; other files are read
+/// whole and those attributes dropped.
+///
+/// # Errors
+/// As [`read`].
+pub fn read_lean(path: &Path) -> Result<(ReadOutcome, bool)> {
+    let streamed = match Format::from_path(path)? {
+        Format::Ply => ply::read_lean(path)?,
+        Format::Stl => stl::read_lean(path)?,
+        _ => None,
+    };
+    if let Some(read) = streamed {
+        return Ok((read, true));
+    }
+    let mut read = read(path)?;
+    read.mesh.normals = None;
+    read.mesh.colors = None;
+    read.mesh.scalars.clear();
+    Ok((read, false))
 }
 
 fn describe_file_type(kind: &std::fs::FileType) -> &'static str {

@@ -14,7 +14,7 @@ use glam::DVec3;
 use super::text::{numbered_lines, shorten};
 use super::{ReadOutcome, check_count_fits, check_polygon, repeated_vertex_note, without_repeated_corners};
 use crate::error::{Error, Location, Result};
-use crate::mesh::{Mesh, triangulate_polygons};
+use crate::mesh::{Mesh, triangulate_polygon};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Encoding {
@@ -207,17 +207,23 @@ enum Body<'a> {
     /// `lines` yields the body's numbered lines; `tokens` are what is left of `line`, the
     /// current element's (#36: values were read across lines, so a vertex missing a value
     /// took the next line's and the error surfaced lines later).
-    Ascii {
-        lines: Box<dyn Iterator<Item = (usize, &'a str)> + 'a>,
-        tokens: std::str::SplitWhitespace<'a>,
-        line: usize,
-    },
+    Ascii { lines: Box<dyn Iterator<Item = (usize, &'a str)> + 'a>, tokens: std::str::SplitWhitespace<'a>, line: usize },
     Binary {
-        bytes: &'a [u8],
+        src: Source<'a>,
+        /// Bytes read of the body, and the body's length.
         pos: usize,
+        len: usize,
         base: usize,
         big_endian: bool,
     },
+}
+
+/// Where a binary body's bytes come from: the file in memory, or the file read as the
+/// elements are ([`read_lean`]: a plan cuts a mesh larger than the file's bytes and the
+/// mesh together would comfortably fit).
+enum Source<'a> {
+    Slice(&'a [u8]),
+    Stream(std::io::BufReader<std::fs::File>),
 }
 
 impl<'a> Body<'a> {
@@ -287,12 +293,18 @@ impl<'a> Body<'a> {
                 }
                 Ok(value)
             }
-            Body::Binary { bytes, pos, big_endian, .. } => {
+            Body::Binary { src, pos, len, big_endian, .. } => {
                 let size = ty.size();
-                let raw = bytes.get(*pos..*pos + size).ok_or("the file ends early")?;
-                *pos += size;
+                if *pos + size > *len {
+                    return Err("the file ends early".into());
+                }
                 let mut buf = [0u8; 8];
-                buf[..size].copy_from_slice(raw);
+                match src {
+                    Source::Slice(bytes) => buf[..size].copy_from_slice(&bytes[*pos..*pos + size]),
+                    Source::Stream(reader) => std::io::Read::read_exact(reader, &mut buf[..size])
+                        .map_err(|e| format!("cannot be read: {e}"))?,
+                }
+                *pos += size;
                 if *big_endian {
                     buf[..size].reverse();
                 }
@@ -313,7 +325,7 @@ impl<'a> Body<'a> {
     fn remaining_bytes(&self, total: usize) -> usize {
         match self {
             Body::Ascii { .. } => total,
-            Body::Binary { bytes, pos, .. } => bytes.len() - pos,
+            Body::Binary { pos, len, .. } => len - pos,
         }
     }
 }
@@ -332,14 +344,50 @@ enum VertexSlot {
 /// then the check that nothing follows, and the polygons triangulated.
 pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     let header = parse_header(bytes, path)?;
-    let mut body = open_body(bytes, &header, path)?;
+    let body = open_body(bytes, &header, path)?;
+    read_elements(&header, body, path, bytes.len(), false)
+}
+
+/// Reads a binary PLY file as its elements come, keeping what a plan cuts (positions,
+/// faces and UVs): the file's bytes are never held whole, nor normals, colours or other
+/// scalars. `None` for an ASCII file, which [`parse`] reads. The mesh, notes and errors are
+/// [`parse`]'s.
+///
+/// # Errors
+/// As [`parse`]; [`Error::Io`] if the file cannot be opened.
+pub fn read_lean(path: &Path) -> Result<Option<ReadOutcome>> {
+    use std::io::{Read, Seek};
+    let (mut file, size) = super::open_regular_file(path)?;
+    let mut prefix = Vec::new();
+    Read::by_ref(&mut file).take(MAX_HEADER_BYTES as u64).read_to_end(&mut prefix).map_err(|e| Error::io(path, e))?;
+    let header = parse_header(&prefix, path)?;
+    if header.encoding == Encoding::Ascii {
+        return Ok(None);
+    }
+    let total = usize::try_from(size)
+        .map_err(|_| Error::parse(path, Location::File, "larger than this machine's addresses"))?;
+    file.seek(std::io::SeekFrom::Start(header.body as u64)).map_err(|e| Error::io(path, e))?;
+    let body = Body::Binary {
+        src: Source::Stream(std::io::BufReader::with_capacity(1 << 20, file)),
+        pos: 0,
+        len: total.saturating_sub(header.body),
+        base: header.body,
+        big_endian: header.encoding == Encoding::BigEndian,
+    };
+    read_elements(&header, body, path, total, true).map(Some)
+}
+
+/// Reads each element in order — vertices (`read_vertices`), faces (`read_faces`,
+/// triangulated as they come), anything else skipped (`skip_element`) — then checks that
+/// nothing follows. `total` is the file's length; `lean` keeps only positions and UVs.
+fn read_elements(header: &Header, mut body: Body, path: &Path, total: usize, lean: bool) -> Result<ReadOutcome> {
     let mut vertices: Option<VertexData> = None;
-    let mut polygons = Polygons::default();
+    let mut faces = Faces::default();
     let mut notes = Vec::new();
     for element in &header.elements {
         // Binary sizes are exact: refuse counts the rest of the file cannot hold. Text is
         // checked as it is read; either way capacity is capped by what the file could hold.
-        let remaining = body.remaining_bytes(bytes.len() - header.body);
+        let remaining = body.remaining_bytes(total - header.body);
         let min_bytes = element.min_bytes(header.encoding);
         if header.encoding != Encoding::Ascii {
             check_count_fits(element.count, min_bytes, remaining, &format!("{} elements", element.name))
@@ -347,12 +395,12 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
         }
         let capacity = element.count.min(remaining / min_bytes.max(1));
         match element.name.as_str() {
-            "vertex" => vertices = Some(read_vertices(element, &mut body, path, capacity, &mut notes)?),
+            "vertex" => vertices = Some(read_vertices(element, &mut body, path, capacity, lean, &mut notes)?),
             "face" => {
-                let nv = vertices.as_ref().map(|v| v.positions.len()).ok_or_else(|| {
+                let positions = vertices.as_ref().map(|v| &v.positions[..]).ok_or_else(|| {
                     Error::parse(path, Location::Line(element.line), "the face element comes before the vertex element")
                 })?;
-                read_faces(element, &mut body, path, nv, capacity, bytes.len(), &mut polygons, &mut notes)?;
+                read_faces(element, &mut body, path, positions, capacity, total, &mut faces, &mut notes)?;
             }
             other => {
                 notes.push(format!("PLY element `{other}` skipped"));
@@ -371,13 +419,13 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
             format!("data after the last element (the header declares {})", declared.join(", ")),
         ));
     }
-    let ends = polygons.starts.iter().skip(1).copied().chain(std::iter::once(polygons.corners.len()));
-    let faces = polygons.starts.iter().zip(ends).map(|(&start, end)| &polygons.corners[start..end]);
-    let (triangles, triangulated) = triangulate_polygons(&positions, faces);
-    notes.extend(repeated_vertex_note(polygons.dropped));
-    let mut mesh = Mesh { positions, triangles, normals, colors, scalars, ..Mesh::default() };
+    notes.extend(repeated_vertex_note(faces.dropped));
+    let mut mesh = Mesh { positions, triangles: faces.triangles, normals, colors, scalars, ..Mesh::default() };
     uvs_from_scalars(&mut mesh);
-    Ok(ReadOutcome { mesh, triangulated_polygons: triangulated, notes })
+    if lean {
+        mesh.scalars.clear();
+    }
+    Ok(ReadOutcome { mesh, triangulated_polygons: faces.triangulated, notes })
 }
 
 /// The body after the header: text lines numbered on from the header's, or bytes.
@@ -392,8 +440,9 @@ fn open_body<'a>(bytes: &'a [u8], header: &Header, path: &Path) -> Result<Body<'
             Body::Ascii { lines: Box::new(lines), tokens: "".split_whitespace(), line: header.lines }
         }
         enc => Body::Binary {
-            bytes: &bytes[header.body..],
+            src: Source::Slice(&bytes[header.body..]),
             pos: 0,
+            len: bytes.len() - header.body,
             base: header.body,
             big_endian: enc == Encoding::BigEndian,
         },
@@ -409,13 +458,16 @@ struct VertexData {
     scalars: BTreeMap<String, Vec<f64>>,
 }
 
-/// The face element's polygons: their corners end to end, where each starts, and how many
-/// were dropped for having fewer than three distinct corners.
+/// The face element's polygons, triangulated as they are read: the triangles, how many
+/// polygons had more than three corners, and how many were dropped for having fewer than
+/// three distinct corners.
 #[derive(Default)]
-struct Polygons {
-    corners: Vec<u32>,
-    starts: Vec<usize>,
+struct Faces {
+    triangles: Vec<[u32; 3]>,
+    triangulated: usize,
     dropped: usize,
+    /// The polygon being read.
+    polygon: Vec<u32>,
 }
 
 /// Reads the vertex element; a non-finite coordinate is an error naming the vertex.
@@ -424,12 +476,12 @@ fn read_vertices(
     body: &mut Body,
     path: &Path,
     capacity: usize,
+    lean: bool,
     notes: &mut Vec<String>,
 ) -> Result<VertexData> {
-    let slots = vertex_slots(element, path, notes)?;
+    let slots = vertex_slots(element, path, lean, notes)?;
     let mut positions = Vec::with_capacity(capacity);
-    let mut normals =
-        slots.iter().any(|s| matches!(s, VertexSlot::Normal(_))).then(|| Vec::with_capacity(capacity));
+    let mut normals = slots.iter().any(|s| matches!(s, VertexSlot::Normal(_))).then(|| Vec::with_capacity(capacity));
     let mut colors = slots.iter().any(|s| matches!(s, VertexSlot::Color(..))).then(|| Vec::with_capacity(capacity));
     let scalar_names: Vec<&str> = element
         .properties
@@ -480,18 +532,19 @@ fn read_vertices(
     Ok(VertexData { positions, normals, colors, scalars })
 }
 
-/// Reads the face element's `vertex_indices` lists into `polygons` (its other properties
-/// are skipped, with a note); an index outside the `nv` vertices is an error naming the
-/// face, and a polygon with repeated corners keeps its distinct ones (or is dropped).
+/// Reads the face element's `vertex_indices` lists into `faces`, each polygon triangulated
+/// on `positions` as it is read (its other properties are skipped, with a note); an index
+/// outside the vertices is an error naming the face, and a polygon with repeated corners
+/// keeps its distinct ones (or is dropped).
 #[allow(clippy::too_many_arguments)]
 fn read_faces(
     element: &Element,
     body: &mut Body,
     path: &Path,
-    nv: usize,
+    positions: &[DVec3],
     capacity: usize,
     total_bytes: usize,
-    polygons: &mut Polygons,
+    faces: &mut Faces,
     notes: &mut Vec<String>,
 ) -> Result<()> {
     let index_property = element
@@ -502,7 +555,7 @@ fn read_faces(
     if element.properties.len() > 1 {
         notes.push("PLY face properties other than vertex_indices ignored".to_string());
     }
-    polygons.starts.reserve(capacity);
+    faces.triangles.reserve(capacity);
     for f in 0..element.count {
         let at = |body: &Body, m: String| Error::parse(path, body.location(), format!("face {f}: {m}"));
         body.begin_element().map_err(|m| at(body, m))?;
@@ -514,25 +567,22 @@ fn read_faces(
                 Property::List { count, item, .. } if k == index_property => {
                     let len = body.read(*count).map_err(|m| at(body, m))?;
                     let len = list_length(len, body, total_bytes, *item).map_err(|m| at(body, m))?;
-                    let start = polygons.corners.len();
-                    polygons.starts.push(start);
+                    let polygon = &mut faces.polygon;
+                    polygon.clear();
                     for _ in 0..len {
                         let v = body.read(*item).map_err(|m| at(body, m))?;
                         if v < 0.0 || v.fract() != 0.0 || v > u32::MAX as f64 {
                             return Err(at(body, format!("bad vertex index {v}")));
                         }
-                        polygons.corners.push(v as u32);
+                        polygon.push(v as u32);
                     }
-                    check_polygon(&polygons.corners[start..], nv).map_err(|m| at(body, m))?;
-                    let face = &polygons.corners[start..];
-                    if face.iter().enumerate().any(|(i, a)| face[i + 1..].contains(a)) {
-                        let mut polygon = polygons.corners.split_off(start);
-                        if without_repeated_corners(&mut polygon) {
-                            polygons.corners.extend(polygon);
-                        } else {
-                            polygons.starts.pop();
-                            polygons.dropped += 1;
-                        }
+                    check_polygon(polygon, positions.len()).map_err(|m| at(body, m))?;
+                    let repeats = polygon.iter().enumerate().any(|(i, a)| polygon[i + 1..].contains(a));
+                    if repeats && !without_repeated_corners(polygon) {
+                        faces.dropped += 1;
+                    } else {
+                        faces.triangulated += usize::from(polygon.len() > 3);
+                        triangulate_polygon(positions, polygon, &mut faces.triangles);
                     }
                 }
                 Property::List { count, item, .. } => {
@@ -565,7 +615,8 @@ fn skip_element(element: &Element, body: &mut Body, path: &Path) -> Result<()> {
     Ok(())
 }
 
-fn vertex_slots(element: &Element, path: &Path, notes: &mut Vec<String>) -> Result<Vec<VertexSlot>> {
+/// What each vertex property feeds; `lean` ignores all but positions and UVs.
+fn vertex_slots(element: &Element, path: &Path, lean: bool, notes: &mut Vec<String>) -> Result<Vec<VertexSlot>> {
     let mut slots = Vec::with_capacity(element.properties.len());
     let mut found = [false; 3];
     for p in &element.properties {
@@ -591,6 +642,15 @@ fn vertex_slots(element: &Element, path: &Path, notes: &mut Vec<String>) -> Resu
     }
     if found != [true; 3] {
         return Err(Error::parse(path, Location::Line(element.line), "vertices lack x, y and z properties"));
+    }
+    if lean {
+        for (p, s) in element.properties.iter().zip(&mut slots) {
+            let uv = UV_PROPERTIES.iter().flatten().any(|&n| n == p.name());
+            if matches!(s, VertexSlot::Normal(_) | VertexSlot::Color(..)) || (matches!(s, VertexSlot::Scalar(_)) && !uv)
+            {
+                *s = VertexSlot::Ignored;
+            }
+        }
     }
     let mut next = 0;
     for s in &mut slots {
@@ -731,7 +791,8 @@ const UV_PROPERTIES: [[&str; 2]; 4] = [["s", "t"], ["u", "v"], ["texture_u", "te
 
 /// Moves the first pair of UV properties from the scalars into per-vertex UVs.
 fn uvs_from_scalars(mesh: &mut Mesh) {
-    let Some([u, v]) = UV_PROPERTIES.iter().find(|[u, v]| mesh.scalars.contains_key(*u) && mesh.scalars.contains_key(*v))
+    let Some([u, v]) =
+        UV_PROPERTIES.iter().find(|[u, v]| mesh.scalars.contains_key(*u) && mesh.scalars.contains_key(*v))
     else {
         return;
     };

@@ -35,19 +35,8 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
         triangles.reserve(n);
         for f in 0..n {
             let at = HEADER_BYTES + 4 + f * FACET_BYTES;
-            let mut corners = [0u32; 3];
-            for (k, corner) in corners.iter_mut().enumerate() {
-                let base = at + 12 + 12 * k;
-                let c = |i: usize| {
-                    f32::from_le_bytes(bytes[base + 4 * i..base + 4 * i + 4].try_into().expect("4 bytes")) as f64
-                };
-                let p = DVec3::new(c(0), c(1), c(2));
-                if !p.is_finite() {
-                    return Err(Error::parse(path, Location::Element("facet", f), "a corner coordinate is not finite"));
-                }
-                *corner = welder.vertex(p);
-            }
-            push_facet(corners, &mut triangles, &mut dropped);
+            let facet = bytes[at..at + FACET_BYTES].try_into().expect("a facet's bytes");
+            read_facet(facet, f, path, &mut welder, &mut triangles, &mut dropped)?;
         }
     } else if looks_ascii {
         solids = parse_ascii(&decode(bytes, path)?, path, &mut welder, &mut triangles, &mut dropped)?;
@@ -64,6 +53,63 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
     } else {
         return Err(Error::parse(path, Location::File, "too short to be a binary STL and does not start with `solid`"));
     }
+    Ok(outcome(welder, triangles, dropped, solids))
+}
+
+/// Reads a binary STL as its facets come (a plan's lean read: the file's bytes are never
+/// held whole); `None` for a file that [`parse`] would not read as binary. The mesh, notes
+/// and errors are [`parse`]'s.
+///
+/// # Errors
+/// As [`parse`]; [`Error::Io`] if the file cannot be opened or read.
+pub fn read_lean(path: &Path) -> Result<Option<ReadOutcome>> {
+    use std::io::Read;
+    let (file, size) = super::open_regular_file(path)?;
+    let mut reader = std::io::BufReader::with_capacity(1 << 20, file);
+    let mut head = [0u8; HEADER_BYTES + 4];
+    if size < head.len() as u64 {
+        return Ok(None);
+    }
+    reader.read_exact(&mut head).map_err(|e| Error::io(path, e))?;
+    let n = u32::from_le_bytes(head[80..84].try_into().expect("4 bytes")) as usize;
+    if (HEADER_BYTES + 4) as u64 + n as u64 * FACET_BYTES as u64 != size {
+        return Ok(None);
+    }
+    let (mut welder, mut triangles, mut dropped) = (Welder::default(), Vec::with_capacity(n), 0);
+    let mut facet = [0u8; FACET_BYTES];
+    for f in 0..n {
+        reader.read_exact(&mut facet).map_err(|e| Error::io(path, e))?;
+        read_facet(&facet, f, path, &mut welder, &mut triangles, &mut dropped)?;
+    }
+    Ok(Some(outcome(welder, triangles, dropped, 1)))
+}
+
+/// Facet `f` of a binary STL: its corners welded, the facet kept or dropped.
+fn read_facet(
+    facet: &[u8; FACET_BYTES],
+    f: usize,
+    path: &Path,
+    welder: &mut Welder,
+    triangles: &mut Vec<[u32; 3]>,
+    dropped: &mut usize,
+) -> Result<()> {
+    let mut corners = [0u32; 3];
+    for (k, corner) in corners.iter_mut().enumerate() {
+        let base = 12 + 12 * k;
+        let c =
+            |i: usize| f32::from_le_bytes(facet[base + 4 * i..base + 4 * i + 4].try_into().expect("4 bytes")) as f64;
+        let p = DVec3::new(c(0), c(1), c(2));
+        if !p.is_finite() {
+            return Err(Error::parse(path, Location::Element("facet", f), "a corner coordinate is not finite"));
+        }
+        *corner = welder.vertex(p);
+    }
+    push_facet(corners, triangles, dropped);
+    Ok(())
+}
+
+/// The mesh of the welded corners and kept facets, with the reader's notes.
+fn outcome(welder: Welder, triangles: Vec<[u32; 3]>, dropped: usize, solids: usize) -> ReadOutcome {
     // Every position came from a corner read, those of dropped facets included.
     let corners = 3 * (triangles.len() + dropped);
     let welded = corners - welder.positions.len();
@@ -72,7 +118,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<ReadOutcome> {
         notes.push(format!("STL: {solids} solids read into one mesh"));
     }
     notes.extend(super::repeated_vertex_note(dropped));
-    Ok(ReadOutcome { mesh: Mesh::new(welder.positions, triangles), triangulated_polygons: 0, notes })
+    ReadOutcome { mesh: Mesh::new(welder.positions, triangles), triangulated_polygons: 0, notes }
 }
 
 /// Keeps a facet, or counts it in `dropped` when two of its corners welded to one point

@@ -33,7 +33,7 @@ pub use repair::{
 };
 pub use triangulate::{triangulate_polygon, triangulate_polygons};
 pub use unit::UnitFrame;
-pub use validate::{ValidationReport, is_degenerate_face, repeats_a_vertex, used_vertices};
+pub use validate::{TopologyCounts, ValidationReport, is_degenerate_face, repeats_a_vertex, used_vertices};
 
 use crate::error::{Error, Result};
 

@@ -204,20 +204,25 @@ fn is_orientable(faces: usize, edges: &EdgeTable) -> bool {
 /// A vertex is non-manifold when its face corners split into several fans, i.e. the
 /// corners cannot all be reached from one another across edges incident to the vertex.
 pub(crate) fn count_non_manifold_vertices(mesh: &Mesh, edges: &EdgeTable) -> usize {
+    non_manifold_vertices(&mesh.triangles, mesh.positions.len(), edges).iter().filter(|&&b| b).count()
+}
+
+/// Which of `vertex_count` vertices have faces in more than one fan.
+fn non_manifold_vertices(triangles: &[[u32; 3]], vertex_count: usize, edges: &EdgeTable) -> Vec<bool> {
     let corner = |face: u32, v: u32| -> usize {
-        let t = mesh.triangles[face as usize];
+        let t = triangles[face as usize];
         3 * face as usize + t.iter().position(|&x| x == v).expect("vertex of face")
     };
-    let mut corners = DisjointSets::new(mesh.triangles.len() * 3);
+    let mut corners = DisjointSets::new(triangles.len() * 3);
     for group in edges.groups() {
         for u in &group[1..] {
             corners.union(corner(group[0].face, group[0].lo), corner(u.face, u.lo));
             corners.union(corner(group[0].face, group[0].hi), corner(u.face, u.hi));
         }
     }
-    let mut fan_root = vec![u32::MAX; mesh.positions.len()];
-    let mut non_manifold = vec![false; mesh.positions.len()];
-    for (f, t) in mesh.triangles.iter().enumerate() {
+    let mut fan_root = vec![u32::MAX; vertex_count];
+    let mut non_manifold = vec![false; vertex_count];
+    for (f, t) in triangles.iter().enumerate() {
         if repeats_a_vertex(*t) {
             continue;
         }
@@ -231,7 +236,71 @@ pub(crate) fn count_non_manifold_vertices(mesh: &Mesh, edges: &EdgeTable) -> usi
             }
         }
     }
-    non_manifold.iter().filter(|&&b| b).count()
+    non_manifold
+}
+
+/// What makes a mesh other than an oriented manifold, counted as [`ValidationReport`]
+/// counts it.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TopologyCounts {
+    /// Edges with more than two faces.
+    pub non_manifold_edges: usize,
+    /// Vertices whose faces form more than one fan.
+    pub non_manifold_vertices: usize,
+    /// Edges whose two faces traverse them in the same direction.
+    pub inconsistently_oriented_edges: usize,
+}
+
+impl TopologyCounts {
+    /// The counts of a whole mesh's report.
+    pub fn of_report(report: &ValidationReport) -> Self {
+        TopologyCounts {
+            non_manifold_edges: report.non_manifold_edges,
+            non_manifold_vertices: report.non_manifold_vertices,
+            inconsistently_oriented_edges: report.inconsistently_oriented_edges,
+        }
+    }
+
+    /// The counts of a piece of a mesh (`triangles` over `vertex_count` vertices) that
+    /// holds every face of the edges `edge_whole` names and of the vertices `vertex_whole`
+    /// names, counting only those: pieces that between them name each edge and vertex once
+    /// sum to the whole mesh's counts, with none of them holding the whole mesh (a
+    /// partitioned plan: each part for its inside, the border vertices' stars for the
+    /// border).
+    pub fn of_piece(
+        triangles: &[[u32; 3]],
+        vertex_count: usize,
+        vertex_whole: impl Fn(u32) -> bool,
+        edge_whole: impl Fn(u32, u32) -> bool,
+    ) -> Self {
+        let edges = EdgeTable::build(triangles);
+        let mut counts = TopologyCounts::default();
+        for group in edges.groups().filter(|g| edge_whole(g[0].lo, g[0].hi)) {
+            match group.len() {
+                1 => {}
+                2 => counts.inconsistently_oriented_edges += usize::from(group[0].forward == group[1].forward),
+                _ => counts.non_manifold_edges += 1,
+            }
+        }
+        let non_manifold = non_manifold_vertices(triangles, vertex_count, &edges);
+        counts.non_manifold_vertices =
+            (0..vertex_count as u32).filter(|&v| non_manifold[v as usize] && vertex_whole(v)).count();
+        counts
+    }
+
+    /// The sum of two pieces' counts.
+    pub fn plus(self, other: Self) -> Self {
+        TopologyCounts {
+            non_manifold_edges: self.non_manifold_edges + other.non_manifold_edges,
+            non_manifold_vertices: self.non_manifold_vertices + other.non_manifold_vertices,
+            inconsistently_oriented_edges: self.inconsistently_oriented_edges + other.inconsistently_oriented_edges,
+        }
+    }
+
+    /// Whether no edge and no vertex is non-manifold.
+    pub fn is_manifold(&self) -> bool {
+        self.non_manifold_edges == 0 && self.non_manifold_vertices == 0
+    }
 }
 
 fn count_face_components(mesh: &Mesh, referenced: &[bool]) -> usize {

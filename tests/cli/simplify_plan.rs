@@ -108,6 +108,48 @@ fn chunks_run_as_processes_in_any_order_give_the_threaded_build() {
     ok(&[&over[..], &["--force"]].concat(), dir, &[]);
 }
 
+/// A binary PLY is read as a stream (neither its bytes nor its normals held whole) and
+/// cut into the parts a whole read cuts; a mesh the build refuses is refused with the
+/// whole mesh's counts, the plan's topology checked part by part.
+#[test]
+fn a_plan_streams_a_binary_ply_into_the_parts_a_whole_read_makes() {
+    let tmp = temp_dir();
+    let dir = tmp.path();
+    let off = shared_meshes().join("bunny00.off");
+    let off = off.to_str().unwrap();
+    ok(&["convert", off, "bunny.ply"], dir, &[]);
+    let plan = |input: &str, out: &str| {
+        let mut args = vec!["simplify", "plan", input, "--chunks", "4", "-o", out];
+        args.extend(TARGET);
+        ok(&args, dir, &[])
+    };
+    let whole = plan(off, "whole");
+    let streamed = plan("bunny.ply", "streamed");
+    assert!(streamed.contains("bunny.ply, read as a stream =>") && !whole.contains("stream"), "{whole}\n{streamed}");
+    for k in 0..4 {
+        let file = format!("chunks/chunk-{k:04}.part");
+        assert!(read(&dir.join("whole"), &file) == read(&dir.join("streamed"), &file), "{file} differs");
+    }
+    let json = |d: &str| -> serde_json::Value { serde_json::from_slice(&read(&dir.join(d), "plan.json")).unwrap() };
+    assert_eq!(json("whole")["fingerprint"], json("streamed")["fingerprint"], "the plans' fingerprints");
+    // Chunks of the streamed plan merge over the input the plan read.
+    for k in 0..4 {
+        ok(&["simplify", "--plan", "streamed", "--chunk-index", &k.to_string(), "-q"], dir, &[]);
+    }
+    ok(&["simplify", "merge", "streamed", "-o", "merged.ply", "-q"], dir, &[]);
+    // A turned-over face, found by the part that holds it or by the border's stars.
+    let mut mesh = asperity::io::read(&dir.join("bunny.ply")).unwrap().mesh;
+    for f in [10, mesh.face_count() / 2] {
+        mesh.triangles[f].swap(1, 2);
+    }
+    asperity::io::write(&mesh, &dir.join("flipped.ply"), Default::default()).unwrap();
+    let expected = asperity::mesh::ValidationReport::of(&mesh).inconsistently_oriented_edges;
+    let counts = format!("0 non-manifold edges, 0 non-manifold vertices, {expected} inconsistently oriented edges");
+    let args = ["simplify", "plan", "flipped.ply", "--chunks", "4", "--target-vertices", "1%", "-o", "bad"];
+    refused(&args, dir, &[], &["flipped.ply: the mesh is not an oriented manifold", &counts]);
+    assert!(!dir.join("bad").exists(), "a refused plan left its folder");
+}
+
 #[test]
 fn a_plan_refuses_what_its_chunks_would_refuse() {
     let tmp = temp_dir();

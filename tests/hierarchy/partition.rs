@@ -483,3 +483,45 @@ fn a_partitioned_build_stops_at_an_error_bound_as_a_one_piece_build_does() {
         .sum();
     assert!(inside as f64 >= 0.5 * (bunny.vertex_count() - whole_vertices) as f64, "the parts removed {inside}");
 }
+
+/// A plan checks the mesh part by part, with no table of the whole mesh's edges: the
+/// counts it refuses with are the whole mesh's, whatever the cut.
+#[test]
+fn a_partition_refuses_what_a_build_refuses_with_the_whole_mesh_s_counts() {
+    let sheet = grid(24);
+    let at = |x: f64, y: f64| sheet.positions.iter().position(|p| p.x == x && p.y == y).unwrap() as u32;
+    let (lo, hi) = sheet.bounding_box().unwrap();
+    // A face turned over: three edges its neighbours traverse as it does.
+    let mut flipped = sheet.clone();
+    let f = flipped.face_count() / 2 + 7;
+    flipped.triangles[f].swap(1, 2);
+    // Fins: a third face on two edges.
+    let mut fins = sheet.clone();
+    fins.positions.push(DVec3::new(0.0, 0.0, 1.0));
+    let apex = sheet.vertex_count() as u32;
+    for f in [fins.face_count() / 3, fins.face_count() / 2 + 11] {
+        let [a, b, _] = fins.triangles[f];
+        fins.triangles.push([a, b, apex]);
+    }
+    // Copies of the sheet whose first corner is the sheet's far corner or a vertex inside
+    // it: vertices whose faces make two fans.
+    let mut bowtie = sheet.clone();
+    let (middle, far, first) = (at(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y)), at(hi.x, hi.y), at(lo.x, lo.y));
+    for (joined, offset) in [(far, hi - lo), (middle, DVec3::new(0.5, 0.5, 0.5) * (hi - lo).length())] {
+        let start = bowtie.vertex_count() as u32;
+        bowtie.positions.extend(sheet.positions.iter().map(|&p| p + DVec3::new(offset.x, offset.y, offset.z)));
+        bowtie.triangles.extend(sheet.triangles.iter().map(|t| t.map(|v| if v == first { joined } else { v + start })));
+    }
+    for (name, mesh) in [("flipped", &flipped), ("fins", &fins), ("bowtie", &bowtie)] {
+        let report = ValidationReport::of(mesh);
+        assert!(!report.is_manifold() || report.inconsistently_oriented_edges > 0, "{name} is a bad mesh");
+        let counts = format!(
+            "({} non-manifold edges, {} non-manifold vertices, {} inconsistently oriented edges)",
+            report.non_manifold_edges, report.non_manifold_vertices, report.inconsistently_oriented_edges
+        );
+        for parts in [1, 2, 3, 5, 8] {
+            let e = Partition::of(mesh, parts).unwrap_err().to_string();
+            assert!(e.contains(&counts), "{name} in {parts} parts: {e}, not {counts}");
+        }
+    }
+}

@@ -5,6 +5,7 @@ mod bad_input;
 mod fuzz_regressions;
 pub mod glb;
 mod gltf_read;
+mod lean;
 mod repair;
 mod roundtrip;
 mod uv;

@@ -557,6 +557,17 @@ pub fn build_partitioned(mesh: &Mesh, parts: usize, options: &SimplifyOptions) -
 /// recorded levels or fenced vertices; as
 /// [`crate::hierarchy::build`]'s validation.
 pub fn check_partitioned(mesh: &Mesh, options: &SimplifyOptions) -> Result<()> {
+    check_partitioned_settings(options)?;
+    mesh.check()?;
+    crate::hierarchy::simplify::prepare_input(mesh, None)
+}
+
+/// Refuses settings a partitioned build does not take (as [`check_partitioned`], without
+/// the mesh).
+///
+/// # Errors
+/// As [`check_partitioned`].
+pub fn check_partitioned_settings(options: &SimplifyOptions) -> Result<()> {
     require_stop(options)?;
     if options.levels.is_some() {
         return Err(Error::InvalidInput("a partitioned build takes no level limit yet".into()));
@@ -570,9 +581,7 @@ pub fn check_partitioned(mesh: &Mesh, options: &SimplifyOptions) -> Result<()> {
             "a partitioned build records its levels by refinement and fences its own borders and obstacles".into(),
         ));
     }
-    options.check()?;
-    mesh.check()?;
-    crate::hierarchy::simplify::prepare_input(mesh, None)
+    options.check()
 }
 
 /// Refuses `options` that give a partitioned build (or a part of one) nowhere to stop.

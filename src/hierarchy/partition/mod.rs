@@ -20,11 +20,11 @@
 
 mod build;
 pub mod files;
+mod morton;
 pub mod plan;
 
 pub use build::{PartBuild, build_part, build_part_among, build_partitioned, join_parts, part_goal, separate_parts};
 
-use rayon::prelude::*;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use crate::analysis::Quadric;
@@ -32,8 +32,7 @@ use crate::hierarchy::BOUNDARY_WEIGHT;
 
 use crate::error::{Error, Result};
 use crate::mesh::uv::{CornerUvs, Materials};
-use crate::mesh::{Mesh, UnitFrame, split_non_manifold_fans};
-use glam::DVec3;
+use crate::mesh::{Mesh, TopologyCounts, UnitFrame, split_non_manifold_fans};
 
 /// Which part each face of a mesh belongs to, and which vertices lie on a border between
 /// parts.
@@ -62,28 +61,18 @@ impl Partition {
     ///
     /// # Errors
     /// [`Error::InvalidInput`] for no part, more parts than faces, or a mesh whose box
-    /// [`UnitFrame`] refuses.
+    /// [`UnitFrame`] refuses; [`Error::Topology`] for a mesh a build refuses.
     pub fn of(mesh: &Mesh, parts: usize) -> Result<Partition> {
         let faces = mesh.face_count();
         if parts == 0 || parts > faces {
             return Err(Error::InvalidInput(format!("{parts} parts of a mesh of {faces} faces: give 1 to {faces}")));
         }
+        if faces > u32::MAX as usize {
+            return Err(Error::InvalidInput(format!("{faces} faces exceed the 32-bit index range")));
+        }
         mesh.check()?;
         let unit = UnitFrame::of(mesh)?;
-        let mut keys: Vec<(u64, u32)> = mesh
-            .triangles
-            .par_iter()
-            .enumerate()
-            .map(|(f, t)| {
-                let centroid = t.iter().map(|&v| unit.to_unit(mesh.positions[v as usize])).sum::<DVec3>() / 3.0;
-                (morton_key(centroid + DVec3::splat(0.5)), f as u32)
-            })
-            .collect();
-        keys.par_sort_unstable();
-        let mut owner = vec![0u32; faces];
-        for (i, &(_, f)) in keys.iter().enumerate() {
-            owner[f as usize] = (i * parts / faces) as u32;
-        }
+        let owner = morton::morton_owners(mesh, &unit, parts);
         Partition::grouped(mesh, owner, parts, unit)
     }
 
@@ -106,10 +95,11 @@ impl Partition {
 
     /// The partition of a checked `mesh` by checked owners: its border vertices, and its
     /// faces grouped by part (a counting sort, so a part's faces keep their input order),
+    /// the mesh checked as a build checks it (part by part: [`Partition::check_topology`]),
     /// and the border vertices' quadrics.
     ///
     /// # Errors
-    /// As [`border_quadrics`].
+    /// [`Error::Topology`] for a mesh a build refuses; as [`border_quadrics`].
     fn grouped(mesh: &Mesh, owner: Vec<u32>, parts: usize, frame: UnitFrame) -> Result<Partition> {
         let mut first = vec![u32::MAX; mesh.vertex_count()];
         let mut border = vec![false; mesh.vertex_count()];
@@ -133,8 +123,13 @@ impl Partition {
             faces[next[part as usize]] = f as u32;
             next[part as usize] += 1;
         }
-        let border_quadrics = border_quadrics(mesh, &border, &frame)?;
-        Ok(Partition { owner, parts, border, faces, starts, frame, first, border_quadrics })
+        let mut partition =
+            Partition { owner, parts, border, faces, starts, frame, first, border_quadrics: FxHashMap::default() };
+        // A build's checks, before CGAL measures the border stars' quadrics.
+        partition.check_topology(mesh)?;
+        crate::hierarchy::simplify::check_faces_and_vertices(mesh, None)?;
+        partition.border_quadrics = border_quadrics(mesh, &partition.border, &frame)?;
+        Ok(partition)
     }
 
     /// Number of parts.
@@ -170,19 +165,8 @@ impl Partition {
         }
         // Local ids from a map the part's size: parts built side by side each touch only
         // their own faces and vertices.
-        let own = &self.faces[self.starts[k]..self.starts[k + 1]];
-        let mut local: FxHashMap<u32, u32> = FxHashMap::default();
-        local.reserve(own.len());
-        let mut ids: Vec<u32> = Vec::new();
-        let mut triangles = Vec::with_capacity(own.len());
-        for &f in own {
-            triangles.push(mesh.triangles[f as usize].map(|v| {
-                *local.entry(v).or_insert_with(|| {
-                    ids.push(v);
-                    ids.len() as u32 - 1
-                })
-            }));
-        }
+        let own = self.own_faces(k);
+        let (ids, triangles) = localised(own.iter().map(|&f| mesh.triangles[f as usize]), own.len());
         let positions = ids.iter().map(|&v| mesh.positions[v as usize]).collect();
         let mut part = Mesh::new(positions, triangles);
         part.uvs = mesh.uvs.as_ref().map(|uvs| part_uvs(uvs, own));
@@ -208,6 +192,63 @@ impl Partition {
             .collect();
         Ok(Part { mesh: part, ids, border, input_frame: self.frame, border_quadrics })
     }
+}
+
+impl Partition {
+    /// Part k's faces, in input order.
+    fn own_faces(&self, k: usize) -> &[u32] {
+        &self.faces[self.starts[k]..self.starts[k + 1]]
+    }
+
+    /// Refuses a mesh that is not an oriented manifold, as a build does
+    /// ([`crate::hierarchy::simplify::check_oriented_manifold`]), checked part by part: an
+    /// edge with an end inside a part (not on its border) has all its faces in that part,
+    /// and so has such a vertex; an edge between two border vertices, and a border vertex,
+    /// has all its faces among the border vertices' stars. Each is counted once, where
+    /// all its faces are, so the counts are the whole mesh's, and no table of the whole
+    /// mesh's edges is made (48 bytes a face). Whether a mesh whose faces disagree could be
+    /// oriented is not known here: its refusal says it is not an oriented manifold.
+    ///
+    /// # Errors
+    /// [`Error::Topology`] with the counts.
+    pub fn check_topology(&self, mesh: &Mesh) -> Result<()> {
+        let mut counts = TopologyCounts::default();
+        for k in 0..self.parts {
+            let own = self.own_faces(k);
+            let (ids, triangles) = localised(own.iter().map(|&f| mesh.triangles[f as usize]), own.len());
+            let inside = |v: u32| !self.border[ids[v as usize] as usize];
+            counts = counts.plus(TopologyCounts::of_piece(&triangles, ids.len(), inside, |a, b| inside(a) || inside(b)));
+        }
+        let (ids, triangles) = self.border_stars(mesh);
+        let border = |v: u32| self.border[ids[v as usize] as usize];
+        counts = counts.plus(TopologyCounts::of_piece(&triangles, ids.len(), border, |a, b| border(a) && border(b)));
+        crate::hierarchy::simplify::check_oriented_manifold(&counts, None)
+    }
+
+    /// The faces at a border vertex, over their own vertices in order of first use, and
+    /// each vertex's input id.
+    fn border_stars(&self, mesh: &Mesh) -> (Vec<u32>, Vec<[u32; 3]>) {
+        let stars = mesh.triangles.iter().filter(|t| t.iter().any(|&v| self.border[v as usize]));
+        localised(stars.copied(), 0)
+    }
+}
+
+/// `triangles` over their own vertices, numbered in order of first use, and each one's id
+/// in `triangles`.
+fn localised(triangles: impl Iterator<Item = [u32; 3]>, capacity: usize) -> (Vec<u32>, Vec<[u32; 3]>) {
+    let mut local: FxHashMap<u32, u32> = FxHashMap::default();
+    local.reserve(capacity);
+    let mut ids: Vec<u32> = Vec::new();
+    let mut out = Vec::with_capacity(capacity);
+    for t in triangles {
+        out.push(t.map(|v| {
+            *local.entry(v).or_insert_with(|| {
+                ids.push(v);
+                ids.len() as u32 - 1
+            })
+        }));
+    }
+    (ids, out)
 }
 
 /// The corner UVs of the faces `own`, with the coordinates they use (in order of first
@@ -285,17 +326,8 @@ impl Part {
 /// # Errors
 /// As [`crate::ffi::vertex_quadrics`].
 fn border_quadrics(mesh: &Mesh, border: &[bool], frame: &UnitFrame) -> Result<FxHashMap<u32, Quadric>> {
-    let mut local: FxHashMap<u32, u32> = FxHashMap::default();
-    let mut ids: Vec<u32> = Vec::new();
-    let mut triangles = Vec::new();
-    for t in mesh.triangles.iter().filter(|t| t.iter().any(|&v| border[v as usize])) {
-        triangles.push(t.map(|v| {
-            *local.entry(v).or_insert_with(|| {
-                ids.push(v);
-                ids.len() as u32 - 1
-            })
-        }));
-    }
+    let stars = mesh.triangles.iter().filter(|t| t.iter().any(|&v| border[v as usize]));
+    let (ids, triangles) = localised(stars.copied(), 0);
     if triangles.is_empty() {
         return Ok(FxHashMap::default());
     }
@@ -306,36 +338,4 @@ fn border_quadrics(mesh: &Mesh, border: &[bool], frame: &UnitFrame) -> Result<Fx
     let ids = stars.scalars.remove(INPUT_ID).expect("the ids' scalar");
     let quadrics = crate::ffi::vertex_quadrics(&stars, BOUNDARY_WEIGHT)?;
     Ok(ids.into_iter().zip(quadrics).map(|(v, q)| (v as u32, q)).filter(|&(v, _)| border[v as usize]).collect())
-}
-
-/// The Morton key of a point of the unit cube: its coordinates' 21 bits interleaved.
-fn morton_key(p: DVec3) -> u64 {
-    let bits = |c: f64| spread((c.clamp(0.0, 1.0) * f64::from((1u32 << 21) - 1)) as u64);
-    bits(p.x) | bits(p.y) << 1 | bits(p.z) << 2
-}
-
-/// The low 21 bits of `x`, two zero bits after each.
-fn spread(x: u64) -> u64 {
-    let mut x = x & 0x1f_ffff;
-    x = (x | x << 32) & 0x001f_0000_0000_ffff;
-    x = (x | x << 16) & 0x001f_0000_ff00_00ff;
-    x = (x | x << 8) & 0x100f_00f0_0f00_f00f;
-    x = (x | x << 4) & 0x10c3_0c30_c30c_30c3;
-    (x | x << 2) & 0x1249_2492_4924_9249
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn morton_keys_interleave_the_coordinates_bits() {
-        assert_eq!(spread(0b1011), 0b001_000_001_001);
-        let top = f64::from((1u32 << 21) - 1);
-        let key = |x: f64, y: f64, z: f64| morton_key(DVec3::new(x, y, z) / top);
-        assert_eq!(key(1.0, 0.0, 0.0), 0b001);
-        assert_eq!(key(0.0, 1.0, 0.0), 0b010);
-        assert_eq!(key(0.0, 0.0, 1.0), 0b100);
-        assert_eq!(key(3.0, 0.0, 1.0), 0b001_101);
-    }
 }

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::files::{read_build, read_part, write_build, write_part};
-use super::{PartBuild, Partition, build::check_partitioned, build_part};
+use super::{PartBuild, Partition, build::check_partitioned_settings, build_part};
 use crate::error::{Error, Result};
 use crate::hierarchy::{Hierarchy, HierarchyRequest, SimplifyOptions};
 use crate::io::manifest::{FNV_OFFSET, fingerprint, fnv1a, read_plan};
@@ -118,7 +118,12 @@ impl MeshPlan {
     pub fn make(mesh: &Mesh, input: &Path, repair: bool, request: &HierarchyRequest, dir: &Path) -> Result<MeshPlan> {
         let options = request.options(mesh.vertex_count(), false, Spelling::Flag)?;
         let chunks = options.chunks.ok_or_else(|| Error::InvalidInput("a plan needs chunks".into()))?;
-        check_partitioned(mesh, &options)?;
+        // The build's checks (`check_partitioned`) without a table of the whole mesh's
+        // edges: `Partition::of` checks the mesh part by part.
+        check_partitioned_settings(&options)?;
+        if mesh.face_count() == 0 {
+            return Err(Error::InvalidInput("the mesh has no faces to simplify".into()));
+        }
         let partition = Partition::of(mesh, chunks)?;
         crate::io::create_output_dir(&dir.join("chunks"))?;
         let mesh_fingerprint = mesh_fingerprint(mesh);
