@@ -47,9 +47,8 @@ pub struct ClusterRules {
 /// Positions and accumulated quadrics of the current level.
 #[derive(Debug, Clone, Copy)]
 pub struct LevelGeometry<'a> {
-    /// Vertex positions (never moved by simplification).
-    pub positions: &'a [DVec3],
-    /// The positions of the level's vertices and of its parametrized points.
+    /// The positions of the level's vertices (`points.own`: never moved by
+    /// simplification) and of its parametrized points.
     pub points: PointPositions<'a>,
     /// Garland–Heckbert quadrics, accumulated over removed vertices.
     pub quadrics: &'a VertexTable<Quadric>,
@@ -140,7 +139,7 @@ pub fn plan_cluster_with(
     if d < if boundary { 3 } else { 4 } {
         return None;
     }
-    let pos = geometry.positions;
+    let pos = geometry.points.own;
     let pv = pos[v as usize];
     let ring_points: RingVec<DVec3> = ring.iter().map(|&r| pos[r as usize]).collect();
     let flat = Flattening::of_star(pv, &ring_points, boundary)?.points;
@@ -265,7 +264,7 @@ impl Star<'_> {
     }
 
     fn pv(&self) -> DVec3 {
-        self.geometry.positions[self.v as usize]
+        self.geometry.points.own[self.v as usize]
     }
 
     /// For a line vertex welded along the diagonal between ring slots `a` and `b` (its

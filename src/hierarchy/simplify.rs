@@ -226,7 +226,6 @@ fn build_with(
         false => mesh.positions.iter().chain(&obstacles.points).copied().collect(),
     };
     let mut planner = Planner {
-        positions: &working_positions,
         points,
         model_positions: &guard_positions,
         options,
@@ -369,9 +368,8 @@ type LevelPlans = (Vec<ClusterPlan>, Option<Vec<[u32; 3]>>);
 
 /// The planning side of [`build`]: the level's rings, quadrics and live vertices.
 struct Planner<'a> {
-    /// Positions in the unit frame (the build's working copy).
-    positions: &'a [DVec3],
-    /// Those positions, then a continued build's seeded vertices'.
+    /// Positions in the unit frame (the build's working copy: `points.own`), then a
+    /// continued build's seeded vertices'.
     points: PointPositions<'a>,
     /// The input's own positions, which every level keeps, then the obstacles' points
     /// ([`SimplifyOptions::obstacles`]): the intersection guard decides on them, since the
@@ -662,7 +660,7 @@ impl Planner<'_> {
     /// line, the removed vertices off the live list.
     fn apply_level(&mut self, plans: &[ClusterPlan]) {
         self.give_way.under_floor += plans.iter().filter(|p| p.under_floor).count();
-        self.slivers.apply(plans, self.positions);
+        self.slivers.apply(plans, self.points.own);
         for plan in plans {
             crate::analysis::share_removed_quadric(&mut self.quadrics, plan.vertex, plan.diagonal);
         }
@@ -684,7 +682,7 @@ fn level_geometry<'g>(
     params: &'g ParamBuckets,
     lines: &'g FeatureLines,
 ) -> LevelGeometry<'g> {
-    LevelGeometry { positions: points.own, points, quadrics, tolerance: PLAN_TOLERANCE, params, lines }
+    LevelGeometry { points, quadrics, tolerance: PLAN_TOLERANCE, params, lines }
 }
 
 /// Planning is in the unit frame (diagonal 1): fractions of the input's diagonal are
@@ -1066,10 +1064,10 @@ fn select_clusters(
         // that has none.
         if plan.under_floor {
             for before in &plans[counted..] {
-                slivers.take(before, geometry.positions);
+                slivers.take(before, geometry.points.own);
             }
             counted = plans.len();
-            if !slivers.take(&plan, geometry.positions) {
+            if !slivers.take(&plan, geometry.points.own) {
                 continue;
             }
             counted += 1;

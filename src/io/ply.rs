@@ -219,8 +219,7 @@ enum Body<'a> {
 }
 
 /// Where a binary body's bytes come from: the file in memory, or the file read as the
-/// elements are ([`read_lean`]: a plan cuts a mesh larger than the file's bytes and the
-/// mesh together would comfortably fit).
+/// elements are ([`read_lean`], a plan's read, which never holds the file's bytes).
 enum Source<'a> {
     Slice(&'a [u8]),
     Stream(std::io::BufReader<std::fs::File>),

@@ -279,18 +279,21 @@ fn a_part_and_its_build_read_back_from_their_files_bit_for_bit() {
         assert_eq!(read_build(&build_file, mesh.vertex_count()).unwrap(), built, "part {k}");
         builds.push(built);
     }
-    let joined = join_parts(
-        std::borrow::Cow::Borrowed(&mesh),
-        builds,
-        |k| partition.part(&mesh, k),
-        &options,
-        std::time::Instant::now(),
-    )
-    .unwrap();
+    // An input given to keep (its positions and faces become the hierarchy's) and one lent
+    // (copied) join alike.
+    let join = |input: std::borrow::Cow<'_, Mesh>, builds| {
+        join_parts(input, builds, |k| partition.part(&mesh, k), &options, std::time::Instant::now()).unwrap()
+    };
+    let owned = join(std::borrow::Cow::Owned(mesh.clone()), builds.clone());
+    let joined = join(std::borrow::Cow::Borrowed(&mesh), builds);
     let threaded = build_partitioned(&mesh, 3, &options).unwrap();
-    assert_eq!(joined.base_triangles, threaded.base_triangles);
-    assert_eq!(joined.removals, threaded.removals);
-    assert_eq!(joined.params, threaded.params);
+    for other in [&owned, &threaded] {
+        assert_eq!(joined.base_triangles, other.base_triangles);
+        assert_eq!(joined.removals, other.removals);
+        assert_eq!(joined.params, other.params);
+        assert_eq!((&joined.positions, &joined.input_triangles), (&other.positions, &other.input_triangles));
+        assert_eq!((&joined.restore, &joined.step_starts, &joined.kept), (&other.restore, &other.step_starts, &other.kept));
+    }
 }
 
 #[test]
