@@ -201,7 +201,7 @@ impl Partition {
     }
 
     /// Refuses a mesh that is not an oriented manifold, as a build does
-    /// ([`crate::hierarchy::simplify::check_oriented_manifold`]), checked part by part: an
+    /// (`check_oriented_manifold` in `simplify.rs`), checked part by part: an
     /// edge with an end inside a part (not on its border) has all its faces in that part,
     /// and so has such a vertex; an edge between two border vertices, and a border vertex,
     /// has all its faces among the border vertices' stars. Each is counted once, where
