@@ -111,6 +111,15 @@ rust::Vec<double> point_distances(rust::Slice<const double> points, rust::Slice<
   return to_rust(asperity::point_distances(points.data(), points.size(), arrays(positions, triangles)));
 }
 
+std::unique_ptr<DistanceTree> new_distance_tree(rust::Slice<const double> positions,
+                                                rust::Slice<const std::uint32_t> triangles) {
+  return std::make_unique<DistanceTree>(arrays(positions, triangles));
+}
+
+rust::Vec<double> tree_distances(const DistanceTree& tree, rust::Slice<const double> points) {
+  return to_rust(tree.distances(points.data(), points.size()));
+}
+
 DecimatedMesh openmesh_decimate(rust::Slice<const double> positions,
                                 rust::Slice<const std::uint32_t> triangles, std::size_t target_vertices) {
   const DecimatedArrays d = asperity::openmesh_decimate(arrays(positions, triangles), target_vertices);

@@ -20,6 +20,7 @@
 #include "asperity/reference_decimators.hpp"
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 
@@ -287,6 +288,52 @@ std::vector<double> point_distances(const double* xyz, std::size_t n_coords, con
   std::vector<double> out(n_coords / 3);
   for (std::size_t i = 0; i < out.size(); ++i)
     out[i] = std::sqrt(CGAL::to_double(tree.squared_distance(Point(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]))));
+  return out;
+}
+
+struct DistanceTree::Tree {
+  using Triangles = std::vector<Kernel::Triangle_3>;
+  using Primitive = CGAL::AABB_triangle_primitive<Kernel, Triangles::const_iterator>;
+  using Aabb = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+  Triangles triangles;
+  Aabb aabb;
+};
+
+DistanceTree::DistanceTree(const TriangleArrays& mesh) : tree_(std::make_unique<Tree>()) {
+  if (mesh.n_coords % 3 != 0 || mesh.n_indices % 3 != 0)
+    throw NativeError("distance tree: array lengths are not multiples of 3");
+  const std::size_t nv = mesh.n_coords / 3, nf = mesh.n_indices / 3;
+  if (nf == 0) throw NativeError("distance tree: the mesh has no faces");
+  auto corner = [&](std::size_t f, int k) {
+    const std::uint32_t v = mesh.tris[3 * f + k];
+    if (v >= nv) {
+      std::ostringstream msg;
+      msg << "distance tree: face " << f << " refers to vertex " << v << " of " << nv;
+      throw NativeError(msg.str());
+    }
+    const double* p = mesh.xyz + 3 * v;
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+      std::ostringstream msg;
+      msg << "distance tree: vertex " << v << " has a non-finite coordinate";
+      throw NativeError(msg.str());
+    }
+    return Point(p[0], p[1], p[2]);
+  };
+  tree_->triangles.reserve(nf);
+  for (std::size_t f = 0; f < nf; ++f)
+    tree_->triangles.emplace_back(corner(f, 0), corner(f, 1), corner(f, 2));
+  tree_->aabb.insert(tree_->triangles.cbegin(), tree_->triangles.cend());
+  tree_->aabb.build();
+  tree_->aabb.accelerate_distance_queries();
+}
+
+DistanceTree::~DistanceTree() = default;
+
+std::vector<double> DistanceTree::distances(const double* xyz, std::size_t n_coords) const {
+  if (n_coords % 3 != 0) throw NativeError("distance tree: point array length is not a multiple of 3");
+  std::vector<double> out(n_coords / 3);
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = std::sqrt(CGAL::to_double(tree_->aabb.squared_distance(Point(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]))));
   return out;
 }
 

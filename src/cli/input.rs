@@ -54,6 +54,23 @@ pub fn read_input(path: &Path, arg: RepairArg, ctx: super::Context) -> Result<In
     Ok(Input { read, repair })
 }
 
+/// Reads `path` as a partitioned build needs it: whole and repaired with `--repair`, else
+/// keeping only what a build reads ([`io::read_lean`]: binary PLY and STL as a stream).
+/// Also whether it was read as a stream.
+///
+/// # Errors
+/// The reader's errors (naming the file, line or element).
+pub fn read_for_build(path: &Path, arg: RepairArg, ctx: super::Context) -> Result<(Input, bool)> {
+    if arg.repair {
+        return Ok((read_input(path, arg, ctx)?, false));
+    }
+    let (read, streamed) = io::read_lean(path)?;
+    for note in &read.notes {
+        ctx.note(note);
+    }
+    Ok((Input { read, repair: None }, streamed))
+}
+
 /// An error about a mesh `--repair` already went over: its advice to run `--repair` is
 /// replaced by what is true (the repair could not mend it).
 pub fn after_repair(error: crate::Error, arg: RepairArg) -> crate::Error {

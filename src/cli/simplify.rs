@@ -7,13 +7,13 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::{Args, Subcommand};
+use glam::DVec3;
 use serde_json::json;
 
 use crate::error::Result;
 use crate::hierarchy::{BuildReport, Hierarchy, HierarchyRequest, LevelMesh, build};
 use crate::io::glb::{GlbPart, write_glb_parts};
 use crate::io::{self, WriteOptions};
-use crate::mesh::Mesh;
 use crate::request::Spelling;
 
 /// The subcommand's flags (`SimplifyArgs`).
@@ -101,7 +101,8 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
         .spin("simplify", "building the 4-k hierarchy", || build(mesh, &options))
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(input_path))?;
     let written = Written { repair: input.repair_json(), ..written };
-    write_results(mesh, &hierarchy, &written, start, ctx, || {
+    let faces = InputFaces { positions: &mesh.positions, triangles: &mesh.triangles };
+    write_results(faces, &hierarchy, &written, start, ctx, || {
         if let Some(dir) = &args.levels_out {
             write_levels(&hierarchy, input_path, dir)?;
         }
@@ -132,8 +133,9 @@ impl Written<'_> {
         outputs.extend(levels_out.map(|p| ("--levels-out", p)));
         super::distinct_outputs(&outputs)?;
         if let Some(p) = self.param_out {
-            io::Format::from_path(p)?;
             super::guard_overwrite(self.input, p, force)?;
+            // Only PLY holds the parametrization's vertex properties.
+            super::require_extension(p, &["ply"])?;
         }
         if let Some(p) = lod_out {
             super::require_extension(p, &["glb"])?;
@@ -143,10 +145,17 @@ impl Written<'_> {
     }
 }
 
+/// The input a build was made from, as its report and parametrization read it.
+#[derive(Clone, Copy)]
+pub(super) struct InputFaces<'a> {
+    pub positions: &'a [DVec3],
+    pub triangles: &'a [[u32; 3]],
+}
+
 /// Writes the base domain, then what `more` writes (levels), the parametrization when
 /// asked, and the report.
 pub(super) fn write_results(
-    mesh: &Mesh,
+    input: InputFaces<'_>,
     hierarchy: &Hierarchy,
     written: &Written<'_>,
     start: Instant,
@@ -158,9 +167,9 @@ pub(super) fn write_results(
     io::write(&base, written.output, WriteOptions::default())?;
     more()?;
     if let Some(p) = written.param_out {
-        io::write(&parametrization_mesh(mesh, hierarchy), p, WriteOptions::default())?;
+        write_parametrization(input, hierarchy, p)?;
     }
-    let report = BuildReport::of(mesh, hierarchy, &base)?;
+    let report = BuildReport::of_faces(input.positions, input.triangles, hierarchy, &base)?;
     if ctx.json {
         let mut json = serde_json::to_value(&report).expect("report serialises");
         let fields = json.as_object_mut().expect("a struct serialises to an object");
@@ -221,20 +230,37 @@ pub(super) fn write_lods(hierarchy: &Hierarchy, path: &Path) -> Result<()> {
     write_glb_parts(&parts, path)
 }
 
-/// The input mesh carrying the parametrization as vertex properties: `level`,
-/// `base_v0..2` (base face, input vertex ids) and `bary0..2`; −1 for unparametrized vertices.
-fn parametrization_mesh(mesh: &Mesh, hierarchy: &Hierarchy) -> Mesh {
+/// The parametrization's vertex properties, in the order a PLY writer of a mesh's
+/// scalars writes them (by name).
+const PARAMETRIZATION_PROPERTIES: [&str; 7] = ["bary0", "bary1", "bary2", "base_v0", "base_v1", "base_v2", "level"];
+
+/// Writes the input mesh as binary PLY carrying the parametrization as vertex properties:
+/// `level`, `base_v0..2` (base face, input vertex ids) and `bary0..2`; −1 for
+/// unparametrized vertices. Written vertex by vertex, so neither the input nor the
+/// properties are copied whole (#40: a merge's peak).
+fn write_parametrization(input: InputFaces<'_>, hierarchy: &Hierarchy, path: &Path) -> Result<()> {
+    use crate::io::ply::{PlyLayout, write_header, write_triangle, write_vertex};
     let points = hierarchy.base_parametrization();
-    let mut out = Mesh::new(mesh.positions.clone(), mesh.triangles.clone());
-    let column = |f: &dyn Fn(&crate::hierarchy::BasePoint) -> f64| -> Vec<f64> {
-        points.iter().map(|p| p.as_ref().map_or(-1.0, f)).collect()
+    let layout = PlyLayout {
+        vertices: input.positions.len(),
+        faces: input.triangles.len(),
+        normals: false,
+        colors: false,
+        scalars: PARAMETRIZATION_PROPERTIES.map(String::from).to_vec(),
+        ascii: false,
     };
-    out.scalars.insert("level".into(), column(&|p| f64::from(p.level)));
-    for i in 0..3 {
-        out.scalars.insert(format!("base_v{i}"), column(&|p| f64::from(p.point.face[i])));
-        out.scalars.insert(format!("bary{i}"), column(&|p| p.point.bary[i]));
-    }
-    out
+    io::write_atomically(path, |w| {
+        write_header(w, &layout)?;
+        for (p, point) in input.positions.iter().zip(&points) {
+            let properties = point.as_ref().map_or([-1.0; 7], |b| {
+                let [b0, b1, b2] = b.point.bary;
+                let [v0, v1, v2] = b.point.face.map(f64::from);
+                [b0, b1, b2, v0, v1, v2, f64::from(b.level)]
+            });
+            write_vertex(w, false, *p, None, None, &properties)?;
+        }
+        input.triangles.iter().try_for_each(|&t| write_triangle(w, false, t))
+    })
 }
 
 #[cfg(test)]

@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use clap::Args;
 
-use super::simplify::{Written, write_levels, write_lods, write_results};
+use super::simplify::{InputFaces, Written, write_levels, write_lods, write_results};
 use crate::error::Result;
 use crate::hierarchy::HierarchyRequest;
 use crate::hierarchy::partition::plan::{ChunkRun, MeshPlan, join_plan, run_chunk as build_chunk};
@@ -65,16 +65,8 @@ pub(super) fn plan(args: PlanArgs, ctx: super::Context) -> Result<()> {
             "simplify plan needs --chunks K (the parts to cut the mesh into)".into(),
         ));
     }
-    // --repair needs the whole mesh as read; otherwise the plan keeps only what it cuts.
-    let (read, streamed) = match args.repair.repair {
-        true => (super::input::read_input(&args.input, args.repair, ctx)?.read, false),
-        false => {
-            let (read, streamed) = crate::io::read_lean(&args.input)?;
-            read.notes.iter().for_each(|note| ctx.note(note));
-            (read, streamed)
-        }
-    };
-    let mesh = &read.mesh;
+    let (input, streamed) = super::input::read_for_build(&args.input, args.repair, ctx)?;
+    let mesh = &input.read.mesh;
     let plan = MeshPlan::make(mesh, &args.input, args.repair.repair, &args.hierarchy, &args.output)
         .map_err(|e| super::input::after_repair(e, args.repair).about_file(&args.input))?;
     let dir = args.output.display();
@@ -136,16 +128,20 @@ pub(super) fn merge(args: MergeArgs, ctx: super::Context) -> Result<()> {
     };
     written.check(args.lod_out.as_deref(), args.levels_out.as_deref(), args.force)?;
     let repair = super::input::RepairArg { repair: plan.repair };
-    let input = super::input::read_input(&input_path, repair, ctx)?;
-    let mesh = &input.read.mesh;
+    let (input, _) = super::input::read_for_build(&input_path, repair, ctx)?;
+    let written = Written { repair: input.repair_json(), ..written };
+    // The input is given to the hierarchy, which keeps its positions and faces: the
+    // report and the parametrization read them there.
     let mut hierarchy = ctx
-        .spin("simplify", "joining the chunks", || join_plan(&args.plan, &plan, std::borrow::Cow::Borrowed(mesh)))
+        .spin("simplify", "joining the chunks", || {
+            join_plan(&args.plan, &plan, std::borrow::Cow::Owned(input.read.mesh))
+        })
         .map_err(|e| super::input::after_repair(e, repair).about_file(&input_path))?;
     if args.levels_out.is_some() || args.lod_out.is_some() {
         hierarchy.levels = ctx.spin("simplify", "making the levels", || hierarchy.levels_by_refinement())?;
     }
-    let written = Written { repair: input.repair_json(), ..written };
-    write_results(mesh, &hierarchy, &written, start, ctx, || {
+    let faces = InputFaces { positions: &hierarchy.positions, triangles: &hierarchy.input_triangles };
+    write_results(faces, &hierarchy, &written, start, ctx, || {
         if let Some(dir) = &args.levels_out {
             write_levels(&hierarchy, &input_path, dir)?;
         }

@@ -87,6 +87,30 @@ pub fn point_distances(points: &[DVec3], mesh: &Mesh) -> Result<Vec<f64>> {
     Ok(sys::point_distances(flat_positions(points), flat_positions(&mesh.positions), mesh.triangles.as_flattened())?)
 }
 
+/// An AABB tree over triangles (CGAL's `AABB_tree` of `Triangle_3`), built once and asked
+/// the distance of batches of points; it needs no half-edge structure, so any set of
+/// faces (a piece of a mesh) makes one.
+pub struct DistanceTree(cxx::UniquePtr<sys::DistanceTree>);
+
+impl DistanceTree {
+    /// The tree of `triangles` over `positions`.
+    ///
+    /// # Errors
+    /// [`Error::Native`] for no faces, an index out of range or a non-finite coordinate.
+    pub fn new(positions: &[DVec3], triangles: &[[u32; 3]]) -> Result<Self> {
+        Ok(DistanceTree(sys::new_distance_tree(flat_positions(positions), triangles.as_flattened())?))
+    }
+
+    /// Distance from each point to the nearest point of the triangles.
+    ///
+    /// # Errors
+    /// [`Error::Native`] if CGAL fails.
+    pub fn distances(&self, points: &[DVec3]) -> Result<Vec<f64>> {
+        let tree = self.0.as_ref().ok_or_else(|| Error::Native("the distance tree is null".into()))?;
+        Ok(sys::tree_distances(tree, flat_positions(points))?)
+    }
+}
+
 /// CGAL's exact intersection test of triangle pairs over `positions`: a pair names
 /// `kept[k]` by k < `kept.len()` and `added[i]` by `kept.len() + i`; one flag per pair
 /// (the narrow phase of `hierarchy::added_triangle_intersections`).

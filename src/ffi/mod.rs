@@ -14,7 +14,7 @@ mod decimators;
 mod halfedge;
 
 pub use cgal::{
-    HausdorffOptions, hausdorff_distance, point_distances, quadric_errors, self_intersections,
+    DistanceTree, HausdorffOptions, hausdorff_distance, point_distances, quadric_errors, self_intersections,
     triangle_pairs_intersect, vertex_quadrics,
 };
 pub use decimators::{cgal_decimate, openmesh_decimate};
@@ -102,6 +102,12 @@ mod sys {
             seed: u32,
         ) -> Result<f64>;
         fn point_distances(points: &[f64], positions: &[f64], triangles: &[u32]) -> Result<Vec<f64>>;
+
+        #[namespace = "asperity"]
+        type DistanceTree;
+
+        fn new_distance_tree(positions: &[f64], triangles: &[u32]) -> Result<UniquePtr<DistanceTree>>;
+        fn tree_distances(tree: &DistanceTree, points: &[f64]) -> Result<Vec<f64>>;
         fn openmesh_decimate(positions: &[f64], triangles: &[u32], target_vertices: usize) -> Result<DecimatedMesh>;
         fn cgal_decimate(positions: &[f64], triangles: &[u32], target_vertices: usize) -> Result<DecimatedMesh>;
         fn self_intersections(positions: &[f64], triangles: &[u32]) -> Result<Vec<u32>>;

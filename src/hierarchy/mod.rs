@@ -26,6 +26,7 @@ mod plan_cache;
 mod record;
 mod refine;
 pub mod region;
+mod hausdorff_in_pieces;
 mod report;
 mod request;
 mod rings;

@@ -3,9 +3,11 @@
 //! same fields from here (meshoptimizer's one-line result reports, with the measures a
 //! user checks a simplification by).
 
+use glam::DVec3;
 use serde::Serialize;
 
-use super::compare::{ShapeReport, relative_hausdorff};
+use super::compare::ShapeReport;
+use super::hausdorff_in_pieces::relative_hausdorff_in_pieces;
 use super::{BuildStages, Hierarchy, TargetReport};
 use crate::error::Result;
 use crate::mesh::Mesh;
@@ -26,7 +28,10 @@ pub struct BuildReport {
     /// Feature vertices kept through every level.
     pub feature_vertices_kept: usize,
     /// The base domain's two-sided Hausdorff distance to the input, a share of the input's
-    /// bounding-box diagonal (CGAL, measured in the input's unit frame).
+    /// bounding-box diagonal: sampled (each side's vertices and two area-weighted points a
+    /// vertex on its faces) in the input's unit frame, distances by CGAL's AABB trees over
+    /// pieces of the other side (`hausdorff_in_pieces`), so its memory does not grow with
+    /// the input.
     pub hausdorff: f64,
     /// Smallest angle of the base domain's triangles, degrees.
     pub min_angle_deg: f64,
@@ -48,15 +53,24 @@ impl BuildReport {
     /// # Errors
     /// CGAL's errors from the Hausdorff distance.
     pub fn of(input: &Mesh, hierarchy: &Hierarchy, base: &Mesh) -> Result<Self> {
+        Self::of_faces(&input.positions, &input.triangles, hierarchy, base)
+    }
+
+    /// As [`BuildReport::of`], for an input given by its positions and faces (a
+    /// partitioned build's, which its hierarchy holds).
+    ///
+    /// # Errors
+    /// CGAL's errors from the Hausdorff distance.
+    pub fn of_faces(positions: &[DVec3], triangles: &[[u32; 3]], hierarchy: &Hierarchy, base: &Mesh) -> Result<Self> {
         let shape = ShapeReport::of(base);
         Ok(BuildReport {
-            input_vertices: input.vertex_count(),
-            input_faces: input.face_count(),
+            input_vertices: positions.len(),
+            input_faces: triangles.len(),
             output_vertices: base.vertex_count(),
             output_faces: base.face_count(),
             levels: hierarchy.steps(),
             feature_vertices_kept: hierarchy.feature_vertices,
-            hausdorff: relative_hausdorff(input, base)?,
+            hausdorff: relative_hausdorff_in_pieces(positions, triangles, base)?,
             min_angle_deg: shape.min_angle_deg,
             sliver_share: shape.sliver_share,
             target: hierarchy.target.clone(),

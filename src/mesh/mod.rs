@@ -22,14 +22,14 @@ use std::collections::BTreeMap;
 
 use glam::DVec3;
 
+pub use crate::ids::{FaceId, VertexId};
 pub use adjacency::Adjacency;
 pub use box_grid::{Aabb, BoxGrid};
-pub use crate::ids::{FaceId, VertexId};
 pub use loop_subdivision::loop_subdivide;
 pub use plane_side::{certain_orientation, certainly_apart};
 pub use repair::{
-    DegenerateRemoval, RepairReport, VertexOrigins, drop_unreferenced_vertices, orient_faces,
-    remove_degenerate_faces, remove_duplicate_faces, repair, repair_with_origins, split_non_manifold_fans,
+    DegenerateRemoval, RepairReport, VertexOrigins, drop_unreferenced_vertices, orient_faces, remove_degenerate_faces,
+    remove_duplicate_faces, repair, repair_with_origins, split_non_manifold_fans,
 };
 pub use triangulate::{triangulate_polygon, triangulate_polygons};
 pub use unit::UnitFrame;
@@ -153,8 +153,7 @@ impl Mesh {
 
     /// Axis-aligned bounding box `(min, max)`; `None` for a mesh without vertices.
     pub fn bounding_box(&self) -> Option<(DVec3, DVec3)> {
-        let first = *self.positions.first()?;
-        Some(self.positions.iter().fold((first, first), |(lo, hi), p| (lo.min(*p), hi.max(*p))))
+        bounding_box_of(&self.positions)
     }
 
     /// The three corner positions of triangle `f`.
@@ -218,4 +217,10 @@ impl Mesh {
     pub fn validate(&self) -> ValidationReport {
         ValidationReport::of(self)
     }
+}
+
+/// Axis-aligned bounding box `(min, max)` of `points`; `None` for no points.
+pub fn bounding_box_of(points: &[DVec3]) -> Option<(DVec3, DVec3)> {
+    let first = *points.first()?;
+    Some(points.iter().fold((first, first), |(lo, hi), p| (lo.min(*p), hi.max(*p))))
 }

@@ -26,8 +26,16 @@ impl UnitFrame {
     /// [`Error::InvalidInput`] for a mesh without vertices, or whose bounding box's extent
     /// overflows f64 (such a model cannot be measured in any frame).
     pub fn of(mesh: &Mesh) -> Result<Self> {
-        let (lo, hi) =
-            mesh.bounding_box().ok_or_else(|| Error::InvalidInput("the mesh has no vertices to measure".into()))?;
+        Self::of_positions(&mesh.positions)
+    }
+
+    /// The frame of the bounding box of `positions`.
+    ///
+    /// # Errors
+    /// As [`UnitFrame::of`].
+    pub fn of_positions(positions: &[DVec3]) -> Result<Self> {
+        let (lo, hi) = super::bounding_box_of(positions)
+            .ok_or_else(|| Error::InvalidInput("the mesh has no vertices to measure".into()))?;
         let extent = hi - lo;
         if !extent.is_finite() {
             return Err(Error::InvalidInput(format!(

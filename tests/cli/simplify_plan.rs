@@ -44,7 +44,7 @@ fn chunks_run_as_processes_in_any_order_give_the_threaded_build() {
     let mut threaded = vec!["simplify", input, "--chunks", "4", "-o", "threaded.ply", "--param-out", "threaded-p.ply"];
     threaded.extend(["--levels-out", "threaded-levels", "--lod-out", "threaded.glb"]);
     threaded.extend(TARGET);
-    ok(&threaded, dir, &[]);
+    let threaded_report = ok(&[&["--json"], &threaded[..]].concat(), dir, &[]);
     let mut plan = vec!["simplify", "plan", input, "--chunks", "4", "-o", "plan"];
     plan.extend(TARGET);
     ok(&plan, dir, &[]);
@@ -56,7 +56,18 @@ fn chunks_run_as_processes_in_any_order_give_the_threaded_build() {
     ok(&["simplify", "--plan", "plan"], dir, &[("JOB_COMPLETION_INDEX", "1")]);
     ok(&["simplify", "--plan", "plan"], dir, &[("SLURM_ARRAY_TASK_ID", "0")]);
     let merge = ["simplify", "merge", "plan", "-o", "merged.ply", "--param-out", "merged-p.ply"];
-    ok(&[&merge[..], &["--levels-out", "merged-levels", "--lod-out", "merged.glb"]].concat(), dir, &[]);
+    let merged_report = ok(
+        &[&["--json"], &merge[..], &["--levels-out", "merged-levels", "--lod-out", "merged.glb"]].concat(),
+        dir,
+        &[],
+    );
+    // The reports measure the same base against the same input alike (the Hausdorff
+    // distance's samples do not depend on how the input was read or held).
+    let report = |json: &str| -> serde_json::Value { serde_json::from_str(json).expect("a JSON report") };
+    let (threaded_report, merged_report) = (report(&threaded_report), report(&merged_report));
+    for key in ["hausdorff", "output_vertices", "output_faces", "levels", "input_faces", "min_angle_deg"] {
+        assert_eq!(threaded_report[key], merged_report[key], "{key}");
+    }
     assert!(read(dir, "merged.ply") == read(dir, "threaded.ply"), "the merged base differs from the threaded one");
     assert!(read(dir, "merged-p.ply") == read(dir, "threaded-p.ply"), "the merged parametrization differs");
     assert!(read(dir, "merged.glb") == read(dir, "threaded.glb"), "the merged levels' glTF differs");

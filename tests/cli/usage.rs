@@ -1029,3 +1029,19 @@ fn a_memory_budget_refuses_work_before_it_starts() {
     );
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+/// `--param-out` is written as PLY vertex properties: another format, which would drop
+/// them, is refused before anything is built or written (it was written without them).
+#[test]
+fn a_parametrization_in_a_format_without_vertex_properties_is_refused() {
+    let tmp = temp_dir();
+    let input = shared_meshes().join("eight.off");
+    for param in ["p.obj", "p.off", "p.stl", "p.glb"] {
+        let args =
+            ["simplify", input.to_str().unwrap(), "--target-vertices", "10%", "-o", "b.ply", "--param-out", param];
+        let out = asperity(&args, tmp.path());
+        assert_eq!(out.status.code(), Some(2), "{param}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(String::from_utf8_lossy(&out.stderr).contains("the output must end in .ply"), "{param}");
+        assert!(!tmp.path().join("b.ply").exists() && !tmp.path().join(param).exists(), "{param} left a file");
+    }
+}

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "asperity/halfedge_mesh.hpp"
@@ -38,6 +39,24 @@ double symmetric_hausdorff(const TriangleArrays& a, const TriangleArrays& b,
 
 /// Distance from each point (xyz) to the nearest point of the mesh (CGAL AABB tree).
 std::vector<double> point_distances(const double* xyz, std::size_t n_coords, const TriangleArrays& mesh);
+
+/// An AABB tree over a triangle soup (CGAL's AABB_tree of Triangle_3, with its distance
+/// queries accelerated), built once and asked the distance of batches of points: the
+/// faces need no half-edge structure, so a piece of a mesh's faces is enough.
+class DistanceTree {
+ public:
+  explicit DistanceTree(const TriangleArrays& mesh);
+  ~DistanceTree();
+  DistanceTree(const DistanceTree&) = delete;
+  DistanceTree& operator=(const DistanceTree&) = delete;
+
+  /// Distance from each point (xyz) to the nearest point of the triangles.
+  std::vector<double> distances(const double* xyz, std::size_t n_coords) const;
+
+ private:
+  struct Tree;
+  std::unique_ptr<Tree> tree_;
+};
 
 /// Pairs of intersecting faces (f0 g0 f1 g1 ..., each pair with f < g, sorted).
 std::vector<std::uint32_t> self_intersections(const TriangleArrays& mesh);

@@ -20,7 +20,7 @@
 
 mod build;
 pub mod files;
-mod morton;
+pub(super) mod morton;
 pub mod plan;
 
 pub use build::{PartBuild, build_part, build_part_among, build_partitioned, join_parts, part_goal, separate_parts};
@@ -72,7 +72,7 @@ impl Partition {
         }
         mesh.check()?;
         let unit = UnitFrame::of(mesh)?;
-        let owner = morton::morton_owners(mesh, &unit, parts);
+        let owner = morton::morton_owners(&mesh.positions, &mesh.triangles, &unit, parts);
         Partition::grouped(mesh, owner, parts, unit)
     }
 
@@ -217,7 +217,8 @@ impl Partition {
             let own = self.own_faces(k);
             let (ids, triangles) = localised(own.iter().map(|&f| mesh.triangles[f as usize]), own.len());
             let inside = |v: u32| !self.border[ids[v as usize] as usize];
-            counts = counts.plus(TopologyCounts::of_piece(&triangles, ids.len(), inside, |a, b| inside(a) || inside(b)));
+            counts =
+                counts.plus(TopologyCounts::of_piece(&triangles, ids.len(), inside, |a, b| inside(a) || inside(b)));
         }
         let (ids, triangles) = self.border_stars(mesh);
         let border = |v: u32| self.border[ids[v as usize] as usize];

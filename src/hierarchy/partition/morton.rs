@@ -7,7 +7,7 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::mesh::{Mesh, UnitFrame};
+use crate::mesh::UnitFrame;
 
 /// Leading key bits a histogram cell has: seven levels of the octree, 2M cells.
 const CELL_BITS: u32 = 21;
@@ -16,10 +16,16 @@ const BELOW_CELL: u32 = 3 * 21 - CELL_BITS;
 
 /// The part of each face of `mesh` when the faces, sorted by the Morton key of their
 /// centroids in `unit` (then by face), are cut into `parts` runs: the face of rank i is in
-/// part ⌊i·parts/faces⌋. `mesh` has 1 to `u32::MAX` faces and at least `parts`.
-pub(super) fn morton_owners(mesh: &Mesh, unit: &UnitFrame, parts: usize) -> Vec<u32> {
-    let faces = mesh.face_count();
-    let key = |f: usize| face_key(mesh, unit, f);
+/// part ⌊i·parts/faces⌋. `triangles` (over `positions`) are 1 to `u32::MAX` faces and at
+/// least `parts`.
+pub(in crate::hierarchy) fn morton_owners(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    unit: &UnitFrame,
+    parts: usize,
+) -> Vec<u32> {
+    let faces = triangles.len();
+    let key = |f: usize| face_key(positions, triangles[f], unit);
     let cell = |key: u64| (key >> BELOW_CELL) as usize;
     // The histogram, one per thread (at most four: 8 MB each) over a span of faces each,
     // summed.
@@ -64,9 +70,9 @@ pub(super) fn morton_owners(mesh: &Mesh, unit: &UnitFrame, parts: usize) -> Vec<
     (0..faces).into_par_iter().map(|f| thresholds.partition_point(|&t| t <= (key(f), f as u32)) as u32).collect()
 }
 
-/// The Morton key of face `f`'s centroid in `unit`.
-fn face_key(mesh: &Mesh, unit: &UnitFrame, f: usize) -> u64 {
-    let centroid = mesh.triangles[f].iter().map(|&v| unit.to_unit(mesh.positions[v as usize])).sum::<DVec3>() / 3.0;
+/// The Morton key of `face`'s centroid in `unit`.
+fn face_key(positions: &[DVec3], face: [u32; 3], unit: &UnitFrame) -> u64 {
+    let centroid = face.iter().map(|&v| unit.to_unit(positions[v as usize])).sum::<DVec3>() / 3.0;
     morton_key(centroid + DVec3::splat(0.5))
 }
 
@@ -89,6 +95,7 @@ fn spread(x: u64) -> u64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::Mesh;
 
     #[test]
     fn morton_keys_interleave_the_coordinates_bits() {
@@ -103,7 +110,8 @@ mod tests {
 
     /// The owners of a sort of every face by (key, face), cut at ⌊i·parts/faces⌋.
     fn sorted_owners(mesh: &Mesh, unit: &UnitFrame, parts: usize) -> Vec<u32> {
-        let mut keys: Vec<(u64, u32)> = (0..mesh.face_count()).map(|f| (face_key(mesh, unit, f), f as u32)).collect();
+        let mut keys: Vec<(u64, u32)> =
+            mesh.triangles.iter().enumerate().map(|(f, &t)| (face_key(&mesh.positions, t, unit), f as u32)).collect();
         keys.sort_unstable();
         let mut owner = vec![0u32; keys.len()];
         keys.iter().enumerate().for_each(|(i, &(_, f))| owner[f as usize] = (i * parts / keys.len()) as u32);
@@ -134,7 +142,11 @@ mod tests {
         let mesh = Mesh::new(positions, triangles);
         let unit = UnitFrame::of(&mesh).unwrap();
         for parts in [1, 2, 3, 7, 16, 100, mesh.face_count()] {
-            assert_eq!(morton_owners(&mesh, &unit, parts), sorted_owners(&mesh, &unit, parts), "{parts} parts");
+            assert_eq!(
+                morton_owners(&mesh.positions, &mesh.triangles, &unit, parts),
+                sorted_owners(&mesh, &unit, parts),
+                "{parts} parts"
+            );
         }
     }
 }
