@@ -10,7 +10,7 @@
 //! process of its own (this bench run again with `--stage`, printing its VmHWM), the
 //! chunks one after another: fandisk after STEPS Loop steps (6: 53.0M triangles; a smooth
 //! surface, since Loop smooths the creases) written as binary PLY, `MeshPlan::make` with
-//! K = 16 chunks, each chunk built (`run_chunk`), and the merge (`join_plan`), to 0.1 % of
+//! K = 16 chunks, each chunk built (`run_chunk`), and the merge (`join_plan` and the report), to 0.1 % of
 //! the vertices. Printed: each stage's peak (bytes per triangle it handles) and time, and
 //! the same run at STEPS − 2 (1/16 of the triangles) for the time per triangle's ratio
 //! (target ≤ 1.2).
@@ -22,6 +22,7 @@ mod common;
 use std::time::Instant;
 
 use asperity::Mesh;
+use asperity::hierarchy::BuildReport;
 use asperity::hierarchy::compare::relative_hausdorff;
 use asperity::hierarchy::partition::plan::{MeshPlan, join_plan, run_chunk};
 use asperity::hierarchy::partition::{Partition, build_partitioned};
@@ -136,10 +137,14 @@ fn run_stage(args: &[String]) {
         }
         "merge" => {
             let plan = MeshPlan::read(&plan_dir).expect("the plan");
-            let read = asperity::io::read(&input).expect("the input read").mesh;
+            let read = asperity::io::read_lean(&input).expect("the input read").0.mesh;
             // The merge keeps the input it is given: its positions and faces become the
-            // hierarchy's.
-            join_plan(&plan_dir, &plan, std::borrow::Cow::Owned(read)).expect("the merge").base_vertex_count()
+            // hierarchy's. Then its report, as `simplify merge` gives it (the Hausdorff
+            // distance to the input measured piece by piece).
+            let merged = join_plan(&plan_dir, &plan, std::borrow::Cow::Owned(read)).expect("the merge");
+            let base = merged.base_mesh().mesh;
+            BuildReport::of_faces(&merged.positions, &merged.input_triangles, &merged, &base).expect("the report");
+            base.vertex_count()
         }
         other => panic!("no stage {other}"),
     };

@@ -240,7 +240,7 @@ const PARAMETRIZATION_PROPERTIES: [&str; 7] = ["bary0", "bary1", "bary2", "base_
 /// properties are copied whole (#40: a merge's peak).
 fn write_parametrization(input: InputFaces<'_>, hierarchy: &Hierarchy, path: &Path) -> Result<()> {
     use crate::io::ply::{PlyLayout, write_header, write_triangle, write_vertex};
-    let points = hierarchy.base_parametrization();
+    let points = hierarchy.base_points();
     let layout = PlyLayout {
         vertices: input.positions.len(),
         faces: input.triangles.len(),
@@ -251,8 +251,8 @@ fn write_parametrization(input: InputFaces<'_>, hierarchy: &Hierarchy, path: &Pa
     };
     io::write_atomically(path, |w| {
         write_header(w, &layout)?;
-        for (p, point) in input.positions.iter().zip(&points) {
-            let properties = point.as_ref().map_or([-1.0; 7], |b| {
+        for (v, p) in input.positions.iter().enumerate() {
+            let properties = points.get(v).map_or([-1.0; 7], |b| {
                 let [b0, b1, b2] = b.point.bary;
                 let [v0, v1, v2] = b.point.face.map(f64::from);
                 [b0, b1, b2, v0, v1, v2, f64::from(b.level)]

@@ -242,6 +242,33 @@ pub struct BasePoint {
     pub level: u32,
 }
 
+/// Each input vertex's base-domain point ([`Hierarchy::base_points`]).
+pub struct BasePoints<'a> {
+    params: &'a [Option<ParamPoint>],
+    /// Each parametrized removed vertex's level; [`NO_LEVEL`] for the others.
+    level: Vec<u32>,
+    /// Each base vertex's first base face and its corner there.
+    corners: std::collections::HashMap<u32, ([u32; 3], usize)>,
+}
+
+/// No level: a vertex not removed with a parameter point.
+const NO_LEVEL: u32 = u32::MAX;
+
+impl BasePoints<'_> {
+    /// Vertex `v`'s point: a removed vertex's parameter point, else a base vertex's corner
+    /// of its first base face, else `None` (a vertex on no face).
+    pub fn get(&self, v: usize) -> Option<BasePoint> {
+        if self.level[v] != NO_LEVEL {
+            return self.params[v].map(|point| BasePoint { point, level: self.level[v] });
+        }
+        self.corners.get(&(v as u32)).map(|&(face, i)| {
+            let mut bary = [0.0; 3];
+            bary[i] = 1.0;
+            BasePoint { point: ParamPoint { face, bary }, level: 0 }
+        })
+    }
+}
+
 /// A vertex's place in the base domain by face index (see
 /// [`Hierarchy::indexed_parametrization`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -402,23 +429,27 @@ impl Hierarchy {
     /// Every input vertex's base-domain point and level (base vertices sit on a corner of
     /// one of their faces); `None` for vertices on no face.
     pub fn base_parametrization(&self) -> Vec<Option<BasePoint>> {
+        let points = self.base_points();
+        (0..self.positions.len()).map(|v| points.get(v)).collect()
+    }
+
+    /// [`Hierarchy::base_parametrization`] one vertex at a time, from 4 bytes a vertex
+    /// instead of 48 (#40: a merge's `--param-out` is written vertex by vertex).
+    pub fn base_points(&self) -> BasePoints<'_> {
         let steps = self.steps() as u32;
-        let mut out: Vec<Option<BasePoint>> = vec![None; self.positions.len()];
+        let mut level = vec![NO_LEVEL; self.positions.len()];
+        for r in &self.removals {
+            if self.params[r.vertex as usize].is_some() {
+                level[r.vertex as usize] = steps - r.step;
+            }
+        }
+        let mut corners = std::collections::HashMap::new();
         for t in &self.base_triangles {
             for (i, &v) in t.iter().enumerate() {
-                if out[v as usize].is_none() {
-                    let mut bary = [0.0; 3];
-                    bary[i] = 1.0;
-                    out[v as usize] = Some(BasePoint { point: ParamPoint { face: *t, bary }, level: 0 });
-                }
+                corners.entry(v).or_insert((*t, i));
             }
         }
-        for r in &self.removals {
-            if let Some(point) = self.params[r.vertex as usize] {
-                out[r.vertex as usize] = Some(BasePoint { point, level: steps - r.step });
-            }
-        }
-        out
+        BasePoints { params: &self.params, level, corners }
     }
 
     /// The refinement level at which each vertex first appears (0: a base vertex; the
