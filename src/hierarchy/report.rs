@@ -28,10 +28,10 @@ pub struct BuildReport {
     /// Feature vertices kept through every level.
     pub feature_vertices_kept: usize,
     /// The base domain's two-sided Hausdorff distance to the input, a share of the input's
-    /// bounding-box diagonal: sampled (each side's vertices and two area-weighted points a
-    /// vertex on its faces) in the input's unit frame, distances by CGAL's AABB trees over
-    /// pieces of the other side (`hausdorff_in_pieces`), so its memory does not grow with
-    /// the input.
+    /// bounding-box diagonal: sampled as CGAL samples by default (each side's vertices, and
+    /// as many points on its faces, area-weighted, and on its edges, length-weighted) in the
+    /// input's unit frame, distances by CGAL's AABB trees over pieces of the other side
+    /// (`hausdorff_in_pieces`), so its memory does not grow with the input.
     pub hausdorff: f64,
     /// Smallest angle of the base domain's triangles, degrees.
     pub min_angle_deg: f64,
