@@ -106,11 +106,6 @@ double symmetric_hausdorff(rust::Slice<const double> positions_a,
                                        arrays(positions_b, triangles_b), points_per_area_unit, seed);
 }
 
-rust::Vec<double> point_distances(rust::Slice<const double> points, rust::Slice<const double> positions,
-                                  rust::Slice<const std::uint32_t> triangles) {
-  return to_rust(asperity::point_distances(points.data(), points.size(), arrays(positions, triangles)));
-}
-
 std::unique_ptr<DistanceTree> new_distance_tree(rust::Slice<const double> positions,
                                                 rust::Slice<const std::uint32_t> triangles) {
   return std::make_unique<DistanceTree>(arrays(positions, triangles));

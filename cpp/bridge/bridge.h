@@ -65,8 +65,6 @@ DecimatedMesh openmesh_decimate(rust::Slice<const double> positions,
                                 rust::Slice<const std::uint32_t> triangles, std::size_t target_vertices);
 DecimatedMesh cgal_decimate(rust::Slice<const double> positions,
                             rust::Slice<const std::uint32_t> triangles, std::size_t target_vertices);
-rust::Vec<double> point_distances(rust::Slice<const double> points, rust::Slice<const double> positions,
-                                  rust::Slice<const std::uint32_t> triangles);
 std::unique_ptr<DistanceTree> new_distance_tree(rust::Slice<const double> positions,
                                                 rust::Slice<const std::uint32_t> triangles);
 rust::Vec<double> tree_distances(const DistanceTree& tree, rust::Slice<const double> points);

@@ -19,7 +19,6 @@
 
 #include "asperity/reference_decimators.hpp"
 
-#include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -277,20 +276,6 @@ DecimatedArrays cgal_decimate(const TriangleArrays& mesh, std::size_t target_ver
   return out;
 }
 
-std::vector<double> point_distances(const double* xyz, std::size_t n_coords, const TriangleArrays& mesh) {
-  if (n_coords % 3 != 0) throw NativeError("point_distances: point array length is not a multiple of 3");
-  SurfaceMesh sm = to_surface_mesh(mesh, "point_distances", true);
-  if (sm.number_of_faces() == 0) throw NativeError("point_distances: the mesh has no faces");
-  using Primitive = CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>;
-  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
-  Tree tree(faces(sm).first, faces(sm).second, sm);
-  tree.accelerate_distance_queries();
-  std::vector<double> out(n_coords / 3);
-  for (std::size_t i = 0; i < out.size(); ++i)
-    out[i] = std::sqrt(CGAL::to_double(tree.squared_distance(Point(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]))));
-  return out;
-}
-
 struct DistanceTree::Tree {
   using Triangles = std::vector<Kernel::Triangle_3>;
   using Primitive = CGAL::AABB_triangle_primitive<Kernel, Triangles::const_iterator>;
@@ -320,8 +305,15 @@ DistanceTree::DistanceTree(const TriangleArrays& mesh) : tree_(std::make_unique<
     return Point(p[0], p[1], p[2]);
   };
   tree_->triangles.reserve(nf);
-  for (std::size_t f = 0; f < nf; ++f)
+  for (std::size_t f = 0; f < nf; ++f) {
+    const std::uint32_t* t = mesh.tris + 3 * f;
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+      std::ostringstream msg;
+      msg << "distance tree: face " << f << " (" << t[0] << ", " << t[1] << ", " << t[2] << ") is degenerate";
+      throw NativeError(msg.str());
+    }
     tree_->triangles.emplace_back(corner(f, 0), corner(f, 1), corner(f, 2));
+  }
   tree_->aabb.insert(tree_->triangles.cbegin(), tree_->triangles.cend());
   tree_->aabb.build();
   tree_->aabb.accelerate_distance_queries();

@@ -84,7 +84,7 @@ pub fn self_intersections(mesh: &Mesh) -> Result<Vec<[FaceId; 2]>> {
 /// [`Error::InvalidInput`] for an inconsistent mesh; [`Error::Native`] when CGAL refuses it.
 pub fn point_distances(points: &[DVec3], mesh: &Mesh) -> Result<Vec<f64>> {
     mesh.check()?;
-    Ok(sys::point_distances(flat_positions(points), flat_positions(&mesh.positions), mesh.triangles.as_flattened())?)
+    DistanceTree::new(&mesh.positions, &mesh.triangles)?.distances(points)
 }
 
 /// An AABB tree over triangles (CGAL's `AABB_tree` of `Triangle_3`), built once and asked
@@ -96,7 +96,8 @@ impl DistanceTree {
     /// The tree of `triangles` over `positions`.
     ///
     /// # Errors
-    /// [`Error::Native`] for no faces, an index out of range or a non-finite coordinate.
+    /// [`Error::Native`] for no faces, an index out of range, a face repeating a vertex or a
+    /// non-finite coordinate.
     pub fn new(positions: &[DVec3], triangles: &[[u32; 3]]) -> Result<Self> {
         Ok(DistanceTree(sys::new_distance_tree(flat_positions(positions), triangles.as_flattened())?))
     }

@@ -101,8 +101,6 @@ mod sys {
             points_per_area_unit: f64,
             seed: u32,
         ) -> Result<f64>;
-        fn point_distances(points: &[f64], positions: &[f64], triangles: &[u32]) -> Result<Vec<f64>>;
-
         #[namespace = "asperity"]
         type DistanceTree;
 

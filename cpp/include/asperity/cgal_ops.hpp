@@ -37,12 +37,10 @@ std::vector<double> quadric_errors(const double* quadrics, std::size_t n_quadric
 double symmetric_hausdorff(const TriangleArrays& a, const TriangleArrays& b,
                            double points_per_area_unit, unsigned seed);
 
-/// Distance from each point (xyz) to the nearest point of the mesh (CGAL AABB tree).
-std::vector<double> point_distances(const double* xyz, std::size_t n_coords, const TriangleArrays& mesh);
-
 /// An AABB tree over a triangle soup (CGAL's AABB_tree of Triangle_3, with its distance
 /// queries accelerated), built once and asked the distance of batches of points: the
-/// faces need no half-edge structure, so a piece of a mesh's faces is enough.
+/// faces need no half-edge structure, so a piece of a mesh's faces is enough. Faces that
+/// repeat a vertex are refused, as the half-edge meshes of the other measures refuse them.
 class DistanceTree {
  public:
   explicit DistanceTree(const TriangleArrays& mesh);
