@@ -89,8 +89,18 @@ pub fn point_distances(points: &[DVec3], mesh: &Mesh) -> Result<Vec<f64>> {
 
 /// An AABB tree over triangles (CGAL's `AABB_tree` of `Triangle_3`), built once and asked
 /// the distance of batches of points; it needs no half-edge structure, so any set of
-/// faces (a piece of a mesh) makes one.
+/// faces (a piece of a mesh) makes one. Threads may ask one tree at once.
 pub struct DistanceTree(cxx::UniquePtr<sys::DistanceTree>);
+
+// SAFETY: the C++ DistanceTree owns its triangles and CGAL's tree (no thread-local or
+// global state), so it may move to another thread. Its only query after construction is
+// the const `distances`: the constructor builds both the tree and its search tree for
+// distance queries, and CGAL guards the lazy builds a const query could start with its
+// own mutex (`AABB_tree::build_mutex`), so concurrent queries read a finished structure.
+#[allow(unsafe_code)]
+unsafe impl Send for sys::DistanceTree {}
+#[allow(unsafe_code)]
+unsafe impl Sync for sys::DistanceTree {}
 
 impl DistanceTree {
     /// The tree of `triangles` over `positions`.

@@ -68,16 +68,13 @@ impl Side<'_> {
         self.triangles[f].map(|v| self.point(v))
     }
 
-    /// The side's samples in batches of `piece` vertices or faces: its vertices, then
-    /// area-weighted random points on its faces.
-    fn sample_batches(&self) -> Vec<Batch> {
+    /// The random points per unit of the side's area and of its faces' sides' length:
+    /// as many on its faces, and as many on its sides, as it has vertices.
+    fn density(&self) -> Density {
         let (area, length) = self.area_and_length();
         let count = SAMPLES_PER_VERTEX * self.positions.len() as f64;
         let per = |total: f64| if total > 0.0 { count / total } else { 0.0 };
-        let density = Density { per_area: per(area), per_length: per(length) };
-        let vertices = (0..self.positions.len()).step_by(self.piece).map(|s| Batch::Vertices(s, self.piece));
-        let faces = (0..self.triangles.len()).step_by(self.piece).map(|s| Batch::Faces(s, self.piece, density));
-        vertices.chain(faces).collect()
+        Density { per_area: per(area), per_length: per(length) }
     }
 
     /// The faces' total area and their sides' total length (an edge between two faces
@@ -101,29 +98,20 @@ impl Side<'_> {
         runs.iter().fold((0.0, 0.0), |(a, l), &(ra, rl)| (a + ra, l + rl))
     }
 
-    /// The points of one batch of samples.
-    fn samples(&self, batch: Batch) -> Vec<DVec3> {
-        match batch {
-            Batch::Vertices(start, len) => {
-                (start..(start + len).min(self.positions.len())).map(|v| self.point(v as u32)).collect()
-            }
-            Batch::Faces(start, len, density) => {
-                let mut out = Vec::new();
-                for f in start..(start + len).min(self.triangles.len()) {
-                    face_samples(f, self.corners(f), density, &mut out);
-                }
-                out
-            }
+    /// The samples of some of the side's vertices and faces: the vertices, then the
+    /// random points on the faces and their sides.
+    fn samples(
+        &self,
+        vertices: impl Iterator<Item = usize>,
+        faces: impl Iterator<Item = usize>,
+        density: Density,
+    ) -> Vec<DVec3> {
+        let mut out: Vec<DVec3> = vertices.map(|v| self.point(v as u32)).collect();
+        for f in faces {
+            face_samples(f, self.corners(f), density, &mut out);
         }
+        out
     }
-}
-
-/// A run of a side's samples: `len` vertices from a start, or the random points on `len`
-/// faces (and their sides) from a start.
-#[derive(Clone, Copy)]
-enum Batch {
-    Vertices(usize, usize),
-    Faces(usize, usize, Density),
 }
 
 /// Random points per unit of a side's area and of its faces' sides' length.
@@ -171,45 +159,149 @@ fn unit_interval(h: u64) -> f64 {
     (mix64(h) >> 11) as f64 / (1u64 << 53) as f64
 }
 
-/// The largest distance from a sample of `from` to the surface of `to`.
+/// The largest distance from a sample of `from` to the surface of `to`. Both sides'
+/// samples are the same whatever the pieces, and a sample's distance is its least over
+/// the pieces, so the result is too: at any thread count and piece size.
 fn farthest_sample(from: &Side<'_>, to: &Side<'_>) -> Result<f64> {
-    let batches = from.sample_batches();
+    use rayon::prelude::*;
+    let density = from.density();
     let pieces = Pieces::of(to);
-    if pieces.boxes.len() == 1 {
-        let tree = pieces.tree(to, 0)?;
-        let mut farthest = 0.0f64;
-        for &batch in &batches {
-            farthest = tree.distances(&from.samples(batch))?.into_iter().fold(farthest, f64::max);
-        }
-        return Ok(farthest);
+    if pieces.boxes.len() > 1 {
+        return farthest_over_pieces(from, to, &pieces, density);
     }
-    // Every sample starts at a bound no piece can exceed (the farthest corner of the piece
-    // whose farthest corner is nearest), and a piece is asked only about the samples its
-    // box may come nearer than their best.
-    let mut best: Vec<Vec<f64>> = batches
-        .iter()
-        .map(|&b| {
-            from.samples(b)
-                .iter()
-                .map(|&p| pieces.boxes.iter().map(|b| b.farthest(p)).fold(f64::INFINITY, f64::min))
-                .collect()
+    // One tree: the samples in runs of the side's vertices, then of its faces, in index
+    // order, each run asked on its own thread.
+    let tree = pieces.tree(to, 0)?;
+    let step = from.piece;
+    let vertex_runs = (0..from.positions.len()).step_by(step).map(|s| (s..(s + step).min(from.positions.len()), 0..0));
+    let face_runs = (0..from.triangles.len()).step_by(step).map(|s| (0..0, s..(s + step).min(from.triangles.len())));
+    let runs: Vec<_> = vertex_runs.chain(face_runs).collect();
+    runs.into_par_iter()
+        .map(|(vertices, faces)| {
+            let farthest = tree.distances(&from.samples(vertices, faces, density))?;
+            Ok(farthest.into_iter().fold(0.0f64, f64::max))
+        })
+        .try_reduce(|| 0.0, |a, b| Ok(a.max(b)))
+}
+
+/// [`farthest_sample`] when `to` is cut into several pieces. `from` is cut as `to` is, into
+/// runs of the Morton curve, so each run of samples has a compact box: each piece's tree is
+/// built once (the pieces on the threads) and asked only about the runs whose box is
+/// nearer than their largest best distance so far, and of those, about the samples its box
+/// may come nearer than their own best. Skipping never changes a sample's least distance:
+/// the piece holding its nearest face is never skipped.
+fn farthest_over_pieces(from: &Side<'_>, to: &Side<'_>, pieces: &Pieces, density: Density) -> Result<f64> {
+    use rayon::prelude::*;
+    use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
+    let runs = SampleRuns::of(from);
+    let samples = |r: usize| from.samples(runs.vertices(r), runs.faces(r), density);
+    // Each run's box, and a first bound for all its samples: the farthest two points of
+    // its box and of the piece box nearest in that sense can be (a little more, so that
+    // rounding cannot make that piece look farther than the bound).
+    let first: Vec<(PieceBox, usize)> = (0..runs.count())
+        .into_par_iter()
+        .map(|r| {
+            let points = samples(r);
+            (PieceBox::around(&points), points.len())
         })
         .collect();
-    for (k, bounds) in pieces.boxes.iter().enumerate() {
-        let tree = pieces.tree(to, k)?;
-        for (&batch, best) in batches.iter().zip(&mut best) {
-            let samples = from.samples(batch);
-            let asked: Vec<usize> = (0..samples.len()).filter(|&i| bounds.nearest(samples[i]) <= best[i]).collect();
+    // A distance is never negative, so its bits order as it does: `fetch_min` on the bits.
+    let bits = |d: f64| AtomicU64::new(d.to_bits());
+    let mut best = Vec::with_capacity(first.len());
+    let mut run_bound = Vec::with_capacity(first.len());
+    for (bounds, count) in &first {
+        let bound = pieces.boxes.iter().map(|p| bounds.farthest_to(p)).fold(f64::INFINITY, f64::min) * (1.0 + 1e-9);
+        best.push((0..*count).map(|_| bits(bound)).collect::<Vec<_>>());
+        run_bound.push(bits(bound));
+    }
+    let load = |a: &AtomicU64| f64::from_bits(a.load(Relaxed));
+    (0..pieces.boxes.len()).into_par_iter().try_for_each(|k| {
+        let piece_box = &pieces.boxes[k];
+        let mut tree = None;
+        for (r, (run_box, _)) in first.iter().enumerate() {
+            if run_box.gap_to(piece_box) > load(&run_bound[r]) {
+                continue;
+            }
+            let points = samples(r);
+            let best = &best[r];
+            let asked: Vec<usize> =
+                (0..points.len()).filter(|&i| piece_box.nearest(points[i]) <= load(&best[i])).collect();
             if asked.is_empty() {
                 continue;
             }
-            let points: Vec<DVec3> = asked.iter().map(|&i| samples[i]).collect();
-            for (&i, d) in asked.iter().zip(tree.distances(&points)?) {
-                best[i] = best[i].min(d);
+            let tree = match &mut tree {
+                Some(tree) => tree,
+                None => tree.insert(pieces.tree(to, k)?),
+            };
+            let queried: Vec<DVec3> = asked.iter().map(|&i| points[i]).collect();
+            for (&i, d) in asked.iter().zip(tree.distances(&queried)?) {
+                best[i].fetch_min(d.to_bits(), Relaxed);
+            }
+            let largest = best.iter().map(load).fold(0.0, f64::max);
+            run_bound[r].fetch_min(largest.to_bits(), Relaxed);
+        }
+        Ok::<(), crate::Error>(())
+    })?;
+    Ok(best.iter().flatten().map(load).fold(0.0, f64::max))
+}
+
+/// A side's samples in spatially compact runs: its faces in the Morton runs [`Pieces`]
+/// makes, each vertex with the first run holding one of its faces (a vertex on no face,
+/// with the first run).
+struct SampleRuns {
+    faces: Pieces,
+    /// The vertices, run after run.
+    vertex_order: Vec<u32>,
+    /// Where each run's vertices start in `vertex_order`, and the end.
+    vertex_starts: Vec<usize>,
+}
+
+impl SampleRuns {
+    fn of(side: &Side<'_>) -> Self {
+        let faces = Pieces::of(side);
+        let count = faces.boxes.len();
+        let mut run_of = vec![0u32; side.positions.len()];
+        let mut seen = vec![false; side.positions.len()];
+        for k in 0..count {
+            for f in faces.faces(k) {
+                for v in side.triangles[f] {
+                    if !std::mem::replace(&mut seen[v as usize], true) {
+                        run_of[v as usize] = k as u32;
+                    }
+                }
             }
         }
+        drop(seen);
+        let (vertex_order, vertex_starts) = group_by_run(&run_of, count);
+        SampleRuns { faces, vertex_order, vertex_starts }
     }
-    Ok(best.iter().flatten().copied().fold(0.0, f64::max))
+
+    fn count(&self) -> usize {
+        self.faces.boxes.len()
+    }
+
+    fn vertices(&self, r: usize) -> impl Iterator<Item = usize> + '_ {
+        self.vertex_order[self.vertex_starts[r]..self.vertex_starts[r + 1]].iter().map(|&v| v as usize)
+    }
+
+    fn faces(&self, r: usize) -> impl Iterator<Item = usize> + '_ {
+        self.faces.faces(r)
+    }
+}
+
+/// The items `0..owner.len()` grouped by their owner (`0..count`), each group in
+/// ascending order, and where each group starts, and the end (a counting sort).
+fn group_by_run(owner: &[u32], count: usize) -> (Vec<u32>, Vec<usize>) {
+    let mut starts = vec![0usize; count + 1];
+    owner.iter().for_each(|&k| starts[k as usize + 1] += 1);
+    (0..count).for_each(|k| starts[k + 1] += starts[k]);
+    let mut next = starts.clone();
+    let mut order = vec![0u32; owner.len()];
+    for (item, &k) in owner.iter().enumerate() {
+        order[next[k as usize]] = item as u32;
+        next[k as usize] += 1;
+    }
+    (order, starts)
 }
 
 /// A side's faces cut into pieces of at most `piece` faces: runs of the Morton
@@ -230,20 +322,19 @@ impl Pieces {
             return Pieces { order: Vec::new(), starts: vec![0, faces], boxes: vec![PieceBox::of(side, 0..faces)] };
         }
         let owner = morton_owners(side.positions, side.triangles, &side.unit, count);
-        let mut starts = vec![0usize; count + 1];
-        owner.iter().for_each(|&k| starts[k as usize + 1] += 1);
-        (0..count).for_each(|k| starts[k + 1] += starts[k]);
-        let mut next = starts.clone();
-        let mut order = vec![0u32; faces];
-        for (f, &k) in owner.iter().enumerate() {
-            order[next[k as usize]] = f as u32;
-            next[k as usize] += 1;
-        }
+        let (order, starts) = group_by_run(&owner, count);
         drop(owner);
         let boxes = (0..count)
             .map(|k| PieceBox::of(side, order[starts[k]..starts[k + 1]].iter().map(|&f| f as usize)))
             .collect();
         Pieces { order, starts, boxes }
+    }
+
+    /// The faces of piece `k`.
+    fn faces(&self, k: usize) -> impl Iterator<Item = usize> + '_ {
+        let whole = self.order.is_empty().then(|| self.starts[0]..self.starts[1]);
+        let run = if self.order.is_empty() { &[][..] } else { &self.order[self.starts[k]..self.starts[k + 1]] };
+        whole.into_iter().flatten().chain(run.iter().map(|&f| f as usize))
     }
 
     /// The AABB tree of piece `k`, on its own vertices.
@@ -286,15 +377,33 @@ impl PieceBox {
         out
     }
 
+    /// The box of some points.
+    fn around(points: &[DVec3]) -> Self {
+        let mut out = PieceBox { lo: DVec3::INFINITY, hi: DVec3::NEG_INFINITY };
+        for &p in points {
+            out.lo = out.lo.min(p);
+            out.hi = out.hi.max(p);
+        }
+        out
+    }
+
+    /// The least distance between a point of this box and a point of `other` (0 when they
+    /// meet; infinite when either is empty).
+    fn gap_to(&self, other: &PieceBox) -> f64 {
+        if self.lo.x > self.hi.x || other.lo.x > other.hi.x {
+            return f64::INFINITY;
+        }
+        (other.lo - self.hi).max(self.lo - other.hi).max(DVec3::ZERO).length()
+    }
+
+    /// The largest distance between a point of this box and a point of `other`.
+    fn farthest_to(&self, other: &PieceBox) -> f64 {
+        (other.hi - self.lo).abs().max((self.hi - other.lo).abs()).length()
+    }
+
     /// The distance from `p` to the box: no face of the piece is nearer.
     fn nearest(&self, p: DVec3) -> f64 {
         (self.lo - p).max(p - self.hi).max(DVec3::ZERO).length()
-    }
-
-    /// The distance from `p` to the box's farthest corner: every face of the piece is
-    /// nearer.
-    fn farthest(&self, p: DVec3) -> f64 {
-        (p - self.lo).abs().max((self.hi - p).abs()).length()
     }
 }
 
@@ -314,12 +423,14 @@ mod tests {
         }
         let coarse = primitives::icosphere(1.0, 1);
         let whole = in_pieces_of(&fine.positions, &fine.triangles, &coarse, usize::MAX >> 1).unwrap();
-        for piece in [64, 1000] {
+        let reverse_whole = in_pieces_of(&coarse.positions, &coarse.triangles, &fine, usize::MAX >> 1).unwrap();
+        for piece in [8, 64, 1000] {
             let pieced = in_pieces_of(&fine.positions, &fine.triangles, &coarse, piece).unwrap();
             assert_eq!(pieced.to_bits(), whole.to_bits(), "pieces of {piece}");
             let reverse = in_pieces_of(&coarse.positions, &coarse.triangles, &fine, piece).unwrap();
-            assert!(reverse > 0.0 && (reverse / whole - 1.0).abs() < 0.5, "{reverse} against {whole}");
+            assert_eq!(reverse.to_bits(), reverse_whole.to_bits(), "the other way, pieces of {piece}");
         }
+        assert!(reverse_whole > 0.0 && (reverse_whole / whole - 1.0).abs() < 0.5, "{reverse_whole} against {whole}");
         assert!(whole > 0.0);
         for threads in [1, 3] {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
