@@ -87,6 +87,13 @@ pub fn run(args: SimplifyArgs, ctx: super::Context) -> Result<()> {
     if let Some(dir) = &args.plan {
         return super::simplify_plan::run_chunk(dir, args.chunk_index, ctx);
     }
+    // Clap's `requires` does not hold beside the subcommands' settings: checked here.
+    if args.chunk_index.is_some() {
+        return Err(crate::Error::InvalidInput(
+            "--chunk-index belongs to --plan DIR (building one chunk of a plan): give --plan, or drop --chunk-index"
+                .into(),
+        ));
+    }
     let start = Instant::now();
     let (Some(input_path), Some(output)) = (args.input.as_deref(), args.output.as_deref()) else {
         return Err(crate::Error::InvalidInput("simplify needs an input mesh and -o".into()));
@@ -132,6 +139,14 @@ impl Written<'_> {
         outputs.extend(lod_out.map(|p| ("--lod-out", p)));
         outputs.extend(levels_out.map(|p| ("--levels-out", p)));
         super::distinct_outputs(&outputs)?;
+        // Before the build, not at the end: a file cannot replace a folder, nor a folder a
+        // file.
+        for &(_, path) in outputs.iter().filter(|(flag, _)| *flag != "--levels-out") {
+            io::refuse_folder(path)?;
+        }
+        if let Some(dir) = levels_out.filter(|d| d.exists() && !d.is_dir()) {
+            return Err(crate::Error::InvalidInput(format!("--levels-out {}: is a file, not a folder", dir.display())));
+        }
         if let Some(p) = self.param_out {
             super::guard_overwrite(self.input, p, force)?;
             // Only PLY holds the parametrization's vertex properties.
@@ -188,9 +203,10 @@ pub(super) fn write_results(
 }
 
 /// Every level as DIR/level_NN.ply, or in the input's format when it carries UVs or
-/// materials (an OBJ's levels keep its `vt` and `usemtl`).
+/// materials (an OBJ's levels keep its `vt` and `usemtl`). A folder holding level files
+/// this build does not write (another hierarchy's levels, which would pass for this
+/// one's) is refused, naming one.
 pub(super) fn write_levels(hierarchy: &Hierarchy, input: &Path, dir: &Path) -> Result<()> {
-    crate::io::create_output_dir(dir)?;
     let steps = hierarchy.steps();
     let extension = match (&hierarchy.wedges, input.extension().and_then(|e| e.to_str())) {
         (Some(_), Some(ext)) if ["obj", "ply", "glb"].contains(&ext.to_ascii_lowercase().as_str()) => {
@@ -198,8 +214,26 @@ pub(super) fn write_levels(hierarchy: &Hierarchy, input: &Path, dir: &Path) -> R
         }
         _ => "ply".to_string(),
     };
+    let name = |k: usize| format!("level_{:02}.{extension}", steps - k);
+    let written: std::collections::HashSet<String> = (0..hierarchy.levels.len()).map(name).collect();
+    let is_level = |n: &str| {
+        n.strip_prefix("level_")
+            .and_then(|rest| rest.split_once('.'))
+            .is_some_and(|(number, _)| !number.is_empty() && number.bytes().all(|b| b.is_ascii_digit()))
+    };
+    if let Ok(entries) = std::fs::read_dir(dir) {
+        let names = entries.filter_map(|e| e.ok()).map(|e| e.file_name().to_string_lossy().into_owned());
+        if let Some(stale) = names.filter(|n| is_level(n) && !written.contains(n)).min() {
+            return Err(crate::Error::InvalidInput(format!(
+                "--levels-out {}: holds {stale}, which this build does not write (its levels are level_00 to \
+                 level_{steps:02}): give an empty folder",
+                dir.display()
+            )));
+        }
+    }
+    crate::io::create_output_dir(dir)?;
     for (k, level) in hierarchy.levels.iter().enumerate() {
-        let path = dir.join(format!("level_{:02}.{extension}", steps - k));
+        let path = dir.join(name(k));
         let mut mesh = hierarchy.with_attributes(level.clone())?.mesh;
         crate::io::obj::relocate_material_libraries(&mut mesh, input, &path);
         io::write(&mesh, &path, WriteOptions::default())?;

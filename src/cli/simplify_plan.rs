@@ -119,6 +119,9 @@ pub(super) fn run_chunk(dir: &Path, flag: Option<u64>, ctx: super::Context) -> R
 pub(super) fn merge(args: MergeArgs, ctx: super::Context) -> Result<()> {
     let start = Instant::now();
     let plan = MeshPlan::read(&args.plan)?;
+    // Before the input is read: a large input is not read for nothing.
+    plan.check_built(&args.plan)?;
+    plan.check_merge_memory()?;
     let input_path = args.input.clone().unwrap_or_else(|| plan.input.clone());
     let written = Written {
         input: &input_path,

@@ -87,6 +87,11 @@ impl OutputBatch {
         // batch gone and leaving the temporary files of the ones not yet renamed.
         let mut pending = pending();
         let staged = pending.batch.take().unwrap_or_default();
+        // A destination that became a folder meanwhile: nothing is renamed.
+        if let Some(folder) = staged.files.iter().find_map(|(_, path)| refuse_folder(path).err()) {
+            staged.discard();
+            return Err(folder);
+        }
         for (tmp, path) in staged.files {
             tmp.persist(&path).map_err(|e| Error::io(&path, e.error))?;
         }
@@ -153,6 +158,9 @@ impl Drop for Registered {
 /// # Errors
 /// [`Error::Io`] naming `path` if creating, writing or renaming fails.
 pub fn write_atomically(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
+    // A folder cannot be replaced by a file: refused before anything is written (in a
+    // batch, its rename would fail only at the commit, after the command's report).
+    refuse_folder(path)?;
     // A device or pipe (/dev/null, /dev/stdout, a FIFO) cannot be replaced by a rename:
     // write to it directly.
     if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
@@ -203,6 +211,17 @@ pub fn write_atomically(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::i
     }
     tmp.persist(path).map_err(|e| Error::io(path, e.error))?;
     Ok(())
+}
+
+/// [`Error::Io`] naming `path` when it is an existing folder (an output file's path).
+///
+/// # Errors
+/// As said.
+pub fn refuse_folder(path: &Path) -> Result<()> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_dir() => Err(Error::io(path, std::io::Error::from(std::io::ErrorKind::IsADirectory))),
+        _ => Ok(()),
+    }
 }
 
 #[cfg(unix)]

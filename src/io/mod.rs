@@ -19,7 +19,9 @@ use std::path::Path;
 use crate::error::{Error, Location, Result};
 use crate::mesh::Mesh;
 
-pub use atomic::{OutputBatch, abandon_pending_outputs, create_output_dir, write_atomically, written_size};
+pub use atomic::{
+    OutputBatch, abandon_pending_outputs, create_output_dir, refuse_folder, write_atomically, written_size,
+};
 
 /// A mesh file format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

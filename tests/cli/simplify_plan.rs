@@ -191,6 +191,98 @@ fn a_plan_refuses_what_its_chunks_would_refuse() {
     refused(&["simplify", "merge", "p", "-o", "m.ply"], dir, &[], &["not an asperity simplify plan"]);
 }
 
+/// What a user or a job runner can do to a plan's folder between its steps: a build
+/// changed behind its sidecar's back is built again by a rerun, a sidecar copied from
+/// another chunk does not pass for its own, an edited manifest is refused by name, a
+/// forged build (hash made good) is refused by file and byte, and an output that cannot
+/// be written is refused before the build, leaving nothing.
+#[test]
+fn a_damaged_or_edited_plan_is_built_again_or_refused() {
+    let tmp = temp_dir();
+    let dir = tmp.path();
+    let input = shared_meshes().join("eight.off");
+    let input = input.to_str().unwrap();
+    ok(&["simplify", "plan", input, "--chunks", "4", "--target-vertices", "10%", "-o", "p", "-q"], dir, &[]);
+    for k in 0..4 {
+        ok(&["simplify", "--plan", "p", "--chunk-index", &k.to_string(), "-q"], dir, &[]);
+    }
+    ok(&["simplify", "merge", "p", "-o", "first.ply", "-q"], dir, &[]);
+    let chunk = |k: usize| dir.join(format!("p/chunks/chunk-{k:04}.built"));
+    let sidecar = |k: usize| dir.join(format!("p/chunks/chunk-{k:04}.built.json"));
+    // A byte changed, the sidecar intact: the merge refuses it, and a rerun builds it again.
+    let bytes = std::fs::read(chunk(2)).unwrap();
+    let mut flipped = bytes.clone();
+    flipped[200] ^= 0x10;
+    std::fs::write(chunk(2), &flipped).unwrap();
+    refused(&["simplify", "merge", "p", "-o", "m.ply"], dir, &[], &["chunk-0002.built: byte", "run its chunk again"]);
+    let json = ok(&["--json", "simplify", "--plan", "p", "--chunk-index", "2"], dir, &[]);
+    assert!(json.contains("\"skipped\": false"), "{json}");
+    assert!(std::fs::read(chunk(2)).unwrap() == bytes, "the rebuilt chunk differs");
+    // Another chunk's build and sidecar copied over chunk 0's: not chunk 0's.
+    let chunk0 = (std::fs::read(chunk(0)).unwrap(), std::fs::read(sidecar(0)).unwrap());
+    std::fs::copy(chunk(1), chunk(0)).unwrap();
+    std::fs::copy(sidecar(1), sidecar(0)).unwrap();
+    refused(&["simplify", "merge", "p", "-o", "m.ply"], dir, &[], &["p: 1 of 4 chunks are not built (0)", "--plan p "]);
+    std::fs::write(chunk(0), &chunk0.0).unwrap();
+    std::fs::write(sidecar(0), &chunk0.1).unwrap();
+    // A forged build whose hash is made good: a removal's vertex repeated.
+    let n = asperity::io::read(std::path::Path::new(input)).unwrap().mesh.vertex_count();
+    let mut build = asperity::hierarchy::partition::files::read_build(&chunk(3), n).unwrap();
+    let original = build.clone();
+    build.removals[1].vertex = build.removals[0].vertex;
+    let size = asperity::hierarchy::partition::files::write_build(&build, &chunk(3)).unwrap();
+    assert_eq!(size, std::fs::metadata(chunk(3)).unwrap().len());
+    refused(
+        &["simplify", "merge", "p", "-o", "m.ply", "--levels-out", "lv"],
+        dir,
+        &[],
+        &["chunk-0003.built: byte", "twice"],
+    );
+    asperity::hierarchy::partition::files::write_build(&original, &chunk(3)).unwrap();
+    // Outputs that cannot be written, refused before anything is built or written.
+    std::fs::create_dir(dir.join("taken.ply")).unwrap();
+    let to_folder = ["simplify", "merge", "p", "-o", "m.ply", "--param-out", "taken.ply", "--levels-out", "lv"];
+    refused(&to_folder, dir, &[], &["taken.ply: is a directory"]);
+    assert!(!dir.join("m.ply").exists() && !dir.join("lv").exists(), "a refused merge left an output");
+    std::fs::create_dir(dir.join("old-levels")).unwrap();
+    std::fs::write(dir.join("old-levels/level_99.ply"), "another build's").unwrap();
+    refused(
+        &["simplify", "merge", "p", "-o", "m.ply", "--levels-out", "old-levels"],
+        dir,
+        &[],
+        &["holds level_99.ply"],
+    );
+    assert!(
+        !dir.join("m.ply").exists() && !dir.join("old-levels/level_00.ply").exists(),
+        "a refused merge left an output"
+    );
+    // --chunk-index belongs to --plan.
+    let stray = ["simplify", input, "--chunk-index", "2", "--target-vertices", "10%", "-o", "x.ply"];
+    refused(&stray, dir, &[], &["--chunk-index belongs to --plan"]);
+    // An edited manifest: counts (part of the fingerprint: every chunk is stale), the chunk
+    // list, the settings.
+    let manifest = dir.join("p/plan.json");
+    let text = std::fs::read_to_string(&manifest).unwrap();
+    let edit = |from: &str, to: &str| {
+        assert!(text.contains(from), "plan.json lacks {from}");
+        std::fs::write(&manifest, text.replacen(from, to, 1)).unwrap();
+    };
+    edit(&format!("\"input_vertices\": {n}"), &format!("\"input_vertices\": {}", n + 85));
+    refused(&["simplify", "merge", "p", "-o", "m.ply"], dir, &[], &["4 of 4 chunks are not built"]);
+    edit("\"index\": 1,", "\"index\": 5,");
+    refused(&["simplify", "--plan", "p", "--chunk-index", "2"], dir, &[], &["plan.json: its chunk 1 is not chunk 1"]);
+    edit("\"chunks\": 4", "\"chunks\": 3");
+    refused(
+        &["simplify", "merge", "p", "-o", "m.ply"],
+        dir,
+        &[],
+        &["plan.json: it lists 4 chunks where its settings ask for 3"],
+    );
+    std::fs::write(&manifest, &text).unwrap();
+    ok(&["simplify", "merge", "p", "-o", "again.ply", "-q"], dir, &[]);
+    assert!(read(dir, "again.ply") == read(dir, "first.ply"), "the restored plan merges to another base");
+}
+
 /// A folder holding `asperity` for the scripts, which find it on the PATH, and that PATH.
 fn path_with_asperity(dir: &Path) -> String {
     let bin = dir.join("bin");

@@ -323,11 +323,11 @@ impl ContinuedIds {
                 let id = &mut to_compact[v as usize];
                 if *id != NO_ID {
                     let what = if (*id as usize) < on_faces {
-                        "a vertex of a face has a seed"
+                        "a vertex of a part's base face has a seed (another part removed it)"
                     } else {
-                        "a vertex has two seeds"
+                        "two parts removed one vertex"
                     };
-                    return Err(Error::InvalidInput(format!("{what}: vertex {v}")));
+                    return Err(Error::InvalidInput(format!("the parts' builds disagree: {what}: vertex {v}")));
                 }
                 *id = seeds.len() as u32;
                 to_input.push(v);
@@ -339,7 +339,9 @@ impl ContinuedIds {
             }
         }
         if let Some(v) = to_compact.iter().position(|&c| c == NO_ID) {
-            return Err(Error::InvalidInput(format!("a vertex on no face has no seed: vertex {v}")));
+            return Err(Error::InvalidInput(format!(
+                "the parts' builds disagree: a vertex no part kept has no seed: vertex {v}"
+            )));
         }
         Ok((ContinuedIds { to_input, on_faces }, seeds, to_compact))
     }
@@ -541,6 +543,12 @@ fn crossing_pairs(mesh: &Mesh, parts: &[PartBuild]) -> Result<Vec<[PartFace; 2]>
 pub fn build_partitioned(mesh: &Mesh, parts: usize, options: &SimplifyOptions) -> Result<Hierarchy> {
     let started = Instant::now();
     check_partitioned(mesh, options)?;
+    // The parts' builds are held until they are joined: about a one-piece build's memory.
+    crate::memory::ensure_available(
+        (mesh.triangles.len() as u64).saturating_mul(crate::hierarchy::simplify::BUILD_BYTES_PER_TRIANGLE),
+        &format!("a hierarchy of {} triangles in {parts} chunks", mesh.triangles.len()),
+        "simplify a smaller mesh, or set a larger --max-memory where the machine has it",
+    )?;
     let partition = Partition::of(mesh, parts)?;
     let built: Vec<PartBuild> = (0..parts)
         .into_par_iter()

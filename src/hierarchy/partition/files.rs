@@ -57,7 +57,7 @@ pub fn read_part(path: &Path, input_vertices: usize) -> Result<Part> {
     let mut r = In::new(&bytes, path, PART_TAG)?;
     let centre = DVec3::new(r.f64()?, r.f64()?, r.f64()?);
     let diagonal = r.f64()?;
-    if !(diagonal > 0.0 && diagonal.is_finite() && centre.is_finite()) {
+    if !(diagonal.is_normal() && diagonal > 0.0 && centre.is_finite()) {
         return Err(r.fault("the input's frame is not a finite centre and a positive diagonal"));
     }
     let positions = r.array(24, |r| Ok(DVec3::new(r.f64()?, r.f64()?, r.f64()?)))?;
@@ -187,7 +187,35 @@ pub fn read_build(path: &Path, input_vertices: usize) -> Result<PartBuild> {
     })?;
     let quadrics = r.array(4 + 80, |r| Ok((r.index(n)?, r.quadric()?)))?;
     r.end()?;
+    removed_once_each(&removals, &seeds).map_err(|msg| r.fault(&msg))?;
     Ok(PartBuild { base_triangles, removals, restore, step_starts, seeds, classes, quadrics })
+}
+
+/// Checks that a build's removals remove each vertex once and that its seeds are the
+/// removed vertices' points, one each (a file whose hash matches but whose records do not
+/// would otherwise reach the refinement).
+fn removed_once_each(removals: &[Removal], seeds: &[(u32, ParamPoint)]) -> std::result::Result<(), String> {
+    let mut removed: Vec<u32> = removals.iter().map(|r| r.vertex).collect();
+    removed.sort_unstable();
+    if let Some(w) = removed.windows(2).find(|w| w[0] == w[1]) {
+        return Err(format!("its removals remove vertex {} twice", w[0]));
+    }
+    let mut seeded: Vec<u32> = seeds.iter().map(|&(v, _)| v).collect();
+    seeded.sort_unstable();
+    if seeded != removed {
+        let odd = seeded.iter().zip(&removed).find(|(s, r)| s != r).map_or_else(
+            || format!("{} seeds for {} removed vertices", seeded.len(), removed.len()),
+            |(s, r)| format!("vertex {} has a seed where vertex {} is removed", s.min(r), s.max(r)),
+        );
+        return Err(format!("its seeds are not its removed vertices' points ({odd})"));
+    }
+    Ok(())
+}
+
+/// Whether the file at `path` is a part's build whose bytes match their hash (what a rerun
+/// of its chunk checks before skipping it).
+pub fn build_intact(path: &Path) -> bool {
+    std::fs::read(path).is_ok_and(|bytes| In::new(&bytes, path, BUILD_TAG).is_ok())
 }
 
 /// A [`ParamPoint`]'s bytes: three u32 and three f64.
@@ -253,7 +281,8 @@ impl<'a> In<'a> {
         let body = bytes.len().checked_sub(8).filter(|&b| b >= 16).ok_or_else(|| fault(16, "cut short"))?;
         let stored = u64::from_le_bytes(bytes[body..].try_into().expect("8 bytes"));
         if fnv1a(FNV_OFFSET, &bytes[..body]) != stored {
-            return Err(fault(body, "its hash does not match its bytes (cut short or changed: run its chunk again)"));
+            let remedy = if tag == PART_TAG { "make the plan again" } else { "run its chunk again" };
+            return Err(fault(body, &format!("its hash does not match its bytes (cut short or changed: {remedy})")));
         }
         Ok(In { bytes: &bytes[..body], at: 16, path })
     }

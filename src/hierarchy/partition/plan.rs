@@ -6,15 +6,16 @@
 //! hierarchy is byte for byte the in-process one.
 //!
 //! A chunk is complete when its build file exists and its sidecar names the plan's
-//! fingerprint and the file's size: a rerun skips it, and builds again a chunk whose file
-//! is missing, stale (another plan) or cut short.
+//! fingerprint, the chunk and the file's size: a rerun skips it when the file's bytes also
+//! match their hash, and builds again a chunk whose file is missing, stale (another plan),
+//! cut short or changed.
 
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::files::{read_build, read_part, write_build, write_part};
+use super::files::{build_intact, read_build, read_part, write_build, write_part};
 use super::{PartBuild, Partition, build::check_partitioned_settings, build_part};
 use crate::error::{Error, Result};
 use crate::hierarchy::{Hierarchy, HierarchyRequest, SimplifyOptions};
@@ -94,11 +95,24 @@ pub fn mesh_fingerprint(mesh: &Mesh) -> String {
     format!("{hash:016x}")
 }
 
-/// The fingerprint of what a plan's chunks are built from.
-fn plan_fingerprint(mesh: &str, request: &HierarchyRequest, chunks: usize) -> Result<String> {
-    let text = serde_json::to_string(&(mesh, request, chunks)).map_err(|e| Error::Internal(e.to_string()))?;
+/// The fingerprint of what a plan's chunks are built from: the mesh, its counts (a chunk's
+/// share of the target is read from them), the request and the cut.
+fn plan_fingerprint(plan: &MeshPlan) -> Result<String> {
+    let what = (&plan.mesh_fingerprint, plan.input_vertices, plan.input_faces, &plan.hierarchy, plan.chunks.len());
+    let text = serde_json::to_string(&what).map_err(|e| Error::Internal(e.to_string()))?;
     Ok(fingerprint(&format!("asperity simplify plan v{MESH_PLAN_VERSION} {text}")))
 }
+
+/// The most chunks an error lists by index.
+const LISTED_CHUNKS: usize = 10;
+
+/// Peak bytes of a plan per input triangle, the mesh read included, rounded up from the
+/// measured 40–45 (`simplify plan` at 3.3M and 53M triangles, #40).
+pub const PLAN_BYTES_PER_TRIANGLE: u64 = 48;
+
+/// Peak bytes of `simplify merge` per input triangle, the report included, rounded up from
+/// the measured 97–107 (at 3.3M and 53M triangles, #40).
+pub const MERGE_BYTES_PER_TRIANGLE: u64 = 120;
 
 /// The plan's names for chunk `k`'s files.
 fn chunk_files(k: usize) -> (String, String) {
@@ -124,10 +138,14 @@ impl MeshPlan {
         if mesh.face_count() == 0 {
             return Err(Error::InvalidInput("the mesh has no faces to simplify".into()));
         }
+        crate::memory::ensure_available(
+            (mesh.face_count() as u64).saturating_mul(PLAN_BYTES_PER_TRIANGLE),
+            &format!("a plan of {} triangles", mesh.face_count()),
+            "set a larger --max-memory where the machine has it",
+        )?;
         let partition = Partition::of(mesh, chunks)?;
         crate::io::create_output_dir(&dir.join("chunks"))?;
         let mesh_fingerprint = mesh_fingerprint(mesh);
-        let fingerprint = plan_fingerprint(&mesh_fingerprint, request, chunks)?;
         let input = std::path::absolute(input).map_err(|e| Error::io(input, e))?;
         let mut planned = Vec::with_capacity(chunks);
         for k in 0..chunks {
@@ -145,9 +163,9 @@ impl MeshPlan {
                 command: command.map(String::from).to_vec(),
             });
         }
-        let plan = MeshPlan {
+        let mut plan = MeshPlan {
             version: MESH_PLAN_VERSION,
-            fingerprint,
+            fingerprint: String::new(),
             input,
             repair,
             mesh_fingerprint,
@@ -156,17 +174,42 @@ impl MeshPlan {
             hierarchy: request.clone(),
             chunks: planned,
         };
+        plan.fingerprint = plan_fingerprint(&plan)?;
         let text = serde_json::to_string_pretty(&plan).map_err(|e| Error::Internal(e.to_string()))?;
         crate::io::write_atomically(&dir.join("plan.json"), |w| w.write_all(text.as_bytes()))?;
         Ok(plan)
     }
 
-    /// The plan in `dir`, read from its manifest.
+    /// The plan in `dir`, read from its manifest and checked as a whole: settings a build
+    /// takes, as many chunks as they ask for, each at its own index under the plan's names
+    /// for its files.
     ///
     /// # Errors
-    /// No manifest, not a mesh plan, or a plan of another layout version.
+    /// No manifest, not a mesh plan, a plan of another layout version, or one whose fields
+    /// disagree (named, with plan.json's path).
     pub fn read(dir: &Path) -> Result<MeshPlan> {
-        read_plan(dir, "simplify", MESH_PLAN_VERSION, |p: &MeshPlan| p.version)
+        let plan: MeshPlan = read_plan(dir, "simplify", MESH_PLAN_VERSION, |p: &MeshPlan| p.version)?;
+        let fault = |msg: String| {
+            Error::InvalidInput(format!("{}: {msg}: make the plan again", dir.join("plan.json").display()))
+        };
+        if plan.input_vertices == 0 || plan.input_faces == 0 {
+            return Err(fault("the input has no vertices or no faces".into()));
+        }
+        let options = plan.options().map_err(|e| fault(format!("its settings are refused ({e})")))?;
+        let count = plan.chunks.len();
+        if options.chunks != Some(count) {
+            let asked = options.chunks.map_or("none".into(), |k| k.to_string());
+            return Err(fault(format!("it lists {count} chunks where its settings ask for {asked}")));
+        }
+        for (k, chunk) in plan.chunks.iter().enumerate() {
+            let (part, build) = chunk_files(k);
+            if chunk.index != k || chunk.part != part || chunk.build != build {
+                return Err(fault(format!(
+                    "its chunk {k} is not chunk {k} under the plan's names for its files ({part}, {build})"
+                )));
+            }
+        }
+        Ok(plan)
     }
 
     /// The build options every chunk and the merge use.
@@ -178,28 +221,61 @@ impl MeshPlan {
     }
 
     /// Chunk `index`, and the fingerprint its sidecar must name: recomputed from the plan,
-    /// not read, so an edited manifest makes new chunks and never skips stale ones; its
-    /// files must be the plan's own names for them, so an edited manifest cannot send a
-    /// chunk outside the plan's folder.
+    /// not read, so an edited manifest makes new chunks and never skips stale ones (its
+    /// files are the plan's own names for them: [`MeshPlan::read`] checks them).
     ///
     /// # Errors
-    /// An index outside the plan; files that are not the plan's names.
-    pub fn chunk(&self, index: usize, dir: &Path) -> Result<(&PlannedChunk, String)> {
+    /// An index outside the plan.
+    pub fn chunk(&self, index: usize) -> Result<(&PlannedChunk, String)> {
         let count = self.chunks.len();
-        let chunk = self.chunks.get(index).filter(|c| c.index == index).ok_or_else(|| {
+        let chunk = self.chunks.get(index).ok_or_else(|| {
             Error::InvalidInput(format!(
                 "chunk index {index} is outside the plan's {count} chunks (0..{})",
                 count.saturating_sub(1)
             ))
         })?;
-        let (part, build) = chunk_files(index);
-        if chunk.part != part || chunk.build != build {
-            return Err(Error::InvalidInput(format!(
-                "{}: chunk {index}'s files are not the plan's names for them ({part}, {build}): make the plan again",
-                dir.join("plan.json").display()
-            )));
+        Ok((chunk, plan_fingerprint(self)?))
+    }
+
+    /// Refuses a merge of this plan that needs more memory than there is, by estimate
+    /// ([`MERGE_BYTES_PER_TRIANGLE`]), before the input is read.
+    ///
+    /// # Errors
+    /// As [`crate::memory::ensure_available`].
+    pub fn check_merge_memory(&self) -> Result<()> {
+        crate::memory::ensure_available(
+            (self.input_faces as u64).saturating_mul(MERGE_BYTES_PER_TRIANGLE),
+            &format!("merging a plan of {} triangles", self.input_faces),
+            "merge on a machine with more memory, or set a larger --max-memory where this one has it",
+        )
+    }
+
+    /// Checks that every chunk of the plan in `dir` is complete, before the merge reads
+    /// anything large.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] naming the chunks that are not (the first
+    /// ten) and the command that builds them, with `dir` as given.
+    pub fn check_built(&self, dir: &Path) -> Result<()> {
+        let fingerprint = plan_fingerprint(self)?;
+        let missing: Vec<usize> = (0..self.chunks.len())
+            .filter(|&k| !chunk_complete(&dir.join(&self.chunks[k].build), &fingerprint, k))
+            .collect();
+        if missing.is_empty() {
+            return Ok(());
         }
-        Ok((chunk, plan_fingerprint(&self.mesh_fingerprint, &self.hierarchy, count)?))
+        let mut listed: Vec<String> = missing.iter().take(LISTED_CHUNKS).map(|k| k.to_string()).collect();
+        if missing.len() > LISTED_CHUNKS {
+            listed.push("…".into());
+        }
+        Err(Error::InvalidInput(format!(
+            "{}: {} of {} chunks are not built ({}): run `asperity simplify --plan {} --chunk-index K` for each first",
+            dir.display(),
+            missing.len(),
+            self.chunks.len(),
+            listed.join(", "),
+            dir.display()
+        )))
     }
 }
 
@@ -220,14 +296,14 @@ pub enum ChunkRun {
 /// cannot be written.
 pub fn run_chunk(dir: &Path, index: usize) -> Result<(ChunkRun, PathBuf)> {
     let plan = MeshPlan::read(dir)?;
-    let (chunk, fingerprint) = plan.chunk(index, dir)?;
+    let (chunk, fingerprint) = plan.chunk(index)?;
     let output = dir.join(&chunk.build);
-    if chunk_complete(&output, &fingerprint) {
+    if chunk_complete(&output, &fingerprint, index) && build_intact(&output) {
         return Ok((ChunkRun::Skipped, output));
     }
     let part = read_part(&dir.join(&chunk.part), plan.input_vertices)?;
-    let built =
-        build_part(&part, &plan.options()?, plan.input_vertices).map_err(|e| e.about_file(&dir.join(&chunk.part)))?;
+    let built = build_part(&part, &plan.options()?, plan.input_vertices)
+        .map_err(|e| with_plan_advice(e, plan.repair).about_file(&dir.join(&chunk.part)))?;
     let bytes = write_build(&built, &output)?;
     let sidecar = ChunkSidecar { plan: fingerprint, chunk: index, bytes };
     let text = serde_json::to_string_pretty(&sidecar).map_err(|e| Error::Internal(e.to_string()))?;
@@ -241,13 +317,14 @@ fn sidecar_path(output: &Path) -> PathBuf {
     PathBuf::from(name)
 }
 
-/// Whether the chunk build at `output` is complete for the plan `fingerprint`: its sidecar
-/// names the plan and the file's size in bytes.
-pub fn chunk_complete(output: &Path, fingerprint: &str) -> bool {
+/// Whether the build of chunk `index` at `output` is complete for the plan `fingerprint`:
+/// its sidecar names the plan, the chunk and the file's size in bytes (the bytes
+/// themselves are checked against their hash where they are read).
+pub fn chunk_complete(output: &Path, fingerprint: &str, index: usize) -> bool {
     let Ok(text) = std::fs::read_to_string(sidecar_path(output)) else { return false };
     let Ok(sidecar) = serde_json::from_str::<ChunkSidecar>(&text) else { return false };
     let size = std::fs::metadata(output).map(|m| m.len()).ok();
-    sidecar.plan == fingerprint && size == Some(sidecar.bytes)
+    sidecar.plan == fingerprint && sidecar.chunk == index && size == Some(sidecar.bytes)
 }
 
 /// Joins the chunks of `plan` (read from `dir`) over `input` (the plan's input, read
@@ -261,33 +338,36 @@ pub fn chunk_complete(output: &Path, fingerprint: &str) -> bool {
 pub fn join_plan(dir: &Path, plan: &MeshPlan, input: Cow<'_, Mesh>) -> Result<Hierarchy> {
     let started = std::time::Instant::now();
     let mesh = input.as_ref();
-    if mesh_fingerprint(mesh) != plan.mesh_fingerprint {
+    let counts = (mesh.vertex_count(), mesh.face_count());
+    if counts != (plan.input_vertices, plan.input_faces) || mesh_fingerprint(mesh) != plan.mesh_fingerprint {
         return Err(Error::InvalidInput(format!(
             "{}: the input is not the mesh this plan cut ({} changed since `simplify plan`): make the plan again",
             dir.join("plan.json").display(),
             plan.input.display()
         )));
     }
+    plan.check_built(dir)?;
+    plan.check_merge_memory()?;
     let mut builds: Vec<PartBuild> = Vec::with_capacity(plan.chunks.len());
-    let mut missing = Vec::new();
-    for index in 0..plan.chunks.len() {
-        let (chunk, fingerprint) = plan.chunk(index, dir)?;
-        let output = dir.join(&chunk.build);
-        if !chunk_complete(&output, &fingerprint) {
-            missing.push(index);
-            continue;
-        }
-        builds.push(read_build(&output, plan.input_vertices)?);
-    }
-    if let Some(&first) = missing.first() {
-        return Err(Error::InvalidInput(format!(
-            "{} of {} chunks are not built ({}): run `{}` for each first",
-            missing.len(),
-            plan.chunks.len(),
-            missing.iter().map(|k| k.to_string()).collect::<Vec<_>>().join(", "),
-            plan.chunks[first].command.join(" ").replace(&format!("--chunk-index {first}"), "--chunk-index K")
-        )));
+    for chunk in &plan.chunks {
+        builds.push(read_build(&dir.join(&chunk.build), plan.input_vertices)?);
     }
     let part_of = |k: usize| read_part(&dir.join(&plan.chunks[k].part), plan.input_vertices);
-    super::join_parts(input, builds, part_of, &plan.options()?, started)
+    super::join_parts(input, builds, part_of, &plan.options()?, started).map_err(|e| with_plan_advice(e, plan.repair))
+}
+
+/// An error about a plan's part or its joined builds, whose advice to run `--repair` is
+/// replaced by the plan's (a chunk and the merge take no `--repair`: the plan does).
+fn with_plan_advice(error: Error, repaired: bool) -> Error {
+    match error {
+        Error::Topology { msg, faces } => {
+            let msg = match msg.find("; --repair") {
+                Some(cut) if repaired => format!("{} (left after the plan's --repair)", &msg[..cut]),
+                Some(cut) => format!("{}; make the plan again with --repair", &msg[..cut]),
+                None => msg,
+            };
+            Error::Topology { msg, faces }
+        }
+        other => other,
+    }
 }
