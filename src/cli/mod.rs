@@ -94,7 +94,12 @@ enum Command {
 fn usage_error_message(rendered: &str) -> String {
     let (what, rest) = rendered.split_once("\n\n").unwrap_or((rendered, ""));
     let what: Vec<&str> = what.lines().map(str::trim).filter(|l| !l.is_empty()).collect();
-    let what = what.join(" ");
+    let mut what = what.join(" ");
+    // `simplify --chunks 4 plan IN`: clap takes what follows a flag of the command above as
+    // a subcommand's name.
+    if what.contains("the subcommand '") && what.contains("cannot be used with") {
+        what.push_str(" (a subcommand's flags go after its name and input: `asperity simplify plan IN --chunks K …`)");
+    }
     let mut message = format!("asperity: {}\n", what.trim_start_matches("error: "));
     if !rest.trim().is_empty() {
         message.push('\n');

@@ -259,6 +259,9 @@ fn a_damaged_or_edited_plan_is_built_again_or_refused() {
     // --chunk-index belongs to --plan.
     let stray = ["simplify", input, "--chunk-index", "2", "--target-vertices", "10%", "-o", "x.ply"];
     refused(&stray, dir, &[], &["--chunk-index belongs to --plan"]);
+    // A subcommand's flags given before its name.
+    let early = ["simplify", "--chunks", "4", "plan", input, "--target-vertices", "10%", "-o", "q"];
+    refused(&early, dir, &[], &["cannot be used with", "a subcommand's flags go after its name"]);
     // An edited manifest: counts (part of the fingerprint: every chunk is stale), the chunk
     // list, the settings.
     let manifest = dir.join("p/plan.json");
