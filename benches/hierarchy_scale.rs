@@ -4,7 +4,10 @@
 //! curve, built in parallel with their borders fenced, their bases joined and the build
 //! continued) and by the one-piece build. Printed: Hausdorff of both (to the input, % of
 //! its diagonal) and their ratio (target ≤ 1.1), the wall times and their ratio (target
-//! ≤ 0.6 on 2 threads).
+//! ≤ 0.6 on 2 threads), and the one-piece build's time on one thread: the partitioned
+//! build's time against it, and the one-piece build's own speed-up from its threads
+//! (which bounds the ratio: parts that do the one-piece build's work between them take
+//! about its one-thread time over the thread count).
 //!
 //! `-- --large [STEPS]`: the mesh plan's three stages as a job runner runs them, each a
 //! process of its own (this bench run again with `--stage`, printing its VmHWM), the
@@ -83,6 +86,10 @@ fn compare(name: &str, mesh: &Mesh) {
     let one_h = relative_hausdorff(mesh, &one.base_mesh().mesh).expect("hausdorff");
     let one_vertices = one.base_vertex_count();
     drop(one);
+    let single = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("a one-thread pool");
+    let start = Instant::now();
+    drop(single.install(|| build(mesh, &options(target, Vec::new())).expect("one-piece build on one thread")));
+    let one_thread_s = start.elapsed().as_secs_f64();
 
     let start = Instant::now();
     let parted = build_partitioned(mesh, PARTS, &options(target, Vec::new())).expect("partitioned build");
@@ -97,11 +104,17 @@ fn compare(name: &str, mesh: &Mesh) {
         parted_h * 100.0,
         100.0 * border as f64 / mesh.vertex_count() as f64
     );
+    let threads = rayon::current_num_threads();
     println!(
-        "  #40: hausdorff partitioned / one piece {:.3}x (target <= 1.1x); wall time {:.2}x on {} threads (target <= 0.6x)",
+        "  #40: hausdorff partitioned / one piece {:.3}x (target <= 1.1x); wall time {:.2}x on {threads} threads (target <= 0.6x)",
         parted_h / one_h,
         parted_s / one_s,
-        rayon::current_num_threads()
+    );
+    println!(
+        "  one piece on one thread {one_thread_s:.2} s: its speed-up on {threads} threads {:.2}x, so parts doing its work take about {:.2}x its {threads}-thread time; partitioned on {threads} threads / one piece on one thread {:.2}x",
+        one_thread_s / one_s,
+        one_s.recip() * one_thread_s / threads as f64,
+        parted_s / one_thread_s,
     );
 }
 
