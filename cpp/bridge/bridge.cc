@@ -111,8 +111,8 @@ std::unique_ptr<DistanceTree> new_distance_tree(rust::Slice<const double> positi
   return std::make_unique<DistanceTree>(arrays(positions, triangles));
 }
 
-rust::Vec<double> tree_distances(const DistanceTree& tree, rust::Slice<const double> points) {
-  return to_rust(tree.distances(points.data(), points.size()));
+rust::Vec<double> tree_distances(const DistanceTree& tree, rust::Slice<const double> points, bool chained) {
+  return to_rust(tree.distances(points.data(), points.size(), chained));
 }
 
 DecimatedMesh openmesh_decimate(rust::Slice<const double> positions,

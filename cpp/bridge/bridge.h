@@ -67,7 +67,7 @@ DecimatedMesh cgal_decimate(rust::Slice<const double> positions,
                             rust::Slice<const std::uint32_t> triangles, std::size_t target_vertices);
 std::unique_ptr<DistanceTree> new_distance_tree(rust::Slice<const double> positions,
                                                 rust::Slice<const std::uint32_t> triangles);
-rust::Vec<double> tree_distances(const DistanceTree& tree, rust::Slice<const double> points);
+rust::Vec<double> tree_distances(const DistanceTree& tree, rust::Slice<const double> points, bool chained);
 rust::Vec<std::uint32_t> self_intersections(rust::Slice<const double> positions,
                                             rust::Slice<const std::uint32_t> triangles);
 rust::Vec<std::uint8_t> triangle_pairs_intersect(rust::Slice<const double> positions,

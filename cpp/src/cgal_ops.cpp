@@ -321,16 +321,16 @@ DistanceTree::DistanceTree(const TriangleArrays& mesh) : tree_(std::make_unique<
 
 DistanceTree::~DistanceTree() = default;
 
-std::vector<double> DistanceTree::distances(const double* xyz, std::size_t n_coords) const {
+std::vector<double> DistanceTree::distances(const double* xyz, std::size_t n_coords, bool chained) const {
   if (n_coords % 3 != 0) throw NativeError("distance tree: point array length is not a multiple of 3");
   std::vector<double> out(n_coords / 3);
-  // Each query starts from the closest point of the one before (a batch's points are
-  // near one another: a face's samples, then its neighbour's), which spares the search
+  // Chained, each query starts from the closest point of the one before (a batch's points
+  // are near one another: a face's samples, then its neighbour's), which spares the search
   // for a starting point; the traversal still finds the closest point.
   Point hint;
   for (std::size_t i = 0; i < out.size(); ++i) {
     const Point query(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
-    hint = i == 0 ? tree_->aabb.closest_point(query) : tree_->aabb.closest_point(query, hint);
+    hint = i == 0 || !chained ? tree_->aabb.closest_point(query) : tree_->aabb.closest_point(query, hint);
     out[i] = std::sqrt(CGAL::to_double(CGAL::squared_distance(query, hint)));
   }
   return out;

@@ -98,7 +98,7 @@ fn usage_error_message(rendered: &str) -> String {
     // `simplify --chunks 4 plan IN`: clap takes what follows a flag of the command above as
     // a subcommand's name.
     if what.contains("the subcommand '") && what.contains("cannot be used with") {
-        what.push_str(" (a subcommand's flags go after its name and input: `asperity simplify plan IN --chunks K …`)");
+        what.push_str(" (a subcommand's flags go after its name, not before it)");
     }
     let mut message = format!("asperity: {}\n", what.trim_start_matches("error: "));
     if !rest.trim().is_empty() {

@@ -112,13 +112,29 @@ impl DistanceTree {
         Ok(DistanceTree(sys::new_distance_tree(flat_positions(positions), triangles.as_flattened())?))
     }
 
-    /// Distance from each point to the nearest point of the triangles.
+    /// Distance from each point to the nearest point of the triangles, each query starting
+    /// from the closest point of the one before (neighbouring points: a face's samples).
     ///
     /// # Errors
     /// [`Error::Native`] if CGAL fails.
     pub fn distances(&self, points: &[DVec3]) -> Result<Vec<f64>> {
+        self.query(points, true)
+    }
+
+    /// As [`DistanceTree::distances`], each distance found from its point alone (CGAL's own
+    /// search for a starting point): where two faces are equally near within rounding, a
+    /// chained query's last bits may depend on the point before it, so callers whose
+    /// batches are not fixed ask this way.
+    ///
+    /// # Errors
+    /// [`Error::Native`] if CGAL fails.
+    pub fn distances_each_alone(&self, points: &[DVec3]) -> Result<Vec<f64>> {
+        self.query(points, false)
+    }
+
+    fn query(&self, points: &[DVec3], chained: bool) -> Result<Vec<f64>> {
         let tree = self.0.as_ref().ok_or_else(|| Error::Native("the distance tree is null".into()))?;
-        Ok(sys::tree_distances(tree, flat_positions(points))?)
+        Ok(sys::tree_distances(tree, flat_positions(points), chained)?)
     }
 }
 

@@ -105,7 +105,7 @@ mod sys {
         type DistanceTree;
 
         fn new_distance_tree(positions: &[f64], triangles: &[u32]) -> Result<UniquePtr<DistanceTree>>;
-        fn tree_distances(tree: &DistanceTree, points: &[f64]) -> Result<Vec<f64>>;
+        fn tree_distances(tree: &DistanceTree, points: &[f64], chained: bool) -> Result<Vec<f64>>;
         fn openmesh_decimate(positions: &[f64], triangles: &[u32], target_vertices: usize) -> Result<DecimatedMesh>;
         fn cgal_decimate(positions: &[f64], triangles: &[u32], target_vertices: usize) -> Result<DecimatedMesh>;
         fn self_intersections(positions: &[f64], triangles: &[u32]) -> Result<Vec<u32>>;

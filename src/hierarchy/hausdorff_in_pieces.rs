@@ -189,7 +189,11 @@ fn farthest_sample(from: &Side<'_>, to: &Side<'_>) -> Result<f64> {
 /// built once (the pieces on the threads) and asked only about the runs whose box is
 /// nearer than their largest best distance so far, and of those, about the samples its box
 /// may come nearer than their own best. Skipping never changes a sample's least distance:
-/// the piece holding its nearest face is never skipped.
+/// a piece is skipped only when its box is farther than the best by more than rounding
+/// could make a distance fall short of its box's ([`beyond`]), so every skipped piece's
+/// distance exceeds the final least, and each distance is found from its point alone
+/// (which samples a piece is asked about depends on the threads' timing): the least over
+/// all the pieces, at any thread count.
 fn farthest_over_pieces(from: &Side<'_>, to: &Side<'_>, pieces: &Pieces, density: Density) -> Result<f64> {
     use rayon::prelude::*;
     use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
@@ -219,13 +223,13 @@ fn farthest_over_pieces(from: &Side<'_>, to: &Side<'_>, pieces: &Pieces, density
         let piece_box = &pieces.boxes[k];
         let mut tree = None;
         for (r, (run_box, _)) in first.iter().enumerate() {
-            if run_box.gap_to(piece_box) > load(&run_bound[r]) {
+            if beyond(run_box.gap_to(piece_box), load(&run_bound[r])) {
                 continue;
             }
             let points = samples(r);
             let best = &best[r];
             let asked: Vec<usize> =
-                (0..points.len()).filter(|&i| piece_box.nearest(points[i]) <= load(&best[i])).collect();
+                (0..points.len()).filter(|&i| !beyond(piece_box.nearest(points[i]), load(&best[i]))).collect();
             if asked.is_empty() {
                 continue;
             }
@@ -234,7 +238,7 @@ fn farthest_over_pieces(from: &Side<'_>, to: &Side<'_>, pieces: &Pieces, density
                 None => tree.insert(pieces.tree(to, k)?),
             };
             let queried: Vec<DVec3> = asked.iter().map(|&i| points[i]).collect();
-            for (&i, d) in asked.iter().zip(tree.distances(&queried)?) {
+            for (&i, d) in asked.iter().zip(tree.distances_each_alone(&queried)?) {
                 best[i].fetch_min(d.to_bits(), Relaxed);
             }
             let largest = best.iter().map(load).fold(0.0, f64::max);
@@ -243,6 +247,14 @@ fn farthest_over_pieces(from: &Side<'_>, to: &Side<'_>, pieces: &Pieces, density
         Ok::<(), crate::Error>(())
     })?;
     Ok(best.iter().flatten().map(load).fold(0.0, f64::max))
+}
+
+/// Whether a box `gap` away is surely farther than a `best` distance: by more than the
+/// rounding of a distance computed to a face in the box (CGAL's projection, in the unit
+/// frame, so of coordinates at most about 1), which may fall a few ulps short of the box's
+/// own distance.
+fn beyond(gap: f64, best: f64) -> bool {
+    gap > best * (1.0 + 1e-9) + 1e-12
 }
 
 /// A side's samples in spatially compact runs: its faces in the Morton runs [`Pieces`]
@@ -456,6 +468,16 @@ mod tests {
             let diagonal = UnitFrame::of(&both).unwrap().diagonal;
             let d = in_pieces_of(&both.positions, &both.triangles, &lower, 16).unwrap();
             assert!((d - 0.01 * scale / diagonal).abs() < 1e-9, "{d} at scale {scale}");
+            // Every sample is as far as every other within rounding: where the pieces'
+            // order could decide the last bits, it does not.
+            for threads in [1, 3] {
+                let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+                for (from, to) in [(&both, &lower), (&lower, &both)] {
+                    let again = pool.install(|| in_pieces_of(&from.positions, &from.triangles, to, 16).unwrap());
+                    let first = in_pieces_of(&from.positions, &from.triangles, to, 16).unwrap();
+                    assert_eq!(again.to_bits(), first.to_bits(), "{threads} threads at scale {scale}");
+                }
+            }
         }
     }
 

@@ -48,8 +48,12 @@ class DistanceTree {
   DistanceTree(const DistanceTree&) = delete;
   DistanceTree& operator=(const DistanceTree&) = delete;
 
-  /// Distance from each point (xyz) to the nearest point of the triangles.
-  std::vector<double> distances(const double* xyz, std::size_t n_coords) const;
+  /// Distance from each point (xyz) to the nearest point of the triangles. `chained`: each
+  /// query starts from the closest point of the one before (for neighbouring points;
+  /// where two faces are equally near within rounding, the last bits of a distance may
+  /// then depend on the point before), else from CGAL's own search (each distance
+  /// depends on its point alone).
+  std::vector<double> distances(const double* xyz, std::size_t n_coords, bool chained) const;
 
  private:
   struct Tree;

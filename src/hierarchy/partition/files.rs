@@ -57,7 +57,7 @@ pub fn read_part(path: &Path, input_vertices: usize) -> Result<Part> {
     let mut r = In::new(&bytes, path, PART_TAG)?;
     let centre = DVec3::new(r.f64()?, r.f64()?, r.f64()?);
     let diagonal = r.f64()?;
-    if !(diagonal.is_normal() && diagonal > 0.0 && centre.is_finite()) {
+    if !(diagonal > 0.0 && diagonal.is_finite() && centre.is_finite()) {
         return Err(r.fault("the input's frame is not a finite centre and a positive diagonal"));
     }
     let positions = r.array(24, |r| Ok(DVec3::new(r.f64()?, r.f64()?, r.f64()?)))?;
@@ -205,17 +205,21 @@ fn removed_once_each(removals: &[Removal], seeds: &[(u32, ParamPoint)]) -> std::
     if seeded != removed {
         let odd = seeded.iter().zip(&removed).find(|(s, r)| s != r).map_or_else(
             || format!("{} seeds for {} removed vertices", seeded.len(), removed.len()),
-            |(s, r)| format!("vertex {} has a seed where vertex {} is removed", s.min(r), s.max(r)),
+            |(s, r)| match s < r {
+                true => format!("vertex {s} has a seed but is not removed"),
+                false => format!("vertex {r} is removed without a seed"),
+            },
         );
         return Err(format!("its seeds are not its removed vertices' points ({odd})"));
     }
     Ok(())
 }
 
-/// Whether the file at `path` is a part's build whose bytes match their hash (what a rerun
-/// of its chunk checks before skipping it).
-pub fn build_intact(path: &Path) -> bool {
-    std::fs::read(path).is_ok_and(|bytes| In::new(&bytes, path, BUILD_TAG).is_ok())
+/// Whether the file at `path` is a part's build that [`read_build`] takes (its bytes match
+/// their hash, its records hold together): what a rerun of its chunk checks before
+/// skipping it, so that a build the merge refuses is built again.
+pub fn build_intact(path: &Path, input_vertices: usize) -> bool {
+    read_build(path, input_vertices).is_ok()
 }
 
 /// A [`ParamPoint`]'s bytes: three u32 and three f64.

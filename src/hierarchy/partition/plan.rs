@@ -189,19 +189,29 @@ impl MeshPlan {
     /// disagree (named, with plan.json's path).
     pub fn read(dir: &Path) -> Result<MeshPlan> {
         let plan: MeshPlan = read_plan(dir, "simplify", MESH_PLAN_VERSION, |p: &MeshPlan| p.version)?;
+        plan.validate(dir)?;
+        Ok(plan)
+    }
+
+    /// Checks the plan as a whole, as [`MeshPlan::read`] does (for a plan made or read
+    /// otherwise: its fields are public).
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] naming `dir`'s plan.json and the first field that disagrees.
+    pub fn validate(&self, dir: &Path) -> Result<()> {
         let fault = |msg: String| {
             Error::InvalidInput(format!("{}: {msg}: make the plan again", dir.join("plan.json").display()))
         };
-        if plan.input_vertices == 0 || plan.input_faces == 0 {
+        if self.input_vertices == 0 || self.input_faces == 0 {
             return Err(fault("the input has no vertices or no faces".into()));
         }
-        let options = plan.options().map_err(|e| fault(format!("its settings are refused ({e})")))?;
-        let count = plan.chunks.len();
+        let options = self.options().map_err(|e| fault(format!("its settings are refused ({e})")))?;
+        let count = self.chunks.len();
         if options.chunks != Some(count) {
             let asked = options.chunks.map_or("none".into(), |k| k.to_string());
             return Err(fault(format!("it lists {count} chunks where its settings ask for {asked}")));
         }
-        for (k, chunk) in plan.chunks.iter().enumerate() {
+        for (k, chunk) in self.chunks.iter().enumerate() {
             let (part, build) = chunk_files(k);
             if chunk.index != k || chunk.part != part || chunk.build != build {
                 return Err(fault(format!(
@@ -209,7 +219,7 @@ impl MeshPlan {
                 )));
             }
         }
-        Ok(plan)
+        Ok(())
     }
 
     /// The build options every chunk and the merge use.
@@ -257,6 +267,7 @@ impl MeshPlan {
     /// [`Error::InvalidInput`] naming the chunks that are not (the first
     /// ten) and the command that builds them, with `dir` as given.
     pub fn check_built(&self, dir: &Path) -> Result<()> {
+        self.validate(dir)?;
         let fingerprint = plan_fingerprint(self)?;
         let missing: Vec<usize> = (0..self.chunks.len())
             .filter(|&k| !chunk_complete(&dir.join(&self.chunks[k].build), &fingerprint, k))
@@ -298,7 +309,7 @@ pub fn run_chunk(dir: &Path, index: usize) -> Result<(ChunkRun, PathBuf)> {
     let plan = MeshPlan::read(dir)?;
     let (chunk, fingerprint) = plan.chunk(index)?;
     let output = dir.join(&chunk.build);
-    if chunk_complete(&output, &fingerprint, index) && build_intact(&output) {
+    if chunk_complete(&output, &fingerprint, index) && build_intact(&output, plan.input_vertices) {
         return Ok((ChunkRun::Skipped, output));
     }
     let part = read_part(&dir.join(&chunk.part), plan.input_vertices)?;
@@ -346,8 +357,8 @@ pub fn join_plan(dir: &Path, plan: &MeshPlan, input: Cow<'_, Mesh>) -> Result<Hi
             plan.input.display()
         )));
     }
+    // (Its memory is checked before the input is read: `check_merge_memory`.)
     plan.check_built(dir)?;
-    plan.check_merge_memory()?;
     let mut builds: Vec<PartBuild> = Vec::with_capacity(plan.chunks.len());
     for chunk in &plan.chunks {
         builds.push(read_build(&dir.join(&chunk.build), plan.input_vertices)?);
