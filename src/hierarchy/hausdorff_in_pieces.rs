@@ -161,7 +161,8 @@ fn unit_interval(h: u64) -> f64 {
 
 /// The largest distance from a sample of `from` to the surface of `to`. Both sides'
 /// samples are the same whatever the pieces, and a sample's distance is its least over
-/// the pieces, so the result is too: at any thread count and piece size.
+/// the pieces, so the result is too, at any thread count (and at any piece size, but for
+/// the last bits of a near-tie between two faces, which a chained query's start decides).
 fn farthest_sample(from: &Side<'_>, to: &Side<'_>) -> Result<f64> {
     use rayon::prelude::*;
     let density = from.density();

@@ -6,9 +6,9 @@
 //! hierarchy is byte for byte the in-process one.
 //!
 //! A chunk is complete when its build file exists and its sidecar names the plan's
-//! fingerprint, the chunk and the file's size: a rerun skips it when the file's bytes also
-//! match their hash, and builds again a chunk whose file is missing, stale (another plan),
-//! cut short or changed.
+//! fingerprint, the chunk and the file's size: a rerun skips it when the file also reads as
+//! the merge reads it, and builds again a chunk whose file is missing, stale (another
+//! plan), cut short or changed.
 
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
