@@ -207,7 +207,7 @@ fn farthest_over_pieces(from: &Side<'_>, to: &Side<'_>, pieces: &Pieces, density
         .into_par_iter()
         .map(|r| {
             let points = samples(r);
-            (PieceBox::around(&points), points.len())
+            (PieceBox::around(points.iter().copied()), points.len())
         })
         .collect();
     // A distance is never negative, so its bits order as it does: `fetch_min` on the bits.
@@ -382,18 +382,13 @@ struct PieceBox {
 
 impl PieceBox {
     fn of(side: &Side<'_>, faces: impl Iterator<Item = usize>) -> Self {
-        let mut out = PieceBox { lo: DVec3::INFINITY, hi: DVec3::NEG_INFINITY };
-        for p in faces.flat_map(|f| side.corners(f)) {
-            out.lo = out.lo.min(p);
-            out.hi = out.hi.max(p);
-        }
-        out
+        Self::around(faces.flat_map(|f| side.corners(f)))
     }
 
     /// The box of some points.
-    fn around(points: &[DVec3]) -> Self {
+    fn around(points: impl IntoIterator<Item = DVec3>) -> Self {
         let mut out = PieceBox { lo: DVec3::INFINITY, hi: DVec3::NEG_INFINITY };
-        for &p in points {
+        for p in points {
             out.lo = out.lo.min(p);
             out.hi = out.hi.max(p);
         }
