@@ -100,6 +100,22 @@ impl Error {
         Error::Parse { path: path.into(), at, msg: msg.into() }
     }
 
+    /// A topology error whose advice to run `--repair` (its message from "; --repair" on)
+    /// is replaced by `advice`, where that flag is not the remedy (the mesh was repaired
+    /// already, or the flag belongs to another command); other errors as they are.
+    pub fn with_repair_advice(self, advice: &str) -> Self {
+        match self {
+            Error::Topology { msg, faces } => {
+                let msg = match msg.find("; --repair") {
+                    Some(cut) => format!("{}{advice}", &msg[..cut]),
+                    None => msg,
+                };
+                Error::Topology { msg, faces }
+            }
+            other => other,
+        }
+    }
+
     /// The error with `path` named in front, for input and topology errors about a mesh
     /// read from that file (other errors name their file already, or have none).
     pub fn about_file(self, path: &std::path::Path) -> Self {

@@ -74,14 +74,8 @@ pub fn read_for_build(path: &Path, arg: RepairArg, ctx: super::Context) -> Resul
 /// An error about a mesh `--repair` already went over: its advice to run `--repair` is
 /// replaced by what is true (the repair could not mend it).
 pub fn after_repair(error: crate::Error, arg: RepairArg) -> crate::Error {
-    match error {
-        crate::Error::Topology { msg, faces } if arg.repair => {
-            let msg = match msg.find("; --repair") {
-                Some(cut) => format!("{} (left after --repair)", &msg[..cut]),
-                None => msg,
-            };
-            crate::Error::Topology { msg, faces }
-        }
-        other => other,
+    match arg.repair {
+        true => error.with_repair_advice(" (left after --repair)"),
+        false => error,
     }
 }

@@ -370,15 +370,8 @@ pub fn join_plan(dir: &Path, plan: &MeshPlan, input: Cow<'_, Mesh>) -> Result<Hi
 /// An error about a plan's part or its joined builds, whose advice to run `--repair` is
 /// replaced by the plan's (a chunk and the merge take no `--repair`: the plan does).
 fn with_plan_advice(error: Error, repaired: bool) -> Error {
-    match error {
-        Error::Topology { msg, faces } => {
-            let msg = match msg.find("; --repair") {
-                Some(cut) if repaired => format!("{} (left after the plan's --repair)", &msg[..cut]),
-                Some(cut) => format!("{}; make the plan again with --repair", &msg[..cut]),
-                None => msg,
-            };
-            Error::Topology { msg, faces }
-        }
-        other => other,
-    }
+    error.with_repair_advice(match repaired {
+        true => " (left after the plan's --repair)",
+        false => "; make the plan again with --repair",
+    })
 }
