@@ -259,6 +259,15 @@ fn a_damaged_or_edited_plan_is_built_again_or_refused() {
         !dir.join("m.ply").exists() && !dir.join("old-levels/level_00.ply").exists(),
         "a refused merge left an output"
     );
+    // --max-memory holds for the plan, the merge (before it reads the input) and --chunks.
+    let plan_budget =
+        ["simplify", "plan", input, "--chunks", "4", "--target-vertices", "10%", "-o", "q", "--max-memory", "1K"];
+    refused(&plan_budget, dir, &[], &["a plan of 634 triangles needs about", "--max-memory budget"]);
+    assert!(!dir.join("q").exists(), "a refused plan left its folder");
+    refused(&["simplify", "merge", "p", "-o", "m.ply", "--max-memory", "3K"], dir, &[], &["merging a plan of 634"]);
+    let chunks_budget =
+        ["simplify", input, "--chunks", "4", "--target-vertices", "10%", "-o", "c.ply", "--max-memory", "8K"];
+    refused(&chunks_budget, dir, &[], &["a hierarchy of 634 triangles in 4 chunks needs about"]);
     // --chunk-index belongs to --plan.
     let stray = ["simplify", input, "--chunk-index", "2", "--target-vertices", "10%", "-o", "x.ply"];
     refused(&stray, dir, &[], &["--chunk-index belongs to --plan"]);
